@@ -1,0 +1,39 @@
+"""Analytical results: the φ = 0 dissipation of Jang and Barber (2011), Eqs. (11)-(12).
+
+Eq. (11) is misprinted in the paper; the corrected form (shared/paper/NOTES.md) is
+``Ŵ = 4 (Q̂1 - 1)(Q̂1 - P̂1²) / (Q̂1² - P̂1²)`` for ``P̂1 < 1 < Q̂1``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["jang_barber"]
+
+
+def jang_barber(P1, Q1):
+    """Steady-state Ŵ at φ = 0 for P̂1, Q̂1 >= 0 (arrays broadcast).
+
+    ============================  ===================================================
+    régime                        Ŵ
+    ============================  ===================================================
+    P̂1 <= 1, Q̂1 <= 1 (shakedown)  0
+    P̂1 < 1 < Q̂1                    4 (Q̂1 - 1)(Q̂1 - P̂1²) / (Q̂1² - P̂1²)   (Eq. 11, corrected)
+    P̂1 >= 1, Q̂1 <= P̂1              0
+    P̂1 >= 1, Q̂1 > P̂1               (Q̂1 - P̂1)(1 + P̂1)² / (P̂1 (Q̂1 + P̂1))   (Eq. 12)
+    ============================  ===================================================
+    """
+    from ._checks import finite_array
+
+    P1 = np.abs(finite_array("P1", P1))
+    Q1 = np.abs(finite_array("Q1", Q1))
+    P1, Q1 = np.broadcast_arrays(P1, Q1)
+    out = np.zeros(P1.shape)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        full = (P1 < 1) & (Q1 > 1)
+        eq11 = 4 * (Q1 - 1) * (Q1 - P1**2) / (Q1**2 - P1**2)
+        sepr = (P1 >= 1) & (Q1 > P1)
+        eq12 = (Q1 - P1) * (1 + P1) ** 2 / (P1 * (Q1 + P1))
+    out = np.where(full, eq11, out)
+    out = np.where(sepr, eq12, out)
+    return out if out.ndim else float(out)

@@ -1,0 +1,91 @@
+"""Exception types raised by lcpfric.
+
+Every error lcpfric raises derives from :class:`LcpfricError`, so a caller can catch them all at
+once. Bad input raises :class:`InputError` (also a :class:`ValueError`), whose message names the
+parameter and its allowed range. A solver that fails, or whose answer does not pass lcpfric's own
+residual checks, raises :class:`SolverError` carrying the backend's own status.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "LcpfricError",
+    "InputError",
+    "SolverError",
+    "SolverNotFound",
+    "ConvergenceError",
+    "ConvergenceWarning",
+]
+
+
+class LcpfricError(Exception):
+    """Base class of every error raised by lcpfric."""
+
+
+class InputError(LcpfricError, ValueError):
+    """A parameter is outside its allowed range, not finite, or cannot be parsed.
+
+    Attributes
+    ----------
+    parameter : str
+        The name of the offending parameter, as the user typed it.
+    """
+
+    def __init__(self, parameter: str, message: str):
+        self.parameter = parameter
+        super().__init__(f"{parameter}: {message}")
+
+
+class SolverError(LcpfricError, RuntimeError):
+    """A step's convex problem was not solved to the requested accuracy.
+
+    Attributes
+    ----------
+    backend : str
+        Registry name of the backend (``"clarabel"``, ``"osqp"``, ...).
+    status : str
+        The backend's own status string, unchanged.
+    residuals : dict
+        lcpfric's independent residual checks of the returned answer, when one was returned.
+    """
+
+    def __init__(self, message: str, *, backend: str = "", status: str = "",
+                 residuals: dict | None = None):
+        self.backend = backend
+        self.status = status
+        self.residuals = dict(residuals or {})
+        super().__init__(message)
+
+
+class SolverNotFound(LcpfricError, ImportError):
+    """A method needs an optional dependency that is not installed.
+
+    The message names the extra to install, e.g. ``pip install "lcpfric[clarabel]"``.
+    """
+
+    def __init__(self, method: str, extra: str, installed: list[str] | None = None):
+        self.method = method
+        self.extra = extra
+        msg = (f"method {method!r} needs an optional dependency that is not installed; "
+               f'install it with: pip install "lcpfric[{extra}]"')
+        if installed is not None:
+            msg += f" (methods available now: {', '.join(installed)})"
+        super().__init__(msg)
+
+
+class ConvergenceError(LcpfricError, RuntimeError):
+    """The periodic driver did not reach a steady state within ``max_cycles``.
+
+    Attributes
+    ----------
+    result : SteadyState
+        The (unconverged) result, for inspection.
+    """
+
+    def __init__(self, message: str, result=None):
+        self.result = result
+        super().__init__(message)
+
+
+class ConvergenceWarning(UserWarning):
+    """Warning issued instead of :class:`ConvergenceError` when ``on_nonconvergence="warn"``."""

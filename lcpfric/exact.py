@@ -1,0 +1,284 @@
+"""The exact periodic steady state of the single node (``method="exact"``).
+
+Why it is exact
+---------------
+Write ``w = F̂ - Q̂ = Q̂1 v̂`` (the tangential displacement in units of f P0 / k11) and
+``L(θ) = max(P̂(θ), 0)`` with ``θ = ωt``. Coulomb's law (Eq. 8) keeps w inside the moving interval
+``[lo(θ), hi(θ)] = [-L - Q̂, L - Q̂]`` and w moves only when an end of the interval pushes it: a
+one-dimensional sweeping process (NOTES.md). The dissipation is ``Ŵ = ∮ L |dv̂| = (1/Q̂1) ∮ L |dw|``.
+
+While in contact both ends are pure sinusoids (Eqs. 9-10 with Q0 = 0)::
+
+    lo(θ) = -(1 + R_lo sin(θ + α_lo)),   R_lo e^{iα_lo} = (P̂1 + Q̂1 cos φ) + i Q̂1 sin φ
+    hi(θ) =   1 - R_hi sin(θ + α_hi),    R_hi e^{iα_hi} = (Q̂1 cos φ - P̂1) + i Q̂1 sin φ
+
+so every event has a closed form: stick ends where ``lo(θ) = w`` on a rising flank or
+``hi(θ) = w`` on a falling flank (an arcsine); forward slip (w = lo) ends at the maximum of lo,
+``θ + α_lo = 3π/2``, with ``w = R_lo - 1``; backward slip (w = hi) ends at the minimum of hi,
+``θ + α_hi = π/2``, with ``w = 1 - R_hi``; separation starts and ends where ``P̂ = 0``, at
+``θ_s = π + asin(1/P̂1)`` and ``θ_c = 2π - asin(1/P̂1)``. The dissipation of a slip segment,
+``∫ L(θ) |dw/dθ| dθ``, is integrated in closed form (written with half-angle products so that
+short segments lose no digits).
+
+Entering the periodic orbit in one step
+---------------------------------------
+The sweeping process is a contraction, and its steady state is reached exactly:
+
+* with separation (P̂1 >= 1) the interval shrinks to the point ``w = -Q̂`` at re-contact, so
+  every history passes through ``(θ_c, -Q̂(θ_c))``: start there;
+* without separation, forward slip on the periodic orbit (if there is any slip) ends at the
+  maximum of lo, so the orbit passes through ``(3π/2 - α_lo, R_lo - 1)``: start there. If the
+  orbit does not slip (shakedown, R_lo + R_hi <= 2) that start sticks for the whole cycle.
+
+One cycle from that start is the steady state; no cycles are iterated. All points of a grid are
+advanced together, one event per numpy pass, so a whole map costs a few array operations.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["exact_W_hat", "ExactCycle", "exact_cycle", "STICK", "FORWARD", "BACKWARD",
+           "SEPARATION"]
+
+STICK, FORWARD, BACKWARD, SEPARATION = 0, 1, 2, 3
+_AFTER_FORWARD, _AFTER_BACKWARD, _RECONTACT = 0, 1, 2
+
+TWO_PI = 2.0 * math.pi
+HALF_PI = 0.5 * math.pi
+_MAX_EVENTS = 64  # a harmonic cycle has at most ~10 segments; this only guards against a bug
+
+
+def _mod0(x):
+    """x mod 2π in [0, 2π)."""
+    return np.mod(x, TWO_PI)
+
+
+def _pmod(x):
+    """x mod 2π in (0, 2π]."""
+    return TWO_PI - np.mod(-x, TWO_PI)
+
+
+def _slip_integral(a, b, P1, X, Y):
+    """∫_a^b (1 + P1 sin θ)(X cos θ + Y sin θ) dθ in half-angle form (no cancellation for b ≈ a)."""
+    m = 0.5 * (a + b)
+    h = 0.5 * (b - a)
+    sh, s2h = np.sin(h), np.sin(2.0 * h)
+    return (2.0 * sh * (X * np.cos(m) + Y * np.sin(m))
+            + P1 * (0.5 * X * np.sin(2.0 * m) * s2h + Y * (h - 0.5 * np.cos(2.0 * m) * s2h)))
+
+
+@dataclass
+class _Coefficients:
+    P1: np.ndarray
+    Q1: np.ndarray
+    phi: np.ndarray
+    R_lo: np.ndarray
+    a_lo: np.ndarray
+    R_hi: np.ndarray
+    a_hi: np.ndarray
+    # dw/dθ = X cos θ + Y sin θ on each boundary (the slope of lo, and minus the slope of hi)
+    X_lo: np.ndarray
+    Y_lo: np.ndarray
+    X_hi: np.ndarray
+    Y_hi: np.ndarray
+
+    @classmethod
+    def of(cls, P1, Q1, phi):
+        A = P1 + Q1 * np.cos(phi)
+        B = Q1 * np.sin(phi)
+        C = Q1 * np.cos(phi) - P1
+        D = B
+        return cls(P1, Q1, phi, np.hypot(A, B), np.arctan2(B, A), np.hypot(C, D),
+                   np.arctan2(D, C), -A, B, C, -D)
+
+
+def _run(P1, Q1, phi, record: bool = False):
+    """Advance every point one event at a time over the steady cycle; return J = ∮ L |dw|."""
+    c = _Coefficients.of(P1, Q1, phi)
+    n = P1.size
+    sep = P1 >= 1.0
+    asin_inv = np.arcsin(np.minimum(1.0, 1.0 / np.where(sep, P1, 1.0)))
+    theta_c = TWO_PI - asin_inv           # re-contact
+    theta_s = math.pi + asin_inv + TWO_PI  # the separation that ends the steady cycle
+
+    th = np.where(sep, theta_c, 1.5 * math.pi - c.a_lo)
+    stop = np.where(sep, theta_s, th + TWO_PI)
+    w = np.where(sep, -Q1 * np.sin(theta_c + phi), c.R_lo - 1.0)
+    state = np.full(n, STICK, dtype=np.int8)
+    kind = np.full(n, _AFTER_FORWARD, dtype=np.int8)
+    psi = np.zeros(n)  # phase of the pushing boundary at the start of a slip segment
+    J = np.zeros(n)
+
+    # At re-contact w = lo = hi; classify by the phase of each boundary (half-open intervals, so
+    # that a boundary at its extremum is assigned exactly one state).
+    psi_lo_c = _mod0(theta_c + c.a_lo)
+    psi_hi_c = _mod0(theta_c + c.a_hi)
+    fwd0 = sep & (psi_lo_c >= HALF_PI) & (psi_lo_c < 1.5 * math.pi)
+    bwd0 = sep & ~fwd0 & ((psi_hi_c >= 1.5 * math.pi) | (psi_hi_c < HALF_PI))
+    state[fwd0] = FORWARD
+    psi[fwd0] = psi_lo_c[fwd0]
+    state[bwd0] = BACKWARD
+    psi[bwd0] = np.where(psi_hi_c >= 1.5 * math.pi, psi_hi_c - TWO_PI, psi_hi_c)[bwd0]
+    kind[sep & ~fwd0 & ~bwd0] = _RECONTACT
+
+    segments = [[] for _ in range(n)] if record else None
+    active = np.ones(n, dtype=bool)
+    for _ in range(_MAX_EVENTS):
+        if not active.any():
+            break
+        # -- stick: the next time lo rises through w or hi falls through w, or separation -------
+        i = np.nonzero(active & (state == STICK))[0]
+        if i.size:
+            k = kind[i]
+            wi, thi = w[i], th[i]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                c_lo = (-1.0 - wi) / c.R_lo[i]
+                c_hi = (1.0 - wi) / c.R_hi[i]
+            ok_lo = np.abs(c_lo) <= 1.0
+            ok_hi = np.abs(c_hi) <= 1.0
+            up_lo = np.where(ok_lo, math.pi - np.arcsin(np.clip(c_lo, -1, 1)), 0.0)
+            dn_hi = np.where(ok_hi, np.arcsin(np.clip(c_hi, -1, 1)), 0.0)
+            d_lo = np.where(ok_lo, _mod0(up_lo - (thi + c.a_lo[i])), np.inf)
+            d_hi = np.where(ok_hi, _mod0(dn_hi - (thi + c.a_hi[i])), np.inf)
+            # After forward slip w sits at the maximum of lo: lo next reaches w one period later.
+            after_f = k == _AFTER_FORWARD
+            d_lo[after_f] = TWO_PI
+            up_lo[after_f] = 1.5 * math.pi
+            after_b = k == _AFTER_BACKWARD
+            d_hi[after_b] = TWO_PI
+            dn_hi[after_b] = HALF_PI
+            # At re-contact w is on both ends; each crossing is the other root of a known one.
+            rc = k == _RECONTACT
+            if rc.any():
+                pl = psi_lo_c[i[rc]]
+                ph = psi_hi_c[i[rc]]
+                d_lo[rc] = _pmod(math.pi - 2.0 * pl)
+                up_lo[rc] = math.pi - pl
+                d_hi[rc] = _pmod(math.pi - 2.0 * ph)
+                dn_hi[rc] = math.pi - ph
+            t_lo = thi + d_lo
+            t_hi = thi + d_hi
+            t_end = np.minimum(np.minimum(t_lo, t_hi), stop[i])
+            if record:
+                for j, idx in enumerate(i):
+                    segments[idx].append((thi[j], t_end[j], STICK, wi[j]))
+            done = t_end >= stop[i]
+            to_f = ~done & (t_lo <= t_hi)
+            to_b = ~done & ~to_f
+            active[i[done]] = False
+            th[i] = t_end
+            state[i[to_f]] = FORWARD
+            psi[i[to_f]] = up_lo[to_f]
+            state[i[to_b]] = BACKWARD
+            psi[i[to_b]] = dn_hi[to_b]
+        # -- forward slip on lo, until its maximum (θ + α_lo = 3π/2) or separation --------------
+        for slip, end_phase, X, Y, w_end, next_kind in (
+                (FORWARD, 1.5 * math.pi, c.X_lo, c.Y_lo, c.R_lo - 1.0, _AFTER_FORWARD),
+                (BACKWARD, HALF_PI, c.X_hi, c.Y_hi, 1.0 - c.R_hi, _AFTER_BACKWARD)):
+            i = np.nonzero(active & (state == slip))[0]
+            if not i.size:
+                continue
+            a = th[i]
+            b = a + np.maximum(end_phase - psi[i], 0.0)
+            done = b >= stop[i]
+            b = np.minimum(b, stop[i])
+            J[i] += _slip_integral(a, b, P1[i], X[i], Y[i])
+            if record:
+                for j, idx in enumerate(i):
+                    segments[idx].append((a[j], b[j], slip, w[idx]))
+            th[i] = b
+            w[i] = w_end[i]
+            active[i[done]] = False
+            cont = i[~done]
+            state[cont] = STICK
+            kind[cont] = next_kind
+    else:  # pragma: no cover - would be a bug in the event logic
+        raise RuntimeError("exact solver: event loop did not terminate; please report this case")
+    if record:
+        for idx in range(n):
+            if sep[idx]:
+                segments[idx].append((theta_s[idx], theta_c[idx] + TWO_PI, SEPARATION, np.nan))
+    return J, segments, c
+
+
+def _prepare(P1, Q1, phi):
+    P1, Q1, phi = np.broadcast_arrays(np.asarray(P1, dtype=float), np.asarray(Q1, dtype=float),
+                                      np.asarray(phi, dtype=float))
+    shape = P1.shape
+    return P1.ravel(), Q1.ravel(), np.mod(phi.ravel(), TWO_PI), shape
+
+
+def exact_W_hat(P1, Q1, phi):
+    """Exact steady-state Ŵ for arrays of (P̂1, Q̂1, φ), broadcast together.
+
+    Parameters are assumed validated (finite, P̂1 >= 0, Q̂1 >= 0); see :func:`lcpfric.steady_state`
+    for the checked entry point. Q̂1 = 0 gives the limit Ŵ = 0.
+
+    Returns
+    -------
+    ndarray (or float for scalar input)
+    """
+    p, q, f, shape = _prepare(P1, Q1, phi)
+    J, _, _ = _run(p, q, f)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        W = np.where(q > 0, J / np.where(q > 0, q, 1.0), 0.0)
+    W = np.maximum(W, 0.0)  # J >= 0 analytically; clip round-off of exact-zero cycles
+    W = W.reshape(shape)
+    return W if W.ndim else float(W)
+
+
+@dataclass(frozen=True)
+class ExactCycle:
+    """The exact steady cycle of one point, as segments in θ = ωt.
+
+    ``segments`` is a list of ``(theta_start, theta_end, state, w_start)``; ``W_hat`` the
+    dissipation per cycle.
+    """
+
+    P1: float
+    Q1: float
+    phi: float
+    W_hat: float
+    segments: tuple
+
+    def w(self, theta):
+        """w = F̂ - Q̂ = Q̂1 v̂ at the angles ``theta`` (any real values)."""
+        theta = np.asarray(theta, dtype=float)
+        th0 = self.segments[0][0]
+        x = th0 + np.mod(theta - th0, TWO_PI)
+        out = np.empty(x.shape)
+        st = self.state(theta)
+        P1, Q1, phi = self.P1, self.Q1, self.phi
+        L = np.maximum(1.0 + P1 * np.sin(x), 0.0)
+        Qh = Q1 * np.sin(x + phi)
+        starts = np.array([s[0] for s in self.segments])
+        idx = np.clip(np.searchsorted(starts, x, side="right") - 1, 0, len(starts) - 1)
+        w0 = np.array([s[3] for s in self.segments])[idx]
+        out = np.where(st == STICK, w0, 0.0)
+        out = np.where(st == FORWARD, -L - Qh, out)
+        out = np.where(st == BACKWARD, L - Qh, out)
+        out = np.where(st == SEPARATION, -Qh, out)
+        return out
+
+    def state(self, theta):
+        """The state (STICK, FORWARD, BACKWARD, SEPARATION) at the angles ``theta``."""
+        theta = np.asarray(theta, dtype=float)
+        th0 = self.segments[0][0]
+        x = th0 + np.mod(theta - th0, TWO_PI)
+        starts = np.array([s[0] for s in self.segments])
+        idx = np.clip(np.searchsorted(starts, x, side="right") - 1, 0, len(starts) - 1)
+        return np.array([s[2] for s in self.segments], dtype=np.int8)[idx]
+
+
+def exact_cycle(P1: float, Q1: float, phi: float) -> ExactCycle:
+    """The exact steady cycle of one point, with its segments (for time series and plots)."""
+    p, q, f, _ = _prepare(P1, Q1, phi)
+    J, segments, _ = _run(p, q, f, record=True)
+    W = float(J[0] / q[0]) if q[0] > 0 else 0.0
+    segs = tuple((float(a), float(b), int(s), float(w0)) for a, b, s, w0 in segments[0] if b > a
+                 or s == STICK)
+    return ExactCycle(float(p[0]), float(q[0]), float(f[0]), max(W, 0.0), segs)

@@ -1,0 +1,249 @@
+"""Periodic load histories P(t) and Q(t).
+
+The paper's loads are harmonic, Eq. (1): ``P(t) = P0 + P1 sin(ωt)``, ``Q(t) = Q0 + Q1 sin(ωt + φ)``.
+:class:`Harmonic` is that form; :class:`Fourier` is any trigonometric polynomial with a common
+fundamental frequency (two harmonics, say); :class:`Periodic` wraps any vectorized callable with a
+known period. Every method that does not need the harmonic form (the explicit stepper, the
+projection and the convex backends) accepts all three; the closed-form ``exact`` method and the
+analytical shakedown test need :class:`Harmonic` loads.
+
+All load objects are immutable, evaluate on arrays of times, and can list the instants where they
+cross zero, which lcpfric places on the time grid (separation and re-contact are known before any
+tangential computation in an uncoupled system).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+from scipy.optimize import brentq
+
+from . import _checks
+from .errors import InputError
+
+__all__ = ["Load", "Harmonic", "Fourier", "Periodic"]
+
+TWO_PI = 2.0 * math.pi
+
+
+class Load:
+    """Base class of a periodic load history ``x(t)``.
+
+    Subclasses define ``period``, ``mean``, ``__call__`` (vectorized over ``t``) and
+    ``derivative``; the base class provides the amplitude, zero crossings and extrema by sampling
+    and root polishing, which subclasses with closed forms override.
+    """
+
+    period: float
+    mean: float
+    _samples = 4096  # samples per period for the numerical searches; smooth loads need no more
+
+    def __call__(self, t):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def derivative(self, t):
+        """dx/dt; by central differences unless a subclass knows it in closed form."""
+        t = np.asarray(t, dtype=float)
+        h = 1e-6 * self.period
+        return (self(t + h) - self(t - h)) / (2 * h)
+
+    @property
+    def is_constant(self) -> bool:
+        return self.amplitude == 0.0
+
+    @property
+    def amplitude(self) -> float:
+        """max over a cycle of |x(t) - mean|: the normalization amplitude (Q1, P1 for Eq. 1)."""
+        t = np.linspace(0.0, self.period, self._samples, endpoint=False)
+        return float(np.max(np.abs(self(t) - self.mean)))
+
+    def extrema(self) -> tuple[float, float]:
+        """(min, max) of x over a cycle, polished with a bounded scalar search."""
+        from scipy.optimize import minimize_scalar
+
+        t = np.linspace(0.0, self.period, self._samples, endpoint=False)
+        x = self(t)
+        h = self.period / self._samples
+        out = []
+        for sign, k in ((1.0, int(np.argmin(x))), (-1.0, int(np.argmax(x)))):
+            res = minimize_scalar(lambda s: sign * float(self(s)), bounds=(t[k] - h, t[k] + h),
+                                  method="bounded", options={"xatol": 1e-14 * self.period})
+            best = min(sign * x[k], float(res.fun)) if res.success else sign * x[k]
+            out.append(sign * best)
+        return float(out[0]), float(out[1])
+
+    def zeros(self, t0: float, t1: float) -> np.ndarray:
+        """Instants in (t0, t1) where x changes sign, sorted, to machine precision."""
+        n = max(16, int(math.ceil(self._samples * (t1 - t0) / self.period)))
+        t = np.linspace(t0, t1, n + 1)
+        x = self(t)
+        roots = []
+        for k in np.nonzero(np.signbit(x[:-1]) != np.signbit(x[1:]))[0]:
+            a, b = t[k], t[k + 1]
+            if x[k] == 0.0:
+                if t0 < a < t1:
+                    roots.append(a)
+                continue
+            roots.append(brentq(lambda s: float(self(s)), a, b, xtol=1e-15 * max(1.0, abs(b)),
+                                rtol=4 * np.finfo(float).eps))
+        return np.asarray(sorted(r for r in roots if t0 < r < t1), dtype=float)
+
+    def scaled(self, factor: float) -> "Load":
+        """The load ``factor * x(t)``."""
+        return Periodic(lambda t, f=self, c=factor: c * f(t), self.period,
+                        mean=factor * self.mean,
+                        derivative=lambda t, f=self, c=factor: c * f.derivative(t))
+
+
+@dataclass(frozen=True)
+class Fourier(Load):
+    """A trigonometric polynomial ``x(t) = mean + sum_k a_k sin(k ω t + ψ_k)``, k = 1..m.
+
+    Parameters
+    ----------
+    mean : float
+        The constant part (P0 or Q0).
+    amplitudes : sequence of float
+        ``a_k`` for k = 1, 2, ..., m (zeros allowed for missing harmonics). Each must be >= 0;
+        a negative coefficient is expressed by a phase shift of π.
+    phases : sequence of float
+        ``ψ_k`` in radians, same length as ``amplitudes``.
+    omega : float
+        The fundamental angular frequency ω > 0; the period is 2π/ω.
+    """
+
+    mean: float = 0.0
+    amplitudes: tuple = ()
+    phases: tuple = ()
+    omega: float = 1.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "mean", _checks.finite("mean", self.mean))
+        amps = tuple(float(a) for a in _checks.finite_array("amplitudes", self.amplitudes,
+                                                            nonneg=True).ravel())
+        phases = tuple(float(p) for p in _checks.finite_array("phases", self.phases).ravel())
+        if len(amps) != len(phases):
+            raise InputError("phases", f"needs one phase per amplitude ({len(amps)}), "
+                                       f"got {len(phases)}")
+        object.__setattr__(self, "amplitudes", amps)
+        object.__setattr__(self, "phases", phases)
+        object.__setattr__(self, "omega", _checks.positive("omega", self.omega))
+
+    @property
+    def period(self) -> float:
+        return TWO_PI / self.omega
+
+    def __call__(self, t):
+        t = np.asarray(t, dtype=float)
+        x = np.full(t.shape, self.mean)
+        for k, (a, p) in enumerate(zip(self.amplitudes, self.phases), start=1):
+            if a:
+                x = x + a * np.sin(k * self.omega * t + p)
+        return x if x.ndim else float(x)
+
+    def derivative(self, t):
+        t = np.asarray(t, dtype=float)
+        dx = np.zeros(t.shape)
+        for k, (a, p) in enumerate(zip(self.amplitudes, self.phases), start=1):
+            if a:
+                dx = dx + a * k * self.omega * np.cos(k * self.omega * t + p)
+        return dx if dx.ndim else float(dx)
+
+    @property
+    def amplitude(self) -> float:
+        nonzero = [a for a in self.amplitudes if a]
+        if not nonzero:
+            return 0.0
+        if len(nonzero) == 1:
+            return nonzero[0]
+        return Load.amplitude.fget(self)
+
+
+class Harmonic(Fourier):
+    """The harmonic load of Eq. (1): ``x(t) = mean + amplitude sin(ω t + phase)``."""
+
+    def __init__(self, mean: float = 0.0, amplitude: float = 0.0, phase: float = 0.0,
+                 omega: float = 1.0):
+        amplitude = _checks.nonnegative("amplitude", amplitude)
+        super().__init__(mean=mean, amplitudes=(amplitude,), phases=(_checks.finite("phase", phase),),
+                         omega=omega)
+
+    @property
+    def phase(self) -> float:
+        return self.phases[0]
+
+    @property
+    def amplitude(self) -> float:
+        return self.amplitudes[0]
+
+    def __repr__(self) -> str:
+        return (f"Harmonic(mean={self.mean!r}, amplitude={self.amplitude!r}, "
+                f"phase={self.phase!r}, omega={self.omega!r})")
+
+    def extrema(self) -> tuple[float, float]:
+        return self.mean - self.amplitude, self.mean + self.amplitude
+
+    def zeros(self, t0: float, t1: float) -> np.ndarray:
+        """Closed-form sign changes: mean + a sin(ωt + ψ) = 0."""
+        a, m = self.amplitude, self.mean
+        if a == 0.0 or abs(m) >= a:
+            return np.empty(0)  # no crossing (a tangency at |m| == a is not a sign change)
+        base = math.asin(-m / a)
+        out = []
+        for root in (base, math.pi - base):
+            s = (root - self.phase) / self.omega
+            k0 = math.ceil((t0 - s) / self.period) - 1
+            for k in range(k0, k0 + int((t1 - t0) / self.period) + 3):
+                tk = s + k * self.period
+                if t0 < tk < t1:
+                    out.append(tk)
+        return np.asarray(sorted(out), dtype=float)
+
+
+class Periodic(Load):
+    """Any periodic load given as a vectorized callable ``func(t)`` with a known ``period``.
+
+    Parameters
+    ----------
+    func : callable
+        ``func(t)`` for an array ``t`` returns an array of the same shape.
+    period : float
+        The period T > 0; ``func(t + T) == func(t)`` is the caller's promise.
+    mean : float, optional
+        The constant part used for normalization (P0 of a normal load). Computed as the cycle
+        average when omitted.
+    derivative : callable, optional
+        ``dfunc/dt``; central differences are used when omitted.
+    """
+
+    def __init__(self, func: Callable, period: float, mean: float | None = None,
+                 derivative: Callable | None = None):
+        if not callable(func):
+            raise InputError("func", "must be a callable func(t) returning an array")
+        self.func = func
+        self.period = _checks.positive("period", period)
+        self.derivative_func = derivative
+        if mean is None:
+            t = np.linspace(0.0, self.period, self._samples, endpoint=False)
+            vals = np.asarray(func(t), dtype=float)
+            if vals.shape != t.shape or not np.all(np.isfinite(vals)):
+                raise InputError("func", "must return finite values, one per time, for an "
+                                         "array of times")
+            mean = float(np.mean(vals))
+        self.mean = _checks.finite("mean", mean)
+
+    def __repr__(self) -> str:
+        return f"Periodic({self.func!r}, period={self.period!r}, mean={self.mean!r})"
+
+    def __call__(self, t):
+        t = np.asarray(t, dtype=float)
+        x = np.asarray(self.func(t), dtype=float)
+        return x if x.ndim else float(x)
+
+    def derivative(self, t):
+        if self.derivative_func is not None:
+            return np.asarray(self.derivative_func(np.asarray(t, dtype=float)), dtype=float)
+        return Load.derivative(self, t)

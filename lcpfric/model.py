@@ -1,0 +1,377 @@
+"""What the system is: the paper's single node (Eqs. 1-10) and the general uncoupled system.
+
+Conventions (paper, Eq. 2): the friction force is ``F = Q + K u`` and the normal reaction is
+``N = P + k22 w``; in contact ``w = 0`` so ``N = P``, and in separation ``N = 0``. Coulomb's law,
+Eq. (3), asks ``|F_i| <= f_i N_i``, with slip opposing the force. The dissipation per cycle is
+``W = -∮ F · du`` (Eq. 5).
+
+Normalization (Eq. 6): ``P̂ = P/P0``, ``Q̂ = Q/(f P0)``, ``v̂ = k11 v / Q1``, ``F̂ = F/(f P0)`` and
+``Ŵ = k11 W / (f P0 Q1)``, so Ŵ depends only on (P̂1, Q̂1, φ). Internally lcpfric advances the
+single node in the units of force ``f P0`` and displacement ``f P0 / k11``: that is the general
+system with ``K = [[1]]``, ``f = [1]``, ``N = max(P̂, 0)`` and ``Q = Q̂``, whose dissipation J
+gives ``Ŵ = J / Q̂1`` (and the limit Ŵ = 0 at Q̂1 = 0).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _checks
+from .errors import InputError
+from .loads import Harmonic, Load
+
+__all__ = ["SingleNode", "ContactSystem", "IndependentSprings", "W_hat_from_W", "W_from_W_hat"]
+
+
+def W_hat_from_W(W, k11, f, P0, Q1):
+    """Ŵ = k11 W / (f P0 Q1) (Eq. 6); zero where Q1 = 0 (the limit, since W = O(Q1²))."""
+    W = np.asarray(W, dtype=float)
+    denom = f * P0 * np.asarray(Q1, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = np.where(denom > 0, k11 * W / np.where(denom > 0, denom, 1.0), 0.0)
+    return out if out.ndim else float(out)
+
+
+def W_from_W_hat(W_hat, k11, f, P0, Q1):
+    """W = f P0 Q1 Ŵ / k11, the inverse of :func:`W_hat_from_W`."""
+    out = f * P0 * np.asarray(Q1, dtype=float) * np.asarray(W_hat, dtype=float) / k11
+    return out if out.ndim else float(out)
+
+
+@dataclass(frozen=True)
+class IndependentSprings:
+    """Normal model of independent normal springs: ``N_i(t) = max(P_i(t), 0)``.
+
+    The normal reactions do not depend on the tangential displacements (the system is
+    uncoupled), so separation and re-contact instants are known from the loads alone.
+    """
+
+    loads: tuple
+
+    def __post_init__(self):
+        loads = tuple(self.loads)
+        if not loads or not all(isinstance(p, Load) for p in loads):
+            raise InputError("normal_loads", "needs one Load object per node")
+        object.__setattr__(self, "loads", loads)
+
+    @property
+    def n(self) -> int:
+        return len(self.loads)
+
+    def reactions(self, t) -> np.ndarray:
+        """N(t) with shape ``t.shape + (n,)``."""
+        t = np.asarray(t, dtype=float)
+        return np.maximum(np.stack([np.broadcast_to(p(t), t.shape) for p in self.loads],
+                                   axis=-1), 0.0)
+
+    def transitions(self, t0: float, t1: float) -> np.ndarray:
+        """Sorted instants in (t0, t1) where some node separates or re-enters contact."""
+        parts = [p.zeros(t0, t1) for p in self.loads if not p.is_constant]
+        return np.unique(np.concatenate(parts)) if parts else np.empty(0)
+
+    def always_in_contact(self) -> np.ndarray:
+        """Per node: True where P_i(t) > 0 throughout the cycle (no separation logic needed)."""
+        return np.array([p.extrema()[0] > 0 for p in self.loads])
+
+
+@dataclass(frozen=True)
+class ContactSystem:
+    """A discrete uncoupled frictional system: ``F = Q(t) + K u``, ``|F_i| <= f_i N_i(t)``.
+
+    Parameters
+    ----------
+    stiffness : (m, m) array_like or scipy.sparse matrix
+        Symmetric positive definite tangential stiffness K, m = n·d.
+    friction : (n,) array_like
+        Friction coefficients f_i > 0.
+    tangential_loads : sequence of m Load
+        Q(t), ordered node by node (node i owns entries ``i*d .. i*d + d - 1``).
+    normal : IndependentSprings
+        The normal model giving N_i(t).
+    dims : int
+        Tangential directions per node, 1 or 2.
+    compliance : (m, m) array_like, optional
+        C = K⁻¹, when the model provides it (computed otherwise, on first use).
+    """
+
+    stiffness: object
+    friction: np.ndarray
+    tangential_loads: tuple
+    normal: IndependentSprings
+    dims: int = 1
+    compliance: object = None
+    _cache: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def __post_init__(self):
+        import scipy.sparse as sp
+
+        if self.dims not in (1, 2):
+            raise InputError("dims", f"must be 1 or 2 tangential directions, got {self.dims!r}")
+        f = _checks.finite_array("friction", self.friction, nonneg=True).ravel()
+        if np.any(f <= 0):
+            raise InputError("friction", "every friction coefficient must be > 0")
+        object.__setattr__(self, "friction", f)
+        n = f.size
+        if self.normal.n != n:
+            raise InputError("normal", f"needs {n} normal loads (one per node), got {self.normal.n}")
+        m = n * self.dims
+        K = self.stiffness
+        if sp.issparse(K):
+            K = sp.csc_matrix(K, dtype=float)
+            dense = K.toarray() if m <= 2000 else None
+        else:
+            K = _checks.finite_array("stiffness", K)
+            K = np.atleast_2d(K)
+            dense = K
+        if K.shape != (m, m):
+            raise InputError("stiffness", f"must be {m} x {m} (n·d), got {K.shape}")
+        if dense is not None:
+            if not np.all(np.isfinite(dense)):
+                raise InputError("stiffness", "every entry must be finite")
+            if not np.allclose(dense, dense.T, rtol=1e-12, atol=0.0):
+                raise InputError("stiffness", "must be symmetric")
+            try:
+                np.linalg.cholesky(dense)
+            except np.linalg.LinAlgError:
+                raise InputError("stiffness", "must be positive definite") from None
+        object.__setattr__(self, "stiffness", K)
+        loads = tuple(self.tangential_loads)
+        if len(loads) != m or not all(isinstance(q, Load) for q in loads):
+            raise InputError("tangential_loads", f"needs {m} Load objects (n·d), got {len(loads)}")
+        object.__setattr__(self, "tangential_loads", loads)
+        periods = [p.period for p in loads + self.normal.loads if not p.is_constant]
+        period = periods[0] if periods else 1.0
+        if any(not math.isclose(p, period, rel_tol=1e-12) for p in periods):
+            raise InputError("loads", f"all loads must share one period; got {sorted(set(periods))}")
+        object.__setattr__(self, "_cache", {"period": period})
+
+    @property
+    def n(self) -> int:
+        """Number of contact nodes."""
+        return self.friction.size
+
+    @property
+    def m(self) -> int:
+        """Number of tangential unknowns, n·d."""
+        return self.friction.size * self.dims
+
+    @property
+    def period(self) -> float:
+        return self._cache["period"]
+
+    def compliance_matrix(self) -> np.ndarray:
+        """C = K⁻¹ (dense), computed once."""
+        if self.compliance is not None:
+            return np.asarray(self.compliance.toarray() if hasattr(self.compliance, "toarray")
+                              else self.compliance, dtype=float)
+        if "C" not in self._cache:
+            K = self.stiffness.toarray() if hasattr(self.stiffness, "toarray") else self.stiffness
+            self._cache["C"] = np.linalg.inv(K)
+        return self._cache["C"]
+
+    def dense_stiffness(self) -> np.ndarray:
+        K = self.stiffness
+        return K.toarray() if hasattr(K, "toarray") else np.asarray(K)
+
+    def tangential(self, t) -> np.ndarray:
+        """Q(t) with shape ``t.shape + (m,)``."""
+        t = np.asarray(t, dtype=float)
+        return np.stack([np.broadcast_to(q(t), t.shape) for q in self.tangential_loads], axis=-1)
+
+    def is_diagonal(self) -> bool:
+        K = self.dense_stiffness()
+        return bool(np.count_nonzero(K - np.diag(np.diag(K))) == 0)
+
+
+class SingleNode:
+    """The single-node system of the paper (Fig. 2): tangential spring k11, normal spring k22,
+    Coulomb friction f, loads ``P(t) = P0 + P1 sin ωt`` and ``Q(t) = Q0 + Q1 sin(ωt + φ)``.
+
+    Parameters
+    ----------
+    k11, k22 : float
+        Tangential and normal spring stiffness, > 0. k22 does not affect the dissipation; it only
+        sets the normal displacement w in separation.
+    f : float
+        Coefficient of friction, > 0.
+    P0 : float
+        Mean normal load, > 0 (the body is in contact in the absence of vibration).
+    P1, Q1 : float
+        Normal and tangential load amplitudes, >= 0.
+    omega : float
+        Angular frequency ω > 0.
+    phi : float
+        Phase of Q relative to P, radians.
+    Q0 : float
+        Mean tangential load; it shifts the displacement datum by Q0/k11 and does not affect W.
+    normal_load, tangential_load : Load, optional
+        Any periodic P(t) and Q(t) (two harmonics, say) in place of the harmonic ones; then
+        P0 is the normal load's mean and Q1 its tangential amplitude (max |Q - Q0|).
+
+    Examples
+    --------
+    >>> node = SingleNode.normalized(P1=0.5, Q1=2.0, phi=0.0)
+    >>> node.P1_hat, node.Q1_hat
+    (0.5, 2.0)
+    """
+
+    def __init__(self, k11: float = 1.0, f: float = 1.0, P0: float = 1.0, P1: float = 0.0,
+                 Q1: float = 0.0, omega: float = 1.0, phi: float = 0.0, Q0: float = 0.0,
+                 k22: float = 1.0, *, normal_load: Load | None = None,
+                 tangential_load: Load | None = None, dimensional: bool = True):
+        self.k11 = _checks.positive("k11", k11)
+        self.k22 = _checks.positive("k22", k22)
+        self.f = _checks.positive("f", f)
+        self.dimensional = bool(dimensional)
+        if normal_load is None:
+            P0 = _checks.finite("P0", P0)
+            if P0 <= 0:
+                raise InputError("P0", f"must be > 0 (the paper's régime: in contact at rest; "
+                                       f"allowed range (0, inf)), got {P0}")
+            normal_load = Harmonic(P0, _checks.nonnegative("P1", P1), 0.0,
+                                   _checks.positive("omega", omega))
+        elif not isinstance(normal_load, Load):
+            raise InputError("normal_load", "must be a Load (Harmonic, Fourier or Periodic)")
+        if tangential_load is None:
+            tangential_load = Harmonic(_checks.finite("Q0", Q0), _checks.nonnegative("Q1", Q1),
+                                       _checks.finite("phi", phi), normal_load.omega
+                                       if isinstance(normal_load, Harmonic) else
+                                       2 * math.pi / normal_load.period)
+        elif not isinstance(tangential_load, Load):
+            raise InputError("tangential_load", "must be a Load (Harmonic, Fourier or Periodic)")
+        if normal_load.mean <= 0:
+            raise InputError("P0", f"the mean normal load must be > 0 (allowed range (0, inf)), "
+                                   f"got {normal_load.mean}")
+        self.normal_load = normal_load
+        self.tangential_load = tangential_load
+        periods = [ld.period for ld in (normal_load, tangential_load) if not ld.is_constant]
+        if len(periods) == 2 and not math.isclose(periods[0], periods[1], rel_tol=1e-12):
+            raise InputError("tangential_load", f"must have the normal load's period "
+                                                f"{periods[0]}, got {periods[1]}")
+        self._system = None
+
+    @classmethod
+    def normalized(cls, P1: float, Q1: float, phi: float = 0.0) -> "SingleNode":
+        """The dimensionless system of Eqs. (8)-(10): P̂ = 1 + P̂1 sin ωt, Q̂ = Q̂1 sin(ωt + φ)."""
+        return cls(k11=1.0, f=1.0, P0=1.0, P1=P1, Q1=Q1, omega=1.0, phi=phi, dimensional=False)
+
+    # -- the paper's parameters -------------------------------------------------------------------
+    @property
+    def P0(self) -> float:
+        return self.normal_load.mean
+
+    @property
+    def Q0(self) -> float:
+        return self.tangential_load.mean
+
+    @property
+    def P1(self) -> float:
+        return self.normal_load.amplitude
+
+    @property
+    def Q1(self) -> float:
+        return self.tangential_load.amplitude
+
+    @property
+    def period(self) -> float:
+        for ld in (self.normal_load, self.tangential_load):
+            if not ld.is_constant:
+                return ld.period
+        return self.normal_load.period
+
+    @property
+    def omega(self) -> float:
+        return 2 * math.pi / self.period
+
+    @property
+    def is_harmonic(self) -> bool:
+        """True for the paper's loads (both harmonic, one frequency), which ``exact`` needs."""
+        return (isinstance(self.normal_load, Harmonic) and isinstance(self.tangential_load, Harmonic)
+                and (self.normal_load.is_constant or self.tangential_load.is_constant
+                     or math.isclose(self.normal_load.omega, self.tangential_load.omega,
+                                     rel_tol=1e-12)))
+
+    @property
+    def phi(self) -> float:
+        """φ of Eq. (1): the tangential load's phase relative to the normal load's."""
+        if not self.is_harmonic:
+            raise InputError("phi", "is defined only for harmonic loads of one frequency")
+        return self.tangential_load.phase - self.normal_load.phase
+
+    @property
+    def P1_hat(self) -> float:
+        """P̂1 = P1/P0 (Eq. 6)."""
+        return self.P1 / self.P0
+
+    @property
+    def Q1_hat(self) -> float:
+        """Q̂1 = Q1/(f P0) (Eq. 6)."""
+        return self.Q1 / (self.f * self.P0)
+
+    def normalized_parameters(self) -> tuple[float, float, float]:
+        """(P̂1, Q̂1, φ) of this (harmonic) system."""
+        return self.P1_hat, self.Q1_hat, self.phi
+
+    # -- conversions (Eq. 6) ----------------------------------------------------------------------
+    def W_hat(self, W):
+        """Ŵ = k11 W / (f P0 Q1)."""
+        return W_hat_from_W(W, self.k11, self.f, self.P0, self.Q1)
+
+    def W(self, W_hat):
+        """W = f P0 Q1 Ŵ / k11."""
+        return W_from_W_hat(W_hat, self.k11, self.f, self.P0, self.Q1)
+
+    @property
+    def force_unit(self) -> float:
+        """f P0: the unit of F̂ and Q̂."""
+        return self.f * self.P0
+
+    @property
+    def displacement_unit(self) -> float:
+        """f P0 / k11: the unit in which the solvers advance the tangential displacement."""
+        return self.f * self.P0 / self.k11
+
+    def system(self) -> ContactSystem:
+        """The node as a general :class:`ContactSystem` in normalized units (K = 1, f = 1).
+
+        Its dissipation J per cycle gives Ŵ = J / Q̂1.
+        """
+        if self._system is None:
+            fp0 = self.force_unit
+            self._system = ContactSystem(
+                stiffness=np.array([[1.0]]), friction=np.array([1.0]),
+                tangential_loads=(_scaled(self.tangential_load, 1.0 / fp0, drop_mean=True),),
+                normal=IndependentSprings((_scaled(self.normal_load, 1.0 / self.P0),)))
+        return self._system
+
+    def __repr__(self) -> str:
+        if self.is_harmonic:
+            p1, q1, phi = self.normalized_parameters()
+            core = f"P1_hat={p1:.6g}, Q1_hat={q1:.6g}, phi={phi:.6g}"
+        else:
+            core = f"normal_load={self.normal_load!r}, tangential_load={self.tangential_load!r}"
+        if not self.dimensional:
+            return f"SingleNode.normalized({core})"
+        return (f"SingleNode(k11={self.k11:g}, f={self.f:g}, P0={self.P0:g}, k22={self.k22:g}, "
+                f"{core})")
+
+
+def _scaled(load: Load, factor: float, drop_mean: bool = False) -> Load:
+    """``factor * (load - mean if drop_mean)``, keeping a harmonic load harmonic."""
+    from .loads import Fourier
+
+    shift = load.mean if drop_mean else 0.0
+    if isinstance(load, Harmonic):
+        return Harmonic(factor * (load.mean - shift), factor * load.amplitude, load.phase,
+                        load.omega)
+    if isinstance(load, Fourier):
+        return Fourier(factor * (load.mean - shift), tuple(factor * a for a in load.amplitudes),
+                       load.phases, load.omega)
+    from .loads import Periodic
+
+    return Periodic(lambda t: factor * (load(t) - shift), load.period,
+                    mean=factor * (load.mean - shift),
+                    derivative=lambda t: factor * load.derivative(t))

@@ -1,0 +1,159 @@
+"""The scene: one load cycle of a system sampled on a time grid.
+
+A scene fixes everything a time-stepping method needs before it takes its first step: the grid
+``t_0 < t_1 < ... < t_N`` over one period, the tangential loads ``Q(t_k)`` and the normal
+reactions ``N(t_k)`` on it. Because the system is uncoupled, the instants where a normal load
+crosses zero (separation, re-contact) are known in advance; they are placed on the grid, so that
+no method has to locate them and none loses an order of accuracy there.
+
+Placement of the remaining steps:
+
+``"uniform"``
+    ``steps_per_cycle`` equal increments over the period, plus the transition instants.
+``"contact"``
+    the steps are spread over the instants when at least one node is in contact; an interval in
+    which every node is separated is one increment (nothing slips there, F = 0, u = -K⁻¹Q), so at
+    large P̂1, where contact is a short part of the cycle, no steps are wasted on separation.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _checks
+from .errors import InputError
+from .model import ContactSystem, SingleNode
+
+__all__ = ["Scene", "make_scene"]
+
+PLACEMENTS = ("uniform", "contact")
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """A system over one load cycle on a fixed time grid.
+
+    Attributes
+    ----------
+    system : ContactSystem
+        The (normalized, for a single node) system the steppers advance.
+    model : SingleNode or None
+        The model the scene came from, for normalization of the results.
+    t : (N+1,) ndarray
+        The grid, ``t[0]`` to ``t[0] + period``.
+    Q : (N+1, m) ndarray
+        Tangential loads on the grid.
+    N : (N+1, n) ndarray
+        Normal reactions on the grid (``max(P, 0)`` for independent springs).
+    transitions : ndarray
+        The separation / re-contact instants placed on the grid.
+    placement : str
+        How the steps were placed (see module docstring).
+    """
+
+    system: ContactSystem
+    model: SingleNode | None
+    t: np.ndarray
+    Q: np.ndarray
+    N: np.ndarray
+    transitions: np.ndarray
+    placement: str
+    _cache: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def steps(self) -> int:
+        """Number of increments in the cycle (steps per cycle plus inserted transitions)."""
+        return self.t.size - 1
+
+    @property
+    def period(self) -> float:
+        return self.system.period
+
+    @property
+    def contact(self) -> np.ndarray:
+        """(N+1, n) bool: node in contact (N > 0) at each grid instant."""
+        if "contact" not in self._cache:
+            self._cache["contact"] = self.N > 0.0
+        return self._cache["contact"]
+
+
+def _start_time(system: ContactSystem) -> float:
+    """Start the cycle at a re-contact instant when every node separates at the same instants
+    (a single node, for example): the state there is known exactly, so the driver converges in
+    the fewest cycles. Otherwise start at t = 0."""
+    T = system.period
+    tr = system.normal.transitions(0.0, T)
+    if tr.size == 0 or system.n != 1:
+        return 0.0
+    P = system.normal.loads[0]
+    eps = 1e-9 * T
+    for s in tr:
+        if P(s + eps) > 0 and P(s - eps) <= 0:
+            return float(s)
+    return 0.0
+
+
+def make_scene(system_or_model, steps_per_cycle: int = 1000, *, placement: str = "uniform",
+               t0: float | None = None) -> Scene:
+    """Sample one cycle of a :class:`ContactSystem` or :class:`SingleNode` on a time grid.
+
+    Parameters
+    ----------
+    system_or_model : ContactSystem or SingleNode
+    steps_per_cycle : int
+        Number of increments per cycle (>= 4), before the known transition instants are added.
+    placement : {"uniform", "contact"}
+        See the module docstring.
+    t0 : float, optional
+        Start of the cycle; by default a re-contact instant for a single separating node, else 0.
+    """
+    steps = _checks.positive_int("steps_per_cycle", steps_per_cycle, minimum=4)
+    if placement not in PLACEMENTS:
+        raise InputError("placement", f"must be one of {PLACEMENTS}, got {placement!r}")
+    model = system_or_model if isinstance(system_or_model, SingleNode) else None
+    system = model.system() if model is not None else system_or_model
+    if not isinstance(system, ContactSystem):
+        raise InputError("scene", "expected a SingleNode or a ContactSystem, got "
+                                  f"{type(system_or_model).__name__}")
+    T = system.period
+    start = _start_time(system) if t0 is None else _checks.finite("t0", t0)
+    end = start + T
+    transitions = system.normal.transitions(start, end)
+    if placement == "uniform" or transitions.size == 0:
+        grid = np.linspace(start, end, steps + 1)
+    else:
+        grid = _contact_grid(system, start, end, transitions, steps)
+    if transitions.size:
+        # drop grid points closer to a transition than a tiny fraction of a step, then insert
+        h = T / steps
+        keep = np.ones(grid.size, dtype=bool)
+        near = np.abs(grid[:, None] - transitions[None, :]).min(axis=1) < 1e-9 * h
+        keep[1:-1] = ~near[1:-1]
+        grid = np.union1d(grid[keep], transitions)
+    Q = system.tangential(grid)
+    N = system.normal.reactions(grid)
+    # exact zeros at the inserted transition instants (the loads' roots are machine-precise)
+    if transitions.size:
+        idx = np.searchsorted(grid, transitions)
+        N[idx] = np.where(N[idx] < 1e-12 * max(1.0, float(np.max(N))), 0.0, N[idx])
+    return Scene(system, model, grid, Q, N, transitions, placement)
+
+
+def _contact_grid(system: ContactSystem, start: float, end: float, transitions: np.ndarray,
+                  steps: int) -> np.ndarray:
+    """Spread ``steps`` increments over the parts of the cycle where some node is in contact."""
+    edges = np.concatenate([[start], transitions, [end]])
+    mids = 0.5 * (edges[:-1] + edges[1:])
+    any_contact = np.any(system.normal.reactions(mids) > 0.0, axis=-1)
+    lengths = np.diff(edges)
+    active = lengths * any_contact
+    total = active.sum()
+    pieces = []
+    for a, b, L, on in zip(edges[:-1], edges[1:], active, any_contact):
+        k = max(1, int(math.ceil(steps * L / total))) if on and total > 0 else 1
+        pieces.append(np.linspace(a, b, k + 1)[:-1])
+    pieces.append([end])
+    return np.concatenate(pieces)

@@ -1,0 +1,89 @@
+"""Shakedown: does a constant slip displacement exist under which the node sticks for ever?
+
+Section 3.2: shakedown happens if and only if some constant shift c gives ``|Q̂(t) - c| <= P̂(t)``
+for all t, i.e. the load ellipse of Fig. 1, shifted along Q, fits between the lines Q = ±P. That is
+``max_t (Q̂ - P̂) <= c <= min_t (Q̂ + P̂)``. For harmonic loads both extrema are closed form::
+
+    max (Q̂ - P̂) = R_hi - 1,   R_hi = |Q̂1 e^{iφ} - P̂1|
+    min (Q̂ + P̂) = 1 - R_lo,   R_lo = |Q̂1 e^{iφ} + P̂1|
+
+so shakedown holds iff ``R_lo + R_hi <= 2`` (the sum of the distances from Q̂1 e^{iφ} to ±P̂1 is at
+most 2: the load point lies in an ellipse with foci ±P̂1). For other periodic loads the extrema
+are found by sampling and polishing (:meth:`lcpfric.loads.Load.extrema`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _checks
+
+__all__ = ["Shakedown", "shakedown", "shakedown_margin"]
+
+
+@dataclass(frozen=True)
+class Shakedown:
+    """Outcome of the shakedown test.
+
+    Attributes
+    ----------
+    shakedown : bool
+        True when a constant shift keeps the node in stick for the whole cycle (then Ŵ = 0).
+    shift : float or None
+        A valid shift c in units of f P0 (the middle of the admissible range), or None.
+    margin : float
+        ``min(Q̂ + P̂) - max(Q̂ - P̂)``: the width of the admissible range of c (< 0: no shakedown).
+    """
+
+    shakedown: bool
+    shift: float | None
+    margin: float
+
+    def as_dict(self) -> dict:
+        return {"shakedown": self.shakedown, "shift": self.shift, "margin": self.margin}
+
+
+def shakedown_margin(P1, Q1, phi):
+    """``2 - R_lo - R_hi`` for arrays of (P̂1, Q̂1, φ): >= 0 exactly in the shakedown region."""
+    P1, Q1, phi = (np.asarray(x, dtype=float) for x in (P1, Q1, phi))
+    z = Q1 * np.exp(1j * phi)
+    out = 2.0 - np.abs(z + P1) - np.abs(z - P1)
+    return out if out.ndim else float(out)
+
+
+def shakedown(P1=None, Q1=None, phi=0.0, *, model=None) -> Shakedown:
+    """Decide shakedown exactly.
+
+    Call as ``shakedown(P1, Q1, phi)`` with normalized parameters, or ``shakedown(model=node)``
+    (or ``shakedown(node)``) for a :class:`~lcpfric.model.SingleNode` with any periodic loads.
+    """
+    from .model import SingleNode
+
+    if isinstance(P1, SingleNode):
+        model, P1 = P1, None
+    if model is not None:
+        if model.is_harmonic:
+            P1, Q1, phi = model.normalized_parameters()
+        else:
+            fp0 = model.f * model.P0
+            Pn, Qn = model.normal_load, model.tangential_load
+            from .loads import Periodic
+
+            minus = Periodic(lambda t: (Qn(t) - Qn.mean) / fp0 - Pn(t) / model.P0, model.period,
+                             mean=0.0)
+            plus = Periodic(lambda t: (Qn(t) - Qn.mean) / fp0 + Pn(t) / model.P0, model.period,
+                            mean=0.0)
+            lo = minus.extrema()[1]
+            hi = plus.extrema()[0]
+            ok = lo <= hi
+            return Shakedown(bool(ok), 0.5 * (lo + hi) if ok else None, float(hi - lo))
+    P1 = _checks.nonnegative("P1", P1)
+    Q1 = _checks.nonnegative("Q1", Q1)
+    phi = _checks.finite("phi", phi)
+    z = Q1 * np.exp(1j * phi)
+    r_lo, r_hi = abs(z + P1), abs(z - P1)
+    lo, hi = r_hi - 1.0, 1.0 - r_lo
+    ok = lo <= hi
+    return Shakedown(bool(ok), 0.5 * (lo + hi) if ok else None, float(hi - lo))

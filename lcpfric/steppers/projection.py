@@ -1,0 +1,97 @@
+"""The closed-form maximum-dissipation projection (``method="projection"``).
+
+Each increment projects the trial force ``F_tr = Q(t_{k+1}) + K u_k`` onto the friction cone
+``{F : ||F_i|| <= f_i N_i}`` in the metric of K⁻¹ (see :mod:`lcpfric.backends` for the
+derivation). When K is diagonal (one node, or uncoupled nodes) and, for d = 2, isotropic within
+each node, that projection separates node by node and is a clamp (d = 1) or a radial scaling
+(d = 2): no solver is needed. A coupled K needs a convex solver; this stepper refuses it and
+names the backends that can.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+from ..results import CycleResult
+from .base import Stepper, StepState
+
+__all__ = ["ProjectionStepper"]
+
+
+class ProjectionStepper(Stepper):
+    """Closed-form projection for diagonal (per node isotropic) K."""
+
+    name = "projection"
+
+    def check(self, system) -> None:
+        if not system.is_diagonal():
+            raise InputError("method", "'projection' needs a diagonal tangential stiffness "
+                                       "(uncoupled nodes); for a coupled K use 'clarabel', 'osqp', "
+                                       "'qpsolvers:<solver>', 'cvxpy:<SOLVER>' or 'explicit' (d=1)")
+        if system.dims == 2:
+            k = np.diag(system.dense_stiffness()).reshape(system.n, 2)
+            if not np.allclose(k[:, 0], k[:, 1], rtol=1e-12, atol=0):
+                raise InputError("method", "'projection' with d = 2 needs equal stiffness in both "
+                                           "tangential directions of each node; use 'clarabel' or "
+                                           "'cvxpy:CLARABEL'")
+
+    def init(self, scene, u0=None) -> StepState:
+        self.check(scene.system)
+        state = super().init(scene, u0)
+        state.data = np.diag(scene.system.dense_stiffness()).copy()
+        return state
+
+    def step(self, scene, k, state):
+        system = scene.system
+        kdiag = state.data
+        f_tr = scene.Q[k + 1] + kdiag * state.u
+        bound = system.friction * scene.N[k + 1]
+        if system.dims == 1:
+            F = np.clip(f_tr, -bound, bound)
+            slip = np.where(F > f_tr, 1, np.where(F < f_tr, 2, 0))
+        else:
+            ft = f_tr.reshape(-1, 2)
+            norm = np.linalg.norm(ft, axis=1)
+            scale = np.where(norm > bound, bound / np.where(norm > 0, norm, 1.0), 1.0)
+            F = (ft * scale[:, None]).ravel()
+            slip = np.where(scale < 1.0, 1, 0)
+        u = state.u + (F - f_tr) / kdiag
+        node_state = np.where(scene.N[k + 1] <= 0.0, 3, slip).astype(np.int8)
+        dW = float(-0.5 * np.dot(state.F + F, u - state.u))
+        return StepState(u, F, node_state, dW, kdiag)
+
+    def cycle(self, scene, state):
+        if scene.system.m != 1:
+            return super().cycle(scene, state)
+        # One node, d = 1: the same clamp in scalar arithmetic (about 20x faster than numpy on
+        # one-element arrays).
+        k = float(state.data[0])
+        fr = float(scene.system.friction[0])
+        Q = scene.Q[:, 0].tolist()
+        B = (fr * scene.N[:, 0]).tolist()
+        n = len(Q) - 1
+        U = [0.0] * (n + 1)
+        Fs = [0.0] * (n + 1)
+        S = [0] * (n + 1)
+        u, F = float(state.u[0]), float(state.F[0])
+        U[0], Fs[0], S[0] = u, F, int(state.state[0])
+        W = 0.0
+        for j in range(1, n + 1):
+            ftr = Q[j] + k * u
+            b = B[j]
+            if ftr > b:
+                Fn, s = b, 2
+            elif ftr < -b:
+                Fn, s = -b, 1
+            else:
+                Fn, s = ftr, 0
+            un = u + (Fn - ftr) / k
+            W -= 0.5 * (F + Fn) * (un - u)
+            u, F = un, Fn
+            U[j], Fs[j], S[j] = u, F, (3 if b <= 0.0 else s)
+        Ua = np.array(U)[:, None]
+        Fa = np.array(Fs)[:, None]
+        Sa = np.array(S, dtype=np.int8)[:, None]
+        end = StepState(Ua[-1].copy(), Fa[-1].copy(), Sa[-1].copy(), 0.0, state.data)
+        return end, CycleResult(scene.t, Ua, Fa, Sa, W, {})

@@ -1,0 +1,500 @@
+"""Dissipation maps: Ŵ over grids of (P̂1, Q̂1, φ), in parallel, resumable, as ``xarray``.
+
+:func:`sweep` evaluates Ŵ on the full grid ``phi x P1 x Q1`` and returns an ``xarray.Dataset``
+with coordinates ``phi`` (radians), ``P1``, ``Q1`` and the variable ``W_hat``.
+
+How the work is done
+--------------------
+* **Vectorized.** A method registered in :data:`VECTORIZED` evaluates a whole chunk of points in
+  one call (``exact`` is a few numpy passes over all points: 112 211 points in ~0.1 s). Any other
+  method name goes point by point through :func:`lcpfric.steady_state` (slow; for checking).
+* **Chunks.** The grid is cut into chunks of ``chunk_size`` points (flat, C order over
+  ``(phi, P1, Q1)``). A chunk is the unit of parallel work, of progress and of saving.
+* **Where.** Serially for small jobs; on a local process pool using all cores when the estimated
+  work pays for it (or ``processes=N``); on Dask when ``scheduler`` is a ``dask.distributed.Client``
+  or a scheduler address (``tcp://host:8786``: dask-jobqueue's SLURM/PBS clusters included).
+* **Nothing lost.** With ``out`` or ``store`` given, every finished chunk is saved at once to a
+  store directory (one file per chunk, written atomically; see :mod:`lcpfric._chunkstore`). Run
+  the same call again after Ctrl-C, a killed process or a lost worker and only the missing chunks
+  are computed. When ``out`` is written the store is removed; calling again with an existing
+  ``out`` of the same sweep just reads it.
+
+Zero amplitudes give the limit Ŵ = 0 (never NaN) for every method.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from . import _checks
+from ._chunkstore import ChunkStore, fingerprint, replace_tree, temp_path
+from ._optional import require
+from ._runners import default_workers, run_dask, run_processes, run_serial
+from .errors import InputError, LcpfricError
+
+__all__ = ["sweep", "VECTORIZED", "register_vectorized", "per_point_W_hat", "parse_grid",
+           "parse_phi_list", "write_dataset", "netcdf_engine", "register_cli", "map_command"]
+
+DIMS = ("phi", "P1", "Q1")
+
+#: Methods that evaluate a whole chunk in one call: ``func(P1, Q1, phi, **options) -> W_hat``
+#: on flat arrays of equal length. Names not listed here run point by point via steady_state.
+VECTORIZED: dict[str, Callable] = {}
+
+#: Estimated seconds per grid point, used to size chunks and to decide whether a process pool
+#: pays. Per-point methods cost about ``_PER_POINT_STEP_SECONDS * steps_per_cycle`` per point.
+_SECONDS_PER_POINT = {"exact": 1.2e-6}
+_PER_POINT_STEP_SECONDS = 3e-6  # explicit stepper: ~3 cycles of 2000 steps in ~6 ms
+_DEFAULT_STEPS = 2000           # steady_state's default
+_CHUNK_SECONDS = 2.0     # a chunk this long is worth saving on its own, and short enough to lose
+_PARALLEL_SECONDS = 1.0  # starting worker processes costs ~0.1-0.3 s; below this, stay serial
+
+
+def register_vectorized(name: str, func: Callable, seconds_per_point: float | None = None):
+    """Register ``func(P1, Q1, phi, **options) -> W_hat`` (flat arrays) as sweep method ``name``.
+
+    ``func`` must be importable by name (defined at module level) to run in worker processes.
+    """
+    VECTORIZED[name] = func
+    if seconds_per_point is not None:
+        _SECONDS_PER_POINT[name] = float(seconds_per_point)
+
+
+def _exact(P1, Q1, phi):
+    from .exact import exact_W_hat
+
+    return exact_W_hat(P1, Q1, phi)
+
+
+register_vectorized("exact", _exact)
+
+
+def _vectorized(method: str) -> Callable | None:
+    """The vectorized function of ``method``, loading the batched projection when it exists."""
+    if method == "projection" and method not in VECTORIZED:
+        try:
+            from .batch import projection_W_hat
+        except ImportError:
+            return None
+        register_vectorized("projection", projection_W_hat)
+    return VECTORIZED.get(method)
+
+
+def per_point_W_hat(P1, Q1, phi, *, method: str, **options):
+    """Ŵ point by point through :func:`lcpfric.steady_state` (the fallback for any method)."""
+    from . import steady_state
+    from .model import SingleNode
+
+    out = np.zeros(np.shape(P1))
+    for n in np.flatnonzero(np.asarray(Q1) > 0):  # Q̂1 = 0: the limit Ŵ = 0, nothing to run
+        node = SingleNode.normalized(P1=float(P1[n]), Q1=float(Q1[n]), phi=float(phi[n]))
+        out[n] = steady_state(node, method=method, **options).W_hat
+    return out
+
+
+def _picklable(exc: BaseException) -> bool:
+    import pickle
+
+    try:
+        pickle.loads(pickle.dumps(exc))
+        return True
+    except Exception:
+        return False
+
+
+def _compute_chunk(func, options, P1, Q1, phi, start, stop):
+    """Ŵ for the flat grid indices ``start:stop`` (runs in a worker)."""
+    i, j, k = np.unravel_index(np.arange(start, stop), (phi.size, P1.size, Q1.size))
+    q = Q1[k]
+    try:
+        W = np.asarray(func(P1[j], q, phi[i], **options), dtype=float).reshape(q.shape)
+    except Exception as exc:
+        if _picklable(exc):
+            raise
+        raise LcpfricError(f"{type(exc).__name__}: {exc}") from None
+    return np.where(q == 0.0, 0.0, W)
+
+
+# -- inputs -----------------------------------------------------------------------------------------
+def _axis(name: str, values, nonneg: bool) -> np.ndarray:
+    arr = np.atleast_1d(_checks.finite_array(name, values, nonneg=nonneg))
+    if arr.ndim != 1 or arr.size == 0:
+        raise InputError(name, f"must be a non-empty 1-D sequence of values, got shape {arr.shape}")
+    return arr.astype(float)
+
+
+def parse_grid(text: str, name: str, angle: bool = False) -> np.ndarray:
+    """Parse ``START:STOP:NUM`` (NUM points, both ends included) or ``a,b,c`` (or one value).
+
+    With ``angle=True`` every number may be written as a multiple of pi (``0.6pi``, ``pi/2``).
+    """
+    parse = (lambda s: _checks.parse_angle(s, name)) if angle else (
+        lambda s: _checks.parse_number(s, name))
+    text = str(text).strip()
+    if ":" in text:
+        parts = text.split(":")
+        if len(parts) != 3:
+            raise InputError(name, f"expected START:STOP:NUM, got {text!r}")
+        start, stop = parse(parts[0]), parse(parts[1])
+        num = _checks.positive_int(f"{name} (NUM)", parts[2].strip())
+        return np.linspace(start, stop, num)
+    items = [s for s in text.split(",") if s.strip()]
+    if not items:
+        raise InputError(name, "expected START:STOP:NUM or a comma-separated list of values")
+    return np.array([parse(s) for s in items])
+
+
+def parse_phi_list(text: str) -> np.ndarray:
+    """Parse a φ list such as ``0,0.6pi,pi/2,1.2`` (radians) or ``0:pi:11``."""
+    return parse_grid(text, "phi", angle=True)
+
+
+def _options(method: str, steps_per_cycle) -> dict:
+    if method == "exact":
+        if steps_per_cycle is not None:
+            raise InputError("steps_per_cycle", "is not used by method 'exact' (it has no time "
+                                                "steps); leave it unset or choose another method")
+        return {}
+    if steps_per_cycle is None:
+        return {}
+    return {"steps_per_cycle": _checks.positive_int("steps_per_cycle", steps_per_cycle,
+                                                    minimum=4)}
+
+
+def _check_method(method) -> str:
+    if not isinstance(method, str) or not method.strip():
+        raise InputError("method", f"must be a method name such as 'exact' or 'projection', "
+                                   f"got {method!r}")
+    method = method.strip()
+    if _vectorized(method) is None:
+        from .methods import get_stepper
+
+        get_stepper(method)  # unknown name or missing extra: fail here, not in a worker
+    return method
+
+
+def _chunking(n: int, chunk_size, cost: float, workers: int) -> list[tuple[int, int]]:
+    if chunk_size is None:
+        size = max(1, int(_CHUNK_SECONDS / cost))
+        if workers > 1 and n * cost > _PARALLEL_SECONDS:  # enough chunks to keep all cores busy
+            size = min(size, math.ceil(n / (4 * workers)))
+    else:
+        size = _checks.positive_int("chunk_size", chunk_size)
+    return [(a, min(a + size, n)) for a in range(0, n, size)]
+
+
+# -- output -----------------------------------------------------------------------------------------
+def _xarray():
+    return require("xarray", "dist", "Sweeps (xarray datasets)")
+
+
+def netcdf_engine() -> str:
+    """``"h5netcdf"`` (the dist extra's writer) when its HDF5 layer h5py is installed, else
+    ``"netcdf4"``; both write NetCDF-4 files."""
+    import importlib.util
+
+    if importlib.util.find_spec("h5netcdf") and importlib.util.find_spec("h5py"):
+        return "h5netcdf"
+    if importlib.util.find_spec("netCDF4"):
+        return "netcdf4"
+    require("h5py", "dist", "NetCDF output")  # raises, naming the extra
+    return "h5netcdf"  # pragma: no cover
+
+
+def write_dataset(ds, out) -> Path:
+    """Write ``ds`` to ``out`` atomically: NetCDF-4 (see :func:`netcdf_engine`), or Zarr for
+    ``*.zarr``."""
+    out = Path(out)
+    if out.suffix == ".zarr":
+        require("zarr", "dist", "Zarr output")
+        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
+        ds.to_zarr(tmp, mode="w")
+        replace_tree(tmp, out)
+        return out
+    engine = netcdf_engine()
+    tmp = temp_path(out)
+    try:
+        ds.to_netcdf(tmp, engine=engine)
+        os.replace(tmp, out)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return out
+
+
+def _read_dataset(out: Path):
+    xr = _xarray()
+    if out.suffix == ".zarr":
+        return xr.open_zarr(out).load()
+    return xr.load_dataset(out, engine=netcdf_engine())
+
+
+def _version() -> str:
+    try:
+        from . import __version__
+        return str(__version__)
+    except ImportError:
+        from importlib.metadata import PackageNotFoundError, version
+        try:
+            return version("lcpfric")
+        except PackageNotFoundError:
+            return "unknown"
+
+
+def _dataset(values, phi, P1, Q1, attrs: dict):
+    xr = _xarray()
+    return xr.Dataset(
+        {"W_hat": (DIMS, values.reshape(phi.size, P1.size, Q1.size), {
+            "long_name": "dimensionless dissipation per cycle",
+            "description": "W_hat = k11 W / (f P0 Q1), Eq. (6) of the paper"})},
+        coords={
+            "phi": ("phi", phi, {"long_name": "phase of Q relative to P", "units": "rad"}),
+            "P1": ("P1", P1, {"long_name": "normal load amplitude P1/P0"}),
+            "Q1": ("Q1", Q1, {"long_name": "tangential load amplitude Q1/(f P0)"}),
+        },
+        attrs={k: v for k, v in attrs.items() if v is not None})
+
+
+def _progress_bar(enabled: bool, total: int, initial: int, method: str):
+    enabled = bool(enabled) and sys.stderr.isatty()
+    if not enabled:
+        return None
+    tqdm = require("tqdm", "dist", "Progress bars").tqdm
+    return tqdm(total=total, initial=initial, unit="chunk", desc=f"sweep ({method})",
+                file=sys.stderr, dynamic_ncols=True)
+
+
+def _run(tasks: dict, on_result, scheduler, processes, workers: int, seconds: float) -> str:
+    """Run the chunks on Dask, on a local pool, or here; return a description of where."""
+    if not tasks:
+        return "none"
+    if scheduler is not None:
+        return run_dask(tasks, _compute_chunk, on_result, scheduler)
+    pays = seconds > _PARALLEL_SECONDS if processes is None else processes > 1
+    if workers > 1 and len(tasks) > 1 and pays:
+        return run_processes(tasks, _compute_chunk, on_result, workers)
+    return run_serial(tasks, _compute_chunk, on_result)
+
+
+# -- the sweep --------------------------------------------------------------------------------------
+def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = None,
+          chunk_size: int | None = None, out=None, store=None, resume: bool = True,
+          scheduler=None, processes: int | None = None, progress: bool = True,
+          on_chunk: Callable | None = None):
+    """Ŵ on the grid ``phi x P1 x Q1`` as an ``xarray.Dataset``.
+
+    Parameters
+    ----------
+    P1, Q1 : array_like
+        Normalized amplitudes P̂1 = P1/P0 and Q̂1 = Q1/(f P0), >= 0 (1-D, or a scalar).
+    phi : array_like
+        Phases φ in radians (1-D, or a scalar).
+    method : str
+        ``"exact"`` (default: exact to round-off and the fastest), any method registered with
+        :func:`register_vectorized`, or any :func:`lcpfric.steady_state` method (run point by
+        point, for checking the steppers).
+    steps_per_cycle : int, optional
+        Steps per cycle of a time-stepping method (not used by ``exact``).
+    chunk_size : int, optional
+        Grid points per chunk; by default sized to ~2 s of work, and small enough to give every
+        worker several chunks.
+    out : str or Path, optional
+        Write the result to this file: NetCDF-4 (h5netcdf) or, for ``*.zarr``, Zarr. Written
+        atomically at the end; chunks are saved meanwhile in ``store`` (default ``<out>.parts``).
+    store : str or Path, optional
+        Directory where every finished chunk is saved, so that an interrupted sweep resumes.
+    resume : bool
+        Reuse finished chunks in ``store`` (and an existing ``out`` of the same sweep). False
+        discards them and computes everything.
+    scheduler : dask.distributed.Client or str, optional
+        Run the chunks on Dask: a ``Client`` or a scheduler address. Default: local.
+    processes : int, optional
+        Local worker processes. Default: all cores when the work pays for it, else serial;
+        1 forces serial.
+    progress : bool
+        Show a progress bar (only when stderr is a terminal).
+    on_chunk : callable, optional
+        ``on_chunk(index, done, total)`` after each chunk is saved (raise in it to stop the sweep;
+        the saved chunks are kept).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``W_hat(phi, P1, Q1)`` with attributes ``method``, ``steps_per_cycle``,
+        ``lcpfric_version``, ``seconds``, ``executor``, ``chunks``, ``chunks_computed``,
+        ``chunks_reused`` and ``fingerprint`` (identifies the sweep for resuming).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> ds = sweep(np.linspace(0, 10, 11), np.linspace(0, 10, 11), [0, 0.6 * np.pi],
+    ...            progress=False)
+    >>> round(ds.W_hat.sel(phi=0.0, P1=1.0, Q1=2.0).item(), 12)  # Eq. (12)
+    1.333333333333
+    """
+    P1 = _axis("P1", P1, nonneg=True)
+    Q1 = _axis("Q1", Q1, nonneg=True)
+    phi = _axis("phi", phi, nonneg=False)
+    method = _check_method(method)
+    options = _options(method, steps_per_cycle)
+    if processes is not None:
+        processes = _checks.positive_int("processes", processes)
+    out = None if out is None else Path(out)
+    if out is not None and not out.parent.is_dir():
+        raise InputError("out", f"the directory {str(out.parent)!r} does not exist")
+    _xarray()  # fail before any work if the dist extra is missing
+    t0 = time.perf_counter()
+
+    n = phi.size * P1.size * Q1.size
+    steps = options.get("steps_per_cycle", _DEFAULT_STEPS)
+    cost = _SECONDS_PER_POINT.get(method, _PER_POINT_STEP_SECONDS * steps)
+    workers = processes or default_workers()
+    chunks = _chunking(n, chunk_size, cost, workers if scheduler is None else max(workers, 2))
+    digest = hashlib.sha256(b"".join(a.tobytes() for a in (phi, P1, Q1))).hexdigest()[:16]
+    description = {"dims": list(DIMS), "shape": [phi.size, P1.size, Q1.size],
+                   "coords_sha256": digest, "method": method,
+                   "options": json.loads(json.dumps(options, default=repr))}
+    key = fingerprint({**description, "chunks": chunks})
+    attrs = {"title": "lcpfric dissipation map", "method": method,
+             "steps_per_cycle": options.get("steps_per_cycle", -1),
+             "lcpfric_version": _version(), "fingerprint": key, "chunks": len(chunks)}
+
+    if out is not None and resume and out.exists():
+        try:
+            old = _read_dataset(out)
+        except Exception:
+            old = None
+        if old is not None and old.attrs.get("fingerprint") == key:
+            old.attrs.update(chunks_computed=0, chunks_reused=len(chunks), executor="none",
+                             seconds=time.perf_counter() - t0)
+            return old
+
+    if store is None and out is not None:
+        store = out.with_name(out.name + ".parts")
+    chunk_store = (None if store is None else
+                   ChunkStore(store, {**description, "chunks": chunks},
+                              [b - a for a, b in chunks], resume=resume))
+
+    values = np.empty(n)
+    tasks = {}
+    func = _vectorized(method)
+    if func is None:
+        func, options = per_point_W_hat, {"method": method, **options}
+    for index, (a, b) in enumerate(chunks):
+        saved = chunk_store.load(index) if chunk_store is not None else None
+        if saved is not None:
+            values[a:b] = saved
+        else:
+            tasks[index] = (func, options, P1, Q1, phi, a, b)
+    reused = len(chunks) - len(tasks)
+    bar = _progress_bar(progress, len(chunks), reused, method)
+    finished = [reused]
+
+    def on_result(index, chunk_values):
+        a, b = chunks[index]
+        values[a:b] = chunk_values
+        if chunk_store is not None:
+            chunk_store.save(index, chunk_values)
+        finished[0] += 1
+        if bar is not None:
+            bar.update(1)
+        if on_chunk is not None:
+            on_chunk(index, finished[0], len(chunks))
+
+    try:
+        executor = _run(tasks, on_result, scheduler, processes, workers,
+                        sum(b - a for a, b in (chunks[i] for i in tasks)) * cost)
+    finally:
+        if bar is not None:
+            bar.close()
+
+    attrs.update(executor=executor, chunks_computed=len(tasks), chunks_reused=reused)
+    ds = _dataset(values, phi, P1, Q1, attrs)
+    ds.attrs["seconds"] = time.perf_counter() - t0
+    if out is not None:
+        write_dataset(ds, out)
+        if chunk_store is not None and store == out.with_name(out.name + ".parts"):
+            chunk_store.remove()  # everything is in ``out`` now
+    return ds
+
+
+# -- command line -----------------------------------------------------------------------------------
+def register_cli(subparsers) -> None:
+    """Add ``lcpfric map`` to an argparse ``subparsers`` object."""
+    p = subparsers.add_parser(
+        "map", help="compute a dissipation map W_hat(phi, P1, Q1) and write it to NetCDF",
+        description="Compute W_hat on the grid phi x P1 x Q1 and write it to NetCDF (or Zarr for "
+                    "*.zarr). Finished chunks are saved next to the output (<out>.parts) and an "
+                    "interrupted run resumes when the same command is run again.")
+    p.add_argument("--P1", required=True, metavar="START:STOP:NUM",
+                   help="normal amplitudes P1/P0: START:STOP:NUM or a comma-separated list")
+    p.add_argument("--Q1", required=True, metavar="START:STOP:NUM",
+                   help="tangential amplitudes Q1/(f P0): START:STOP:NUM or a list")
+    p.add_argument("--phi", required=True, metavar="LIST",
+                   help="phases: comma-separated radians or multiples of pi (0,0.6pi,pi/2), "
+                        "or START:STOP:NUM (0:pi:11)")
+    p.add_argument("--out", required=True, metavar="FILE.nc", help="output file (.nc or .zarr)")
+    p.add_argument("--method", default="exact", help="method (default: exact)")
+    p.add_argument("--steps", type=int, default=None, metavar="N",
+                   help="steps per cycle for time-stepping methods")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="Dask scheduler address (tcp://host:8786); default: local processes")
+    p.add_argument("--processes", type=int, default=None, metavar="N",
+                   help="local worker processes (default: all cores when it pays)")
+    p.add_argument("--chunk-size", type=int, default=None, metavar="N",
+                   help="grid points per saved chunk")
+    p.add_argument("--restart", action="store_true",
+                   help="discard the saved chunks of an earlier run and start again")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--json", action="store_true", help="print the summary as JSON")
+    p.set_defaults(func=map_command)
+
+
+def map_command(args) -> int:
+    """Handler of ``lcpfric map``."""
+    P1 = parse_grid(args.P1, "--P1")
+    Q1 = parse_grid(args.Q1, "--Q1")
+    phi = parse_phi_list(args.phi)
+    out = Path(args.out)
+    try:
+        ds = sweep(P1, Q1, phi, method=args.method, steps_per_cycle=args.steps,
+                   chunk_size=args.chunk_size, out=out, resume=not args.restart,
+                   scheduler=args.scheduler, processes=args.processes,
+                   progress=not args.no_progress)
+    except KeyboardInterrupt:
+        parts = out.with_name(out.name + ".parts")
+        saved = len(list(parts.glob("chunk-*.npy"))) if parts.is_dir() else 0
+        print(f"interrupted: {saved} finished chunks are saved in {parts}; run the same "
+              "command again to resume", file=sys.stderr)
+        return 130
+    W = ds.W_hat
+    where = W.argmax(...)
+    summary = {
+        "out": str(out), "method": ds.attrs["method"],
+        "shape": {d: int(ds.sizes[d]) for d in DIMS}, "points": int(W.size),
+        "seconds": round(float(ds.attrs["seconds"]), 4), "executor": ds.attrs["executor"],
+        "chunks_computed": int(ds.attrs["chunks_computed"]),
+        "chunks_reused": int(ds.attrs["chunks_reused"]),
+        "W_hat_max": float(W.max()),
+        "at": {d: float(ds[d][where[d]]) for d in DIMS},
+    }
+    if args.json:
+        print(json.dumps(summary))
+    else:
+        at = ", ".join(f"{d}={v:.4g}" for d, v in summary["at"].items())
+        print(f"wrote {out}: W_hat on {W.size} points (phi x P1 x Q1 = "
+              f"{' x '.join(str(v) for v in summary['shape'].values())}) by {summary['method']} "
+              f"in {summary['seconds']:.3g} s [{summary['executor']}; "
+              f"{summary['chunks_reused']} of {ds.attrs['chunks']} "
+              f"chunks reused]; max W_hat = {summary['W_hat_max']:.6g} at {at}")
+    return 0
