@@ -164,9 +164,8 @@ def _exact(model, steps: int, start: float) -> SteadyState:
     t = np.linspace(0.0, T, steps + 1)
     theta = model.omega * t + psi_p
     u = cyc.w(theta)
-    x = theta
-    Qn = Q1 * np.sin(x + phi)
-    Nn = np.maximum(1.0 + P1 * np.sin(x), 0.0)
+    Qn = Q1 * np.sin(theta + phi)
+    Nn = np.maximum(1.0 + P1 * np.sin(theta), 0.0)
     F = Qn + u
     t, v, F, N = _dimensional(model, t, u, F, Nn)
     W_hat = cyc.W_hat

@@ -138,3 +138,17 @@ def test_exact_cycle_satisfies_coulomb_and_energy(P1, Q1, phi):
     # the energy identity W = ∮ u dQ for a periodic cycle (F = Q + K u)
     dQ = np.diff(Q1 * np.sin(th + phi))
     assert np.sum(0.5 * (w[1:] + w[:-1]) * dQ) / Q1 == pytest.approx(cyc.W_hat, rel=1e-6)
+
+
+def test_scalar_and_vectorized_event_loops_agree():
+    from lcpfric.exact import _run, _run_scalar
+
+    rng = np.random.default_rng(7)
+    n = 3000
+    P1 = np.concatenate([rng.uniform(0, 3, n), rng.choice([0.0, 0.5, 1.0, 2.0], 200)])
+    Q1 = np.concatenate([rng.uniform(0, 3, n), rng.choice([0.0, 0.5, 1.0, 2.0], 200)])
+    phi = np.concatenate([rng.uniform(0, 2 * np.pi, n),
+                          rng.choice([0.0, np.pi / 2, np.pi], 200)])
+    J = _run(P1, Q1, phi)
+    Js = np.array([_run_scalar(p, q, f)[0] for p, q, f in zip(P1, Q1, phi)])
+    assert np.max(np.abs(J - Js) / np.maximum(np.abs(Js), 1.0)) < 1e-13
