@@ -17,7 +17,6 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import shutil
 import tempfile
 from pathlib import Path
 
@@ -25,7 +24,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["ChunkStore", "atomic_write_bytes", "fingerprint", "temp_path", "replace_tree"]
+__all__ = ["ChunkStore", "atomic_write_bytes", "fingerprint", "temp_path"]
 
 MANIFEST = "manifest.json"
 _FORMAT = 1
@@ -86,8 +85,9 @@ class ChunkStore:
     def __init__(self, path, description: dict, chunk_sizes, resume: bool = True):
         self.path = Path(path)
         self.chunk_sizes = [int(s) for s in chunk_sizes]
-        self.description = {"format": _FORMAT, **description,
-                            "chunk_sizes": self.chunk_sizes}
+        # through JSON once, so that it compares equal to the manifest read back (tuples -> lists)
+        self.description = json.loads(json.dumps({"format": _FORMAT, **description,
+                                                  "chunk_sizes": self.chunk_sizes}))
         self.key = fingerprint(self.description)
         self._open(resume)
 
@@ -158,15 +158,3 @@ class ChunkStore:
             self.path.rmdir()
         except OSError:  # the user keeps other files there: leave them alone
             pass
-
-
-def replace_tree(src: Path, dst: Path) -> None:
-    """Move directory ``src`` to ``dst``, replacing ``dst`` (for Zarr stores)."""
-    if dst.exists():
-        old = dst.with_name(f".{dst.name}.old")
-        shutil.rmtree(old, ignore_errors=True)
-        os.replace(dst, old)
-        os.replace(src, dst)
-        shutil.rmtree(old, ignore_errors=True)
-    else:
-        os.replace(src, dst)

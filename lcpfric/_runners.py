@@ -43,8 +43,10 @@ def _run_pool(remaining: dict, compute: Callable, on_result: Callable, workers: 
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
     pool = ProcessPoolExecutor(max_workers=workers, initializer=_ignore_sigint)
+    pending = {}
     try:
-        pending = {pool.submit(compute, *args): index for index, args in remaining.items()}
+        for index, args in remaining.items():
+            pending[pool.submit(compute, *args)] = index
         while pending:
             done, _ = wait(pending, return_when=FIRST_COMPLETED)
             for fut in done:
@@ -52,6 +54,11 @@ def _run_pool(remaining: dict, compute: Callable, on_result: Callable, workers: 
                 on_result(index, fut.result())
                 del remaining[index]
     except BaseException:
+        # Cancel each future ourselves: shutdown(cancel_futures=True) alone does not stop the
+        # queued work once the executor object is garbage collected, and the interpreter would
+        # then wait at exit for every remaining chunk.
+        for fut in pending:
+            fut.cancel()
         pool.shutdown(wait=False, cancel_futures=True)
         raise
     pool.shutdown(wait=True)

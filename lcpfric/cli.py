@@ -132,7 +132,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("methods", help="list the methods usable on this installation")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_methods)
-    for module in ("sweep", "figures", "bench"):
+    for module in ("sweep", "figures", "paper", "bench"):
         try:
             mod = __import__(f"lcpfric.{module}", fromlist=["register_cli"])
         except ImportError:

@@ -33,7 +33,11 @@ class InputError(LcpfricError, ValueError):
 
     def __init__(self, parameter: str, message: str):
         self.parameter = parameter
+        self.detail = message
         super().__init__(f"{parameter}: {message}")
+
+    def __reduce__(self):  # picklable, so it crosses process and Dask worker boundaries
+        return (type(self), (self.parameter, self.detail))
 
 
 class SolverError(LcpfricError, RuntimeError):
@@ -56,6 +60,10 @@ class SolverError(LcpfricError, RuntimeError):
         self.residuals = dict(residuals or {})
         super().__init__(message)
 
+    def __reduce__(self):
+        return (_rebuild_solver_error, (type(self), self.args[0], self.backend, self.status,
+                                        self.residuals))
+
 
 class SolverNotFound(LcpfricError, ImportError):
     """A method needs an optional dependency that is not installed.
@@ -66,11 +74,15 @@ class SolverNotFound(LcpfricError, ImportError):
     def __init__(self, method: str, extra: str, installed: list[str] | None = None):
         self.method = method
         self.extra = extra
+        self.installed = installed
         msg = (f"method {method!r} needs an optional dependency that is not installed; "
                f'install it with: pip install "lcpfric[{extra}]"')
         if installed is not None:
             msg += f" (methods available now: {', '.join(installed)})"
         super().__init__(msg)
+
+    def __reduce__(self):
+        return (type(self), (self.method, self.extra, self.installed))
 
 
 class ConvergenceError(LcpfricError, RuntimeError):
@@ -85,6 +97,10 @@ class ConvergenceError(LcpfricError, RuntimeError):
     def __init__(self, message: str, result=None):
         self.result = result
         super().__init__(message)
+
+
+def _rebuild_solver_error(cls, message, backend, status, residuals):
+    return cls(message, backend=backend, status=status, residuals=residuals)
 
 
 class ConvergenceWarning(UserWarning):

@@ -159,7 +159,7 @@ def _run(P1, Q1, phi):
                 pl = psi_lo_c[i[rc]]
                 ph = psi_hi_c[i[rc]]
                 d_lo[rc] = _pmod(math.pi - 2.0 * pl)
-                up_lo[rc] = math.pi - pl
+                up_lo[rc] = _mod0(math.pi - pl)  # in [π/2, 3π/2]: pl may be >= 3π/2
                 d_hi[rc] = _pmod(math.pi - 2.0 * ph)
                 dn_hi[rc] = math.pi - ph
             t_lo = thi + d_lo
@@ -227,7 +227,7 @@ def _run_scalar(P1: float, Q1: float, phi: float):
     for _ in range(_MAX_EVENTS):
         if state == STICK:
             if kind == _RECONTACT:
-                d_lo, up_lo = TWO_PI - (-(math.pi - 2.0 * pl)) % TWO_PI, math.pi - pl
+                d_lo, up_lo = TWO_PI - (-(math.pi - 2.0 * pl)) % TWO_PI, (math.pi - pl) % TWO_PI
                 d_hi, dn_hi = TWO_PI - (-(math.pi - 2.0 * ph)) % TWO_PI, math.pi - ph
             else:
                 d_lo = d_hi = math.inf

@@ -30,7 +30,7 @@ _NONCONV = ("raise", "warn", "ignore")
 
 def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
                  tol: float = 1e-10, max_cycles: int = 100, on_nonconvergence: str = "raise",
-                 placement: str = "uniform", u0=None, **options) -> SteadyState:
+                 placement: str = "contact", u0=None, **options) -> SteadyState:
     """The periodic steady state and its dissipation per cycle.
 
     Parameters
@@ -51,8 +51,9 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     on_nonconvergence : {"raise", "warn", "ignore"}
         What to do when ``max_cycles`` is reached first: raise :class:`ConvergenceError`, warn
         with :class:`ConvergenceWarning`, or only set ``converged=False``.
-    placement : {"uniform", "contact"}
-        Step placement (see :mod:`lcpfric.scene`).
+    placement : {"contact", "uniform"}
+        Step placement (see :mod:`lcpfric.scene`); "contact" spends no steps where every node is
+        separated.
     u0 : array_like, optional
         Initial tangential displacement (default zero).
     **options

@@ -8,12 +8,15 @@ no method has to locate them and none loses an order of accuracy there.
 
 Placement of the remaining steps:
 
+``"contact"`` (default)
+    the steps are spread over the instants when at least one node is in contact; an interval in
+    which every node is separated is one increment (nothing slips there, F = 0, u = -K⁻¹Q). With
+    separation (P̂1 > 1) up to half the cycle is separated, and uniform steps would spend that
+    share of the budget where nothing happens: measured on the single node at P̂1 from 1.5 to
+    1e6, the error at a given step count is 2 to 8 times lower than with ``"uniform"`` (same
+    second order). Without separation it is the uniform grid.
 ``"uniform"``
     ``steps_per_cycle`` equal increments over the period, plus the transition instants.
-``"contact"``
-    the steps are spread over the instants when at least one node is in contact; an interval in
-    which every node is separated is one increment (nothing slips there, F = 0, u = -K⁻¹Q), so at
-    large P̂1, where contact is a short part of the cycle, no steps are wasted on separation.
 """
 
 from __future__ import annotations
@@ -29,7 +32,7 @@ from .model import ContactSystem, SingleNode
 
 __all__ = ["Scene", "make_scene"]
 
-PLACEMENTS = ("uniform", "contact")
+PLACEMENTS = ("contact", "uniform")
 
 
 @dataclass(frozen=True, eq=False)
@@ -96,7 +99,7 @@ def _start_time(system: ContactSystem) -> float:
     return 0.0
 
 
-def make_scene(system_or_model, steps_per_cycle: int = 1000, *, placement: str = "uniform",
+def make_scene(system_or_model, steps_per_cycle: int = 1000, *, placement: str = "contact",
                t0: float | None = None) -> Scene:
     """Sample one cycle of a :class:`ContactSystem` or :class:`SingleNode` on a time grid.
 
@@ -127,12 +130,13 @@ def make_scene(system_or_model, steps_per_cycle: int = 1000, *, placement: str =
     else:
         grid = _contact_grid(system, start, end, transitions, steps)
     if transitions.size:
-        # drop grid points closer to a transition than a tiny fraction of a step, then insert
+        # insert the transitions, dropping grid points within a tiny fraction of a step of one
         h = T / steps
-        keep = np.ones(grid.size, dtype=bool)
         near = np.abs(grid[:, None] - transitions[None, :]).min(axis=1) < 1e-9 * h
-        keep[1:-1] = ~near[1:-1]
-        grid = np.union1d(grid[keep], transitions)
+        near[0] = near[-1] = False
+        inner = transitions[(transitions > start + 1e-9 * h) & (transitions < end - 1e-9 * h)]
+        grid = np.union1d(grid[~near], inner)
+    grid[0], grid[-1] = start, end  # the cycle is exactly one period
     Q = system.tangential(grid)
     N = system.normal.reactions(grid)
     # exact zeros at the inserted transition instants (the loads' roots are machine-precise)

@@ -9,7 +9,8 @@ How the work is done
   one call (``exact`` is a few numpy passes over all points: 112 211 points in ~0.1 s). Any other
   method name goes point by point through :func:`lcpfric.steady_state` (slow; for checking).
 * **Chunks.** The grid is cut into chunks of ``chunk_size`` points (flat, C order over
-  ``(phi, P1, Q1)``). A chunk is the unit of parallel work, of progress and of saving.
+  ``(phi, P1, Q1)``). A chunk is the unit of parallel work, of progress and of saving. The
+  default size depends only on the grid and the method, so a sweep resumes on any machine.
 * **Where.** Serially for small jobs; on a local process pool using all cores when the estimated
   work pays for it (or ``processes=N``); on Dask when ``scheduler`` is a ``dask.distributed.Client``
   or a scheduler address (``tcp://host:8786``: dask-jobqueue's SLURM/PBS clusters included).
@@ -29,21 +30,22 @@ import json
 import math
 import os
 import sys
-import tempfile
 import time
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
 from . import _checks
-from ._chunkstore import ChunkStore, fingerprint, replace_tree, temp_path
+from ._chunkstore import ChunkStore, fingerprint, temp_path
 from ._optional import require
 from ._runners import default_workers, run_dask, run_processes, run_serial
 from .errors import InputError, LcpfricError
 
 __all__ = ["sweep", "VECTORIZED", "register_vectorized", "per_point_W_hat", "parse_grid",
-           "parse_phi_list", "write_dataset", "netcdf_engine", "register_cli", "map_command"]
+           "parse_phi_list", "write_dataset", "netcdf_engine", "register_cli", "map_command",
+           "option_names"]
 
 DIMS = ("phi", "P1", "Q1")
 
@@ -52,12 +54,16 @@ DIMS = ("phi", "P1", "Q1")
 VECTORIZED: dict[str, Callable] = {}
 
 #: Estimated seconds per grid point, used to size chunks and to decide whether a process pool
-#: pays. Per-point methods cost about ``_PER_POINT_STEP_SECONDS * steps_per_cycle`` per point.
+#: pays. Other methods cost about ``steps_per_cycle`` times a per-step cost: batched (vectorized)
+#: steppers much less than per-point ones.
 _SECONDS_PER_POINT = {"exact": 1.2e-6}
 _PER_POINT_STEP_SECONDS = 3e-6  # explicit stepper: ~3 cycles of 2000 steps in ~6 ms
+_BATCHED_STEP_SECONDS = 3e-7    # batch.projection_W_hat: 10^4 points x 1000 steps in ~3 s
 _DEFAULT_STEPS = 2000           # steady_state's default
 _CHUNK_SECONDS = 2.0     # a chunk this long is worth saving on its own, and short enough to lose
-_PARALLEL_SECONDS = 1.0  # starting worker processes costs ~0.1-0.3 s; below this, stay serial
+_PARALLEL_SECONDS = 3.0  # starting worker processes costs ~0.1-0.3 s; below this, stay serial
+_MIN_CHUNKS = 64         # when parallel work pays: enough chunks to balance many workers
+_MIN_BATCH = 4096        # points per chunk of a batched stepper (its per-step overhead is fixed)
 
 
 def register_vectorized(name: str, func: Callable, seconds_per_point: float | None = None):
@@ -84,7 +90,9 @@ def _vectorized(method: str) -> Callable | None:
     if method == "projection" and method not in VECTORIZED:
         try:
             from .batch import projection_W_hat
-        except ImportError:
+        except ModuleNotFoundError as exc:  # not written yet: point by point
+            if exc.name != f"{__package__}.batch":
+                raise
             return None
         register_vectorized("projection", projection_W_hat)
     return VECTORIZED.get(method)
@@ -125,7 +133,7 @@ def _compute_chunk(func, options, P1, Q1, phi, start, stop):
     return np.where(q == 0.0, 0.0, W)
 
 
-# -- inputs -----------------------------------------------------------------------------------------
+# -- inputs ----------------------------------------------------------------------------------------
 def _axis(name: str, values, nonneg: bool) -> np.ndarray:
     arr = np.atleast_1d(_checks.finite_array(name, values, nonneg=nonneg))
     if arr.ndim != 1 or arr.size == 0:
@@ -183,17 +191,21 @@ def _check_method(method) -> str:
     return method
 
 
-def _chunking(n: int, chunk_size, cost: float, workers: int) -> list[tuple[int, int]]:
+def _chunking(n: int, chunk_size, cost: float, batched: bool) -> list[tuple[int, int]]:
+    """Chunk boundaries. They depend only on the grid and the method (not on where the chunks
+    run), so that a sweep interrupted on one machine resumes on another."""
     if chunk_size is None:
         size = max(1, int(_CHUNK_SECONDS / cost))
-        if workers > 1 and n * cost > _PARALLEL_SECONDS:  # enough chunks to keep all cores busy
-            size = min(size, math.ceil(n / (4 * workers)))
+        if n * cost > _PARALLEL_SECONDS:  # work enough to share: chunks for many workers
+            size = min(size, math.ceil(n / _MIN_CHUNKS))
+        if batched:  # a batched stepper pays a fixed cost per step of a chunk, however small
+            size = max(size, _MIN_BATCH)
     else:
         size = _checks.positive_int("chunk_size", chunk_size)
     return [(a, min(a + size, n)) for a in range(0, n, size)]
 
 
-# -- output -----------------------------------------------------------------------------------------
+# -- output ----------------------------------------------------------------------------------------
 def _xarray():
     return require("xarray", "dist", "Sweeps (xarray datasets)")
 
@@ -212,15 +224,9 @@ def netcdf_engine() -> str:
 
 
 def write_dataset(ds, out) -> Path:
-    """Write ``ds`` to ``out`` atomically: NetCDF-4 (see :func:`netcdf_engine`), or Zarr for
-    ``*.zarr``."""
+    """Write ``ds`` to the NetCDF-4 file ``out`` atomically (see :func:`netcdf_engine`): a
+    temporary file in the same directory, renamed over ``out`` once complete."""
     out = Path(out)
-    if out.suffix == ".zarr":
-        require("zarr", "dist", "Zarr output")
-        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
-        ds.to_zarr(tmp, mode="w")
-        replace_tree(tmp, out)
-        return out
     engine = netcdf_engine()
     tmp = temp_path(out)
     try:
@@ -233,10 +239,7 @@ def write_dataset(ds, out) -> Path:
 
 
 def _read_dataset(out: Path):
-    xr = _xarray()
-    if out.suffix == ".zarr":
-        return xr.open_zarr(out).load()
-    return xr.load_dataset(out, engine=netcdf_engine())
+    return _xarray().load_dataset(out, engine=netcdf_engine())
 
 
 def _version() -> str:
@@ -286,7 +289,7 @@ def _run(tasks: dict, on_result, scheduler, processes, workers: int, seconds: fl
     return run_serial(tasks, _compute_chunk, on_result)
 
 
-# -- the sweep --------------------------------------------------------------------------------------
+# -- the sweep -------------------------------------------------------------------------------------
 def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = None,
           chunk_size: int | None = None, out=None, store=None, resume: bool = True,
           scheduler=None, processes: int | None = None, progress: bool = True,
@@ -309,8 +312,8 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
         Grid points per chunk; by default sized to ~2 s of work, and small enough to give every
         worker several chunks.
     out : str or Path, optional
-        Write the result to this file: NetCDF-4 (h5netcdf) or, for ``*.zarr``, Zarr. Written
-        atomically at the end; chunks are saved meanwhile in ``store`` (default ``<out>.parts``).
+        Write the result to this NetCDF-4 file (h5netcdf engine), atomically at the end; the
+        chunks are saved meanwhile in ``store`` (default ``<out>.parts``).
     store : str or Path, optional
         Directory where every finished chunk is saved, so that an interrupted sweep resumes.
     resume : bool
@@ -352,14 +355,18 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
     out = None if out is None else Path(out)
     if out is not None and not out.parent.is_dir():
         raise InputError("out", f"the directory {str(out.parent)!r} does not exist")
+    if out is not None and out.suffix == ".zarr":
+        raise InputError("out", "Zarr output is not supported; write NetCDF (e.g. map.nc)")
     _xarray()  # fail before any work if the dist extra is missing
     t0 = time.perf_counter()
 
     n = phi.size * P1.size * Q1.size
     steps = options.get("steps_per_cycle", _DEFAULT_STEPS)
-    cost = _SECONDS_PER_POINT.get(method, _PER_POINT_STEP_SECONDS * steps)
+    batched = method != "exact" and _vectorized(method) is not None
+    per_step = _BATCHED_STEP_SECONDS if batched else _PER_POINT_STEP_SECONDS
+    cost = _SECONDS_PER_POINT.get(method, per_step * steps)
     workers = processes or default_workers()
-    chunks = _chunking(n, chunk_size, cost, workers if scheduler is None else max(workers, 2))
+    chunks = _chunking(n, chunk_size, cost, batched)
     digest = hashlib.sha256(b"".join(a.tobytes() for a in (phi, P1, Q1))).hexdigest()[:16]
     description = {"dims": list(DIMS), "shape": [phi.size, P1.size, Q1.size],
                    "coords_sha256": digest, "method": method,
@@ -428,14 +435,14 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
     return ds
 
 
-# -- command line -----------------------------------------------------------------------------------
+# -- command line ----------------------------------------------------------------------------------
 def register_cli(subparsers) -> None:
     """Add ``lcpfric map`` to an argparse ``subparsers`` object."""
     p = subparsers.add_parser(
         "map", help="compute a dissipation map W_hat(phi, P1, Q1) and write it to NetCDF",
-        description="Compute W_hat on the grid phi x P1 x Q1 and write it to NetCDF (or Zarr for "
-                    "*.zarr). Finished chunks are saved next to the output (<out>.parts) and an "
-                    "interrupted run resumes when the same command is run again.")
+        description="Compute W_hat on the grid phi x P1 x Q1 and write it to NetCDF. Finished "
+                    "chunks are saved next to the output (<out>.parts) and an interrupted run "
+                    "resumes when the same command is run again.")
     p.add_argument("--P1", required=True, metavar="START:STOP:NUM",
                    help="normal amplitudes P1/P0: START:STOP:NUM or a comma-separated list")
     p.add_argument("--Q1", required=True, metavar="START:STOP:NUM",
@@ -443,7 +450,7 @@ def register_cli(subparsers) -> None:
     p.add_argument("--phi", required=True, metavar="LIST",
                    help="phases: comma-separated radians or multiples of pi (0,0.6pi,pi/2), "
                         "or START:STOP:NUM (0:pi:11)")
-    p.add_argument("--out", required=True, metavar="FILE.nc", help="output file (.nc or .zarr)")
+    p.add_argument("--out", required=True, metavar="FILE.nc", help="output NetCDF file")
     p.add_argument("--method", default="exact", help="method (default: exact)")
     p.add_argument("--steps", type=int, default=None, metavar="N",
                    help="steps per cycle for time-stepping methods")
@@ -460,17 +467,35 @@ def register_cli(subparsers) -> None:
     p.set_defaults(func=map_command)
 
 
+@contextmanager
+def option_names(names: dict):
+    """Re-raise an :class:`InputError` about a parameter under its command-line option name."""
+    try:
+        yield
+    except InputError as exc:
+        if exc.parameter in names:
+            message = str(exc).split(": ", 1)[1]
+            raise InputError(names[exc.parameter], message) from None
+        raise
+
+
+_MAP_OPTIONS = {"steps_per_cycle": "--steps", "chunk_size": "--chunk-size", "out": "--out",
+                "processes": "--processes", "scheduler": "--scheduler", "method": "--method",
+                "store": "--out", "phi": "--phi"}
+
+
 def map_command(args) -> int:
     """Handler of ``lcpfric map``."""
     P1 = parse_grid(args.P1, "--P1")
     Q1 = parse_grid(args.Q1, "--Q1")
-    phi = parse_phi_list(args.phi)
+    phi = parse_grid(args.phi, "--phi", angle=True)
     out = Path(args.out)
     try:
-        ds = sweep(P1, Q1, phi, method=args.method, steps_per_cycle=args.steps,
-                   chunk_size=args.chunk_size, out=out, resume=not args.restart,
-                   scheduler=args.scheduler, processes=args.processes,
-                   progress=not args.no_progress)
+        with option_names(_MAP_OPTIONS):
+            ds = sweep(P1, Q1, phi, method=args.method, steps_per_cycle=args.steps,
+                       chunk_size=args.chunk_size, out=out, resume=not args.restart,
+                       scheduler=args.scheduler, processes=args.processes,
+                       progress=not args.no_progress)
     except KeyboardInterrupt:
         parts = out.with_name(out.name + ".parts")
         saved = len(list(parts.glob("chunk-*.npy"))) if parts.is_dir() else 0

@@ -152,3 +152,18 @@ def test_scalar_and_vectorized_event_loops_agree():
     J = _run(P1, Q1, phi)
     Js = np.array([_run_scalar(p, q, f)[0] for p, q, f in zip(P1, Q1, phi)])
     assert np.max(np.abs(J - Js) / np.maximum(np.abs(Js), 1.0)) < 1e-13
+
+
+def test_period_pi_in_phi_dense_grid_across_separation_onset():
+    # Re-contact with the lower bound's phase in [3π/2, 2π) (P̂1 just above 1, small Q̂1) once
+    # escaped the tests: a dense grid across P̂1 = 1 checks the φ + π symmetry there.
+    P1, Q1, phi = np.meshgrid(np.linspace(0.9, 2.0, 45), np.linspace(0.05, 2.0, 40),
+                              np.linspace(0, np.pi, 37), indexing="ij")
+    a = exact_W_hat(P1, Q1, phi)
+    b = exact_W_hat(P1, Q1, phi + np.pi)
+    assert np.max(np.abs(a - b)) < 1e-12
+    # and against the explicit stepper at the worst points of the old bug
+    for p, q, f in [(1.2, 0.8, 0.75 * np.pi), (1.1, 0.5, 0.9 * np.pi), (1.35, 1.2, 0.6 * np.pi)]:
+        ex = exact_W_hat(p, q, f)
+        num = lcpfric.steady_state(lcpfric.SingleNode.normalized(p, q, f), "explicit", 20000)
+        assert num.W_hat == pytest.approx(ex, rel=1e-6, abs=1e-9)

@@ -37,6 +37,7 @@ __all__ = ["ExplicitStepper", "solve_lcp"]
 STICK, FORWARD, BACKWARD, SEPARATION = (State.STICK, State.FORWARD, State.BACKWARD,
                                         State.SEPARATION)
 _REL = 1e-12  # relative tolerance for "on the friction limit" and for a margin's rate
+_EPS8 = 8 * np.finfo(float).eps  # an event closer than this (relative) to τ happens at τ
 
 
 def solve_lcp(M: np.ndarray, q: np.ndarray, basis=None, max_pivots: int | None = None):
@@ -100,26 +101,31 @@ class ExplicitStepper(Stepper):
         slipping = state.state == FORWARD
         slipping_b = state.state == BACKWARD
         n = f.size
+        touch_lo = touch_hi = np.zeros(n, dtype=bool)
         for _ in range(4 * n + 16):
             Nt = Na + tau * dN
             Qt = Qa + tau * dQ
             F0 = Qt + K @ u
             bound = f * Nt
-            du, node_state = self._rates(K, f, F0, bound, dQ, dN, sep, slipping, slipping_b)
+            du, node_state = self._rates(K, f, F0, bound, dQ, dN, sep, slipping, slipping_b,
+                                         touch_lo, touch_hi)
             dF = dQ + K @ du
             # first instant where a sticking node in contact reaches a friction limit
             stick = node_state == STICK
-            g_hi, r_hi = bound - F0, f * dN - dF
-            g_lo, r_lo = bound + F0, f * dN + dF
             rtol = _REL * (np.abs(f * dN) + np.abs(dF)) + 1e-300
             gtol = _REL * (bound + np.abs(F0))
-            t_end = 1.0
+            events = []
             with np.errstate(divide="ignore", invalid="ignore"):
-                for g, r in ((g_hi, r_hi), (g_lo, r_lo)):
+                for g, r in ((bound - F0, f * dN - dF), (bound + F0, f * dN + dF)):
                     hit = stick & (r < -rtol) & (g > gtol)
-                    if hit.any():
-                        t_end = min(t_end, float(np.min(tau + g[hit] / -r[hit])))
-            t_end = max(t_end, tau)
+                    events.append(np.where(hit, tau + g / -r, 2.0))
+            t_end = min(1.0, float(np.min(events[0])), float(np.min(events[1])))
+            now = tau + _EPS8 * max(1.0, tau)
+            if t_end <= now:
+                # limits reached within round-off of τ: decide those nodes' slip at τ
+                touch_hi, touch_lo = events[0] <= now, events[1] <= now
+                continue
+            touch_lo = touch_hi = np.zeros(n, dtype=bool)
             u_new = u + (t_end - tau) * du
             F1 = Qa + t_end * dQ + K @ u_new
             W -= 0.5 * float(np.dot(F0 + F1, u_new - u))
@@ -139,13 +145,16 @@ class ExplicitStepper(Stepper):
         return StepState(u, F, node_state, W, data)
 
     @staticmethod
-    def _rates(K, f, F0, bound, dQ, dN, sep, was_fwd, was_bwd):
-        """Per-node states and displacement rates du (per unit τ) at one instant."""
+    def _rates(K, f, F0, bound, dQ, dN, sep, was_fwd, was_bwd, touch_lo, touch_hi):
+        """Per-node states and displacement rates du (per unit τ) at one instant.
+
+        ``touch_lo``/``touch_hi`` mark nodes whose limit is reached within round-off of this
+        instant (treated as on that limit)."""
         n = f.size
         scale = np.abs(F0) + bound
         gtol = _REL * scale + 1e-300
-        on_lo = ~sep & (F0 <= -bound + gtol)
-        on_hi = ~sep & (F0 >= bound - gtol)
+        on_lo = ~sep & ((F0 <= -bound + gtol) | touch_lo)
+        on_hi = ~sep & ((F0 >= bound - gtol) | touch_hi)
         both = on_lo & on_hi  # at re-contact (N = 0): the sign is decided below
         B = on_lo | on_hi
         s = np.where(on_lo & ~on_hi, 1.0, np.where(on_hi & ~on_lo, -1.0, 0.0))
@@ -246,10 +255,13 @@ def _single_node_cycle(scene, state):
                 st, du = STICK, 0.0
                 t_end = 1.0
                 rtol = _REL * (abs(db) + abs(dQ))
-                if r_hi < -rtol and bt - F0 > tol:
-                    t_end = min(t_end, tau + (bt - F0) / -r_hi)
-                if r_lo < -rtol and bt + F0 > tol:
-                    t_end = min(t_end, tau + (bt + F0) / -r_lo)
+                t_hi = tau + (bt - F0) / -r_hi if r_hi < -rtol and bt - F0 > tol else 2.0
+                t_lo = tau + (bt + F0) / -r_lo if r_lo < -rtol and bt + F0 > tol else 2.0
+                if min(t_hi, t_lo) <= tau + _EPS8 * max(1.0, tau):
+                    # the limit is reached within round-off of τ: slip now (τ cannot advance)
+                    st, du = (BACKWARD, r_hi / k) if t_hi <= t_lo else (FORWARD, -r_lo / k)
+                else:
+                    t_end = min(t_end, t_hi, t_lo)
             u1 = u + (t_end - tau) * du
             F1 = Qa + t_end * dQ + k * u1
             W -= 0.5 * (F0 + F1) * (u1 - u)

@@ -1,0 +1,337 @@
+"""Error against run time for every method (``lcpfric bench``, ``benchmarks/compare_backends.py``).
+
+Every method is run on a set of cases at steps per cycle from 50 to 1e5 and judged against the
+exact solution: the single node's closed form, and for the multi-node case a block-diagonal
+system whose exact dissipation is the sum of its nodes' exact answers. Wall time is the median
+of repeats, measured in the same run for all methods. Writes ``compare.csv``, ``compare.md`` and
+``compare.png`` (log-log error against time, one panel per case, one line per method).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import os
+import statistics
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["CASES", "Case", "run_comparison", "convergence_order", "register_cli"]
+
+
+@dataclass(frozen=True)
+class Case:
+    """A benchmark case: one node (P̂1, Q̂1, φ), or several uncoupled nodes (``nodes``)."""
+
+    name: str
+    P1: float = 0.0
+    Q1: float = 0.0
+    phi: float = 0.0
+    nodes: tuple = ()
+
+    @property
+    def multi(self) -> bool:
+        return bool(self.nodes)
+
+    def model(self):
+        from .loads import Harmonic
+        from .model import ContactSystem, IndependentSprings, SingleNode
+
+        if not self.multi:
+            return SingleNode.normalized(self.P1, self.Q1, self.phi)
+        n = len(self.nodes)
+        return ContactSystem(
+            stiffness=np.eye(n), friction=np.ones(n),
+            tangential_loads=tuple(Harmonic(0.0, q, f) for _, q, f in self.nodes),
+            normal=IndependentSprings(tuple(Harmonic(1.0, p, 0.0) for p, _, _ in self.nodes)))
+
+    def exact(self) -> float:
+        """Exact Ŵ (single node) or exact W = Σ Q̂1_i Ŵ_i (block-diagonal normalized nodes)."""
+        from .exact import exact_W_hat
+
+        if not self.multi:
+            return float(exact_W_hat(self.P1, self.Q1, self.phi))
+        P, Q, F = (np.array(x, dtype=float) for x in zip(*self.nodes))
+        return float(np.sum(Q * exact_W_hat(P, Q, F)))
+
+    def value(self, result) -> float:
+        return result.W if self.multi else result.W_hat
+
+    def label(self) -> str:
+        if self.multi:
+            return f"{self.name} ({len(self.nodes)} uncoupled nodes, with and without separation)"
+        return f"{self.name} (P̂1={self.P1:g}, Q̂1={self.Q1:g}, φ={self.phi / math.pi:.3g}π)"
+
+
+PI = math.pi
+CASES = (
+    Case("contact", 0.5, 2.0, 0.0),
+    Case("contact-phase", 0.5, 2.0, 0.6 * PI),
+    Case("separation", 1.5, 2.0, 0.6 * PI),
+    Case("large", 5.0, 5.0, 0.6 * PI),
+    Case("near-shakedown", 0.5, 1.01, 0.3 * PI),
+    Case("very-large", 20.0, 50.0, 0.5 * PI),
+    Case("multi-node", nodes=((0.5, 2.0, 0.0), (1.5, 2.0, 0.6 * PI), (5.0, 5.0, 0.6 * PI),
+                              (0.3, 1.5, 1.0))),
+)
+FULL_STEPS = (50, 100, 200, 500, 1000, 2000, 5000, 10000, 20000, 50000, 100000)
+QUICK_STEPS = (50, 200, 1000, 5000, 20000)
+
+
+def default_methods() -> list[str]:
+    from .methods import available_methods
+
+    return available_methods()
+
+
+def _time(fn, repeats: int):
+    times, out = [], None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+    return out, statistics.median(times)
+
+
+def run_comparison(cases=CASES, methods=None, steps=FULL_STEPS, *, budget: float = 20.0,
+                   repeats: int = 3, placement: str = "contact", log=print) -> list[dict]:
+    """Run every method on every case; return one row per (case, method, steps).
+
+    A method stops refining a case once one run takes longer than ``budget`` seconds, or the
+    next is predicted to. A method that cannot treat a case (or fails) gets one row saying why.
+    """
+    from .errors import LcpfricError
+    from .periodic import steady_state
+
+    methods = list(methods or default_methods())
+    rows = []
+    for case in cases:
+        ref = case.exact()
+        model = case.model()
+        for method in methods:
+            run_steps = (0,) if method == "exact" else steps
+            last = 0.0
+            for n in run_steps:
+                if method != "exact" and last * n / max(prev_n, 1) > budget:
+                    rows.append(dict(case=case.name, method=method, steps_per_cycle=n,
+                                     rel_error="", seconds="", cycles="", steps="",
+                                     W="", exact=ref, note="skipped: over time budget"))
+                    continue
+                try:
+                    if method == "exact" and case.multi:
+                        from .exact import exact_W_hat
+
+                        P, Q, F = (np.array(x) for x in zip(*case.nodes))
+                        val, sec = _time(lambda: float(np.sum(Q * exact_W_hat(P, Q, F))), 50)
+                        res = None
+                    else:
+                        kw = {} if method == "exact" else dict(placement=placement)
+                        res, sec = _time(lambda: steady_state(model, method, n or 2000, **kw),
+                                         repeats if method == "exact" or last < 2.0 else 1)
+                        val = case.value(res)
+                except LcpfricError as exc:
+                    rows.append(dict(case=case.name, method=method, steps_per_cycle=n,
+                                     rel_error="", seconds="", cycles="", steps="", W="",
+                                     exact=ref, note=f"error: {type(exc).__name__}: {exc}"))
+                    log(f"{case.name:15s} {method:22s} {n:7d}  {type(exc).__name__}: {exc}")
+                    break
+                err = abs(val - ref) / abs(ref) if ref else abs(val)
+                rows.append(dict(case=case.name, method=method, steps_per_cycle=n,
+                                 rel_error=err, seconds=sec,
+                                 cycles=1 if res is None else res.cycles,
+                                 steps=0 if res is None else res.steps_per_cycle,
+                                 W=val, exact=ref, note=""))
+                log(f"{case.name:15s} {method:22s} {n:7d}  err {err:9.2e}  {sec:9.4f} s")
+                last, prev_n = sec, max(n, 1)
+            prev_n = 1
+    return rows
+
+
+prev_n = 1  # module default for the budget prediction of a method's first run
+
+
+def convergence_order(rows, case: str, method: str, floor: float = 1e-13,
+                      min_steps: int = 200) -> float | None:
+    """Least-squares slope of -log(error) against log(steps), over the runs at or above
+    ``min_steps`` whose error is above the round-off ``floor``."""
+    pts = [(r["steps_per_cycle"], r["rel_error"]) for r in rows
+           if r["case"] == case and r["method"] == method and r["rel_error"] != ""
+           and r["steps_per_cycle"] >= min_steps and r["rel_error"] > floor]
+    if len(pts) < 3:
+        return None
+    n, e = np.array(pts, dtype=float).T
+    return float(-np.polyfit(np.log(n), np.log(e), 1)[0])
+
+
+def time_to_reach(rows, case: str, method: str, target: float) -> tuple[float, int] | None:
+    """(seconds, steps) of the cheapest run of a method reaching ``target`` relative error."""
+    ok = [(r["seconds"], r["steps_per_cycle"]) for r in rows
+          if r["case"] == case and r["method"] == method and r["rel_error"] != ""
+          and r["rel_error"] <= target]
+    return min(ok) if ok else None
+
+
+def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
+    """Write compare.csv, compare.md and compare.png; return the headline numbers."""
+    os.makedirs(out_dir, exist_ok=True)
+    fields = ["case", "method", "steps_per_cycle", "rel_error", "seconds", "cycles", "steps",
+              "W", "exact", "note"]
+    with open(os.path.join(out_dir, "compare.csv"), "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=fields)
+        w.writeheader()
+        w.writerows(rows)
+    methods = list(dict.fromkeys(r["method"] for r in rows))
+    headline = {"orders": {}, "time_to_1e-6": {}, "exact": {}}
+    lines = [f"Reproduce: `{command}`" if command else "", "",
+             "## Time to reach a relative error of 1e-6 (s; steps per cycle)", "",
+             "| method | " + " | ".join(c.name for c in cases) + " |",
+             "|---|" + "---|" * len(cases)]
+    for m in methods:
+        cells = []
+        for c in cases:
+            t = time_to_reach(rows, c.name, m, 1e-6 if m != "exact" else 1e-10)
+            cells.append("-" if t is None else (f"{t[0]:.2e}" + ("" if m == "exact"
+                                                                  else f" ({t[1]})")))
+            headline["time_to_1e-6"].setdefault(m, {})[c.name] = None if t is None else t[0]
+        lines.append(f"| {m} | " + " | ".join(cells) + " |")
+    lines += ["", "(`exact`: time of one evaluation; its error is below 1e-10 on every case.)", "",
+              "## Measured convergence order (least-squares slope, runs with >= 200 steps and "
+              "error above 1e-13)", "",
+              "| method | " + " | ".join(c.name for c in cases) + " |",
+              "|---|" + "---|" * len(cases)]
+    for m in methods:
+        if m == "exact":
+            continue
+        cells = []
+        for c in cases:
+            o = convergence_order(rows, c.name, m)
+            headline["orders"].setdefault(m, {})[c.name] = o
+            cells.append("-" if o is None else f"{o:.2f}")
+        lines.append(f"| {m} | " + " | ".join(cells) + " |")
+    lines += ["", "## Relative error of Ŵ (W for multi-node) against the exact solution", ""]
+    for c in cases:
+        sub = [r for r in rows if r["case"] == c.name]
+        steps = sorted({r["steps_per_cycle"] for r in sub if r["method"] != "exact"})
+        lines += [f"### {c.label()}", "", "| method | " + " | ".join(str(s) for s in steps)
+                  + " |", "|---|" + "---|" * len(steps)]
+        for m in methods:
+            cells = []
+            for s in steps:
+                hit = [r for r in sub if r["method"] == m and r["steps_per_cycle"] == s]
+                cells.append(f"{hit[0]['rel_error']:.1e}" if hit and hit[0]["rel_error"] != ""
+                             else "")
+            if m == "exact":
+                hit = [r for r in sub if r["method"] == m]
+                cells = [f"{hit[0]['rel_error']:.1e}" if hit and hit[0]["rel_error"] != ""
+                         else ""] + [""] * (len(steps) - 1)
+            lines.append(f"| {m} | " + " | ".join(cells) + " |")
+        notes = {r["method"]: r["note"] for r in sub if r["note"].startswith("error")}
+        for m, note in notes.items():
+            lines.append(f"\n{m}: {note}")
+        lines.append("")
+    with open(os.path.join(out_dir, "compare.md"), "w") as fh:
+        fh.write("\n".join(lines))
+    _plot(rows, cases, methods, os.path.join(out_dir, "compare.png"))
+    return headline
+
+
+def _plot(rows, cases, methods, path):
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return
+    ncol = 4
+    nrow = math.ceil(len(cases) / ncol)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.6 * nrow), squeeze=False)
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for ax, c in zip(axes.flat, cases):
+        for i, m in enumerate(methods):
+            pts = sorted((r["seconds"], max(r["rel_error"], 1e-17)) for r in rows
+                         if r["case"] == c.name and r["method"] == m and r["rel_error"] != "")
+            if not pts:
+                continue
+            x, y = zip(*pts)
+            style = dict(marker="*", ms=12, ls="none") if m == "exact" else dict(marker=".")
+            ax.loglog(x, y, label=m, color=colors[i % len(colors)], **style)
+        ax.axhline(1e-6, color="0.6", lw=0.8, ls="--")
+        ax.set_title(c.label(), fontsize=8)
+        ax.set_xlabel("wall time per steady state (s)")
+        ax.set_ylabel("relative error")
+        ax.grid(True, which="major", alpha=0.3)
+    for ax in list(axes.flat)[len(cases):]:
+        ax.axis("off")
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower right", fontsize=8, ncol=2)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(prog="lcpfric bench", description=__doc__.splitlines()[0])
+    _add_options(p)
+    return _run(p.parse_args(argv))
+
+
+def _add_options(p):
+    p.add_argument("--quick", action="store_true", help="reduced set, under 3 minutes")
+    p.add_argument("--out", default="bench-out", help="output directory")
+    p.add_argument("--methods", default=None, help="comma-separated methods (default: all "
+                                                   "installed)")
+    p.add_argument("--cases", default=None, help="comma-separated case names")
+    p.add_argument("--budget", type=float, default=None, help="seconds per run before a "
+                                                              "method stops refining")
+    p.add_argument("--placement", default="contact", choices=("contact", "uniform"))
+    p.add_argument("--json", action="store_true", help="print the headline numbers as JSON last")
+
+
+def _run(args) -> int:
+    from .errors import InputError
+
+    cases = CASES
+    if args.cases:
+        names = [s.strip() for s in args.cases.split(",")]
+        unknown = set(names) - {c.name for c in CASES}
+        if unknown:
+            raise InputError("--cases", f"unknown {sorted(unknown)}; choose from "
+                                        f"{[c.name for c in CASES]}")
+        cases = tuple(c for c in CASES if c.name in names)
+    methods = [s.strip() for s in args.methods.split(",")] if args.methods else None
+    if methods:
+        from .methods import get_stepper
+
+        for m in methods:
+            if m != "exact":
+                get_stepper(m)  # raises InputError / SolverNotFound for a bad name
+    steps = QUICK_STEPS if args.quick else FULL_STEPS
+    budget = args.budget if args.budget is not None else (1.0 if args.quick else 20.0)
+    if methods is None and args.quick:
+        methods = [m for m in default_methods()
+                   if not m.startswith(("qpsolvers:", "cvxpy:"))
+                   or m in ("qpsolvers:proxqp", "cvxpy:CLARABEL", "cvxpy:OSQP")]
+    t0 = time.perf_counter()
+    rows = run_comparison(cases, methods, steps, budget=budget,
+                          repeats=1 if args.quick else 3, placement=args.placement)
+    cmd = "python benchmarks/compare_backends.py" + (" --quick" if args.quick else "") + \
+        f" --out {args.out}" + (f" --placement {args.placement}" if args.placement != "contact"
+                                else "")
+    headline = write_outputs(rows, args.out, cases, cmd)
+    headline["seconds"] = time.perf_counter() - t0
+    print(f"wrote {args.out}/compare.csv, compare.md, compare.png in "
+          f"{headline['seconds']:.0f} s")
+    if args.json:
+        print(json.dumps(headline))
+    return 0
+
+
+def register_cli(subparsers):
+    p = subparsers.add_parser("bench", help="error against run time for every method")
+    _add_options(p)
+    p.set_defaults(func=_run)
