@@ -17,8 +17,10 @@ so every event has a closed form: stick ends where ``lo(θ) = w`` on a rising fl
 ``θ + α_lo = 3π/2``, with ``w = R_lo - 1``; backward slip (w = hi) ends at the minimum of hi,
 ``θ + α_hi = π/2``, with ``w = 1 - R_hi``; separation starts and ends where ``P̂ = 0``, at
 ``θ_s = π + asin(1/P̂1)`` and ``θ_c = 2π - asin(1/P̂1)``. The dissipation of a slip segment,
-``∫ L(θ) |dw/dθ| dθ``, is integrated in closed form (written with half-angle products so that
-short segments lose no digits).
+``∫ L(θ) |dw/dθ| dθ``, is integrated in closed form as ``½ (L_a² - L_b²) ± Q̂1 ∫ L cos(θ+φ) dθ``
+(on a slip segment w = ∓L - Q̂), with the endpoint values of L taken from w: written so, a slip
+of 1e-12 rad just before separation at P̂1 = 1e6 keeps its digits, where the direct form
+``∫ L (X cos θ + Y sin θ)`` sums O(1) terms to 1e-12.
 
 Entering the periodic orbit in one step
 ---------------------------------------
@@ -62,14 +64,23 @@ def _pmod(x):
     return TWO_PI - np.mod(-x, TWO_PI)
 
 
-def _slip_integral(a, b, P1, X, Y):
-    """∫_a^b (1 + P1 sin θ)(X cos θ + Y sin θ) dθ in half-angle form (no cancellation for b ≈ a)."""
+def _slip_integral(a, b, P1, Q1, phi, L_a, L_b, sign):
+    """∫_a^b L |dw| over a slip segment, well-conditioned for any P̂1, Q̂1.
+
+    On a slip segment w = ∓L - Q̂ (lower bound: forward slip, sign = -1; upper bound: backward
+    slip, sign = +1), so ``L |dw| = -L dL ∓ ... `` integrates to
+    ``½ (L_a² - L_b²) + sign · Q̂1 ∫_a^b L cos(θ + φ) dθ``. The endpoint values of L come from
+    quantities of the size of w (see the callers), so no product of P̂1 with R is formed; the
+    remaining integral is written with half-angle products so that short segments lose no digits.
+    """
     lib = math if isinstance(a, float) else np
     m = 0.5 * (a + b)
     h = 0.5 * (b - a)
-    sh, s2h = lib.sin(h), lib.sin(2.0 * h)
-    return (2.0 * sh * (X * lib.cos(m) + Y * lib.sin(m))
-            + P1 * (0.5 * X * lib.sin(2.0 * m) * s2h + Y * (h - 0.5 * lib.cos(2.0 * m) * s2h)))
+    s2h = lib.sin(2.0 * h)
+    # ∫ (1 + P̂1 sin θ) cos(θ + φ) dθ
+    K = (2.0 * lib.cos(m + phi) * lib.sin(h)
+         + P1 * (0.5 * lib.sin(2.0 * m + phi) * s2h - h * lib.sin(phi)))
+    return 0.5 * (L_a - L_b) * (L_a + L_b) + sign * Q1 * K
 
 
 @dataclass
@@ -81,11 +92,6 @@ class _Coefficients:
     a_lo: np.ndarray
     R_hi: np.ndarray
     a_hi: np.ndarray
-    # dw/dθ = X cos θ + Y sin θ on each boundary (the slope of lo, and minus the slope of hi)
-    X_lo: np.ndarray
-    Y_lo: np.ndarray
-    X_hi: np.ndarray
-    Y_hi: np.ndarray
 
     @classmethod
     def of(cls, P1, Q1, phi):
@@ -94,7 +100,7 @@ class _Coefficients:
         C = Q1 * np.cos(phi) - P1
         D = B
         return cls(P1, Q1, phi, np.hypot(A, B), np.arctan2(B, A), np.hypot(C, D),
-                   np.arctan2(D, C), -A, B, C, -D)
+                   np.arctan2(D, C))
 
 
 def _run(P1, Q1, phi):
@@ -175,9 +181,9 @@ def _run(P1, Q1, phi):
             state[i[to_b]] = BACKWARD
             psi[i[to_b]] = dn_hi[to_b]
         # -- forward slip on lo, until its maximum (θ + α_lo = 3π/2) or separation --------------
-        for slip, end_phase, X, Y, w_end, next_kind in (
-                (FORWARD, 1.5 * math.pi, c.X_lo, c.Y_lo, c.R_lo - 1.0, _AFTER_FORWARD),
-                (BACKWARD, HALF_PI, c.X_hi, c.Y_hi, 1.0 - c.R_hi, _AFTER_BACKWARD)):
+        for slip, end_phase, sign, w_end, next_kind in (
+                (FORWARD, 1.5 * math.pi, -1.0, c.R_lo - 1.0, _AFTER_FORWARD),
+                (BACKWARD, HALF_PI, 1.0, 1.0 - c.R_hi, _AFTER_BACKWARD)):
             i = np.nonzero(active & (state == slip))[0]
             if not i.size:
                 continue
@@ -185,7 +191,9 @@ def _run(P1, Q1, phi):
             b = a + np.maximum(end_phase - psi[i], 0.0)
             done = b >= stop[i]
             b = np.minimum(b, stop[i])
-            J[i] += _slip_integral(a, b, P1[i], X[i], Y[i])
+            L_a = np.abs(w[i] + Q1[i] * np.sin(a + phi[i]))  # w = ∓L - Q̂ on the bound
+            L_b = np.where(done & sep[i], 0.0, np.maximum(1.0 + P1[i] * np.sin(b), 0.0))
+            J[i] += _slip_integral(a, b, P1[i], Q1[i], phi[i], L_a, L_b, sign)
             th[i] = b
             w[i] = w_end[i]
             active[i[done]] = False
@@ -204,8 +212,6 @@ def _run_scalar(P1: float, Q1: float, phi: float):
     C = Q1 * math.cos(phi) - P1
     R_lo, a_lo = math.hypot(A, B), math.atan2(B, A)
     R_hi, a_hi = math.hypot(C, B), math.atan2(B, C)
-    X = {FORWARD: -A, BACKWARD: C}
-    Y = {FORWARD: B, BACKWARD: -B}
     segments = []
     if P1 >= 1.0:
         asin_inv = math.asin(min(1.0, 1.0 / P1))
@@ -255,7 +261,10 @@ def _run_scalar(P1: float, Q1: float, phi: float):
             b = th + max(end_phase - psi, 0.0)
             done = b >= stop
             b = min(b, stop)
-            J += float(_slip_integral(th, b, P1, X[state], Y[state]))
+            L_a = abs(w + Q1 * math.sin(th + phi))  # w = ∓L - Q̂ on the bound
+            L_b = 0.0 if done and P1 >= 1.0 else max(1.0 + P1 * math.sin(b), 0.0)
+            J += _slip_integral(th, b, P1, Q1, phi, L_a, L_b,
+                                -1.0 if state == FORWARD else 1.0)
             segments.append((th, b, state, w))
             th = b
             w = R_lo - 1.0 if state == FORWARD else 1.0 - R_hi

@@ -11,7 +11,8 @@ Whoever adds a method implements a subclass of :class:`Stepper`:
 4. ``step(scene, k, state)``: return the state at ``scene.t[k+1]`` from the state at
    ``scene.t[k]``. The state is passed in and out explicitly; a stepper keeps no hidden state
    between calls other than what ``init`` built. ``dW`` is the dissipation ``-∫ F · du`` of the
-   increment, and ``F = Q(t_{k+1}) + K u`` must hold.
+   increment (:func:`slip_dissipation` for a stepper that knows only the increment's ends), and
+   ``F = Q(t_{k+1}) + K u`` must hold.
 5. ``cycle(scene, state)`` (optional): run ``step`` for k = 0..N-1 and collect the cycle. The
    default loops over ``step``; a stepper may override it with a faster loop of the same meaning.
 
@@ -96,6 +97,16 @@ def _matvec(K, u):
     return K @ u
 
 
-def trapezoid_dissipation(F0, F1, u0, u1) -> float:
-    """``-∫ F · du`` over an increment where F and u vary linearly together."""
-    return float(-0.5 * np.dot(F0 + F1, u1 - u0))
+def slip_dissipation(F0, F1, du, dims: int = 1) -> float:
+    """Dissipation of an increment known by its ends: ``Σ_i max(0, -½(F_i,k + F_i,k+1)·Δu_i)``.
+
+    The trapezoidal rule for ``-∫ F · du`` (second order; it weighs a slip that ends an increment
+    at separation by the small stick force it started from, which a rule in ``f N |Δu|`` would
+    not), with each node's share clipped at zero: a node's dissipation is never negative, and
+    only at a slip reversal inside an increment can the trapezoid dip below zero, by its own
+    discretization error.
+    """
+    share = -0.5 * (F0 + F1) * du
+    if dims != 1:
+        share = np.reshape(share, (-1, dims)).sum(axis=1)
+    return float(np.sum(np.maximum(share, 0.0)))

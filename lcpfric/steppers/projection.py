@@ -14,7 +14,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..results import CycleResult
-from .base import Stepper, StepState
+from .base import Stepper, StepState, slip_dissipation
 
 __all__ = ["ProjectionStepper"]
 
@@ -58,7 +58,7 @@ class ProjectionStepper(Stepper):
             slip = np.where(scale < 1.0, 1, 0)
         u = state.u + (F - f_tr) / kdiag
         node_state = np.where(scene.N[k + 1] <= 0.0, 3, slip).astype(np.int8)
-        dW = float(-0.5 * np.dot(state.F + F, u - state.u))
+        dW = slip_dissipation(state.F, F, u - state.u, system.dims)
         return StepState(u, F, node_state, dW, kdiag)
 
     def cycle(self, scene, state):
@@ -87,7 +87,7 @@ class ProjectionStepper(Stepper):
             else:
                 Fn, s = ftr, 0
             un = u + (Fn - ftr) / k
-            W -= 0.5 * (F + Fn) * (un - u)
+            W += max(-0.5 * (F + Fn) * (un - u), 0.0)  # slip_dissipation in scalars
             u, F = un, Fn
             U[j], Fs[j], S[j] = u, F, (3 if b <= 0.0 else s)
         Ua = np.array(U)[:, None]

@@ -1,0 +1,33 @@
+"""The fast part of the stability study (benchmarks/stability.py) as regression tests.
+
+Every scenario has an exact reference (see lcpfric/stability.py for the tolerances); a method may
+fail with a clear LcpfricError, never with a wrong number.
+"""
+
+import pytest
+
+from lcpfric.methods import available_methods
+from lcpfric.stability import run_scenario, scenarios
+
+QUICK = scenarios(quick=True)
+CORE = ["exact", "explicit", "projection"]
+# one representative per installed solver family keeps the suite fast; the benchmark runs all
+BACKENDS = [m for m in available_methods() if m in ("clarabel", "osqp")]
+
+
+@pytest.mark.parametrize("method", CORE)
+@pytest.mark.parametrize("scenario", QUICK, ids=[f"{s.group}:{s.name}" for s in QUICK])
+def test_core_methods_never_wrong(scenario, method):
+    if method == "exact" and scenario.group == "multi-node":
+        pytest.skip("exact solves the single node")
+    row = run_scenario(scenario, method, steps=2000)
+    assert row["verdict"] in ("correct", "error"), row
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("method", BACKENDS)
+@pytest.mark.parametrize("scenario", [s for s in QUICK if s.group != "extreme"][:12],
+                         ids=lambda s: f"{s.group}:{s.name}")
+def test_backends_never_wrong(scenario, method):
+    row = run_scenario(scenario, method, steps=1000, refine=4)
+    assert row["verdict"] in ("correct", "error"), row
