@@ -286,6 +286,9 @@ def _prepare(P1, Q1, phi):
     return P1.ravel(), Q1.ravel(), np.mod(phi.ravel(), TWO_PI), shape
 
 
+_SCALARS = (float, int, np.floating, np.integer)
+
+
 def exact_W_hat(P1, Q1, phi):
     """Exact steady-state Ŵ for arrays of (P̂1, Q̂1, φ), broadcast together.
 
@@ -296,10 +299,13 @@ def exact_W_hat(P1, Q1, phi):
     -------
     ndarray (or float for scalar input)
     """
+    if isinstance(P1, _SCALARS) and isinstance(Q1, _SCALARS) and isinstance(phi, _SCALARS):
+        q = float(Q1)
+        if q <= 0.0:
+            return 0.0
+        J = _run_scalar(float(P1), q, float(phi) % TWO_PI)[0]
+        return max(J / q, 0.0)
     p, q, f, shape = _prepare(P1, Q1, phi)
-    if p.size == 1 and not shape:
-        J = _run_scalar(float(p[0]), float(q[0]), float(f[0]))[0]
-        return max(J / float(q[0]), 0.0) if q[0] > 0 else 0.0
     J = _run(p, q, f)
     with np.errstate(divide="ignore", invalid="ignore"):
         W = np.where(q > 0, J / np.where(q > 0, q, 1.0), 0.0)
