@@ -1,9 +1,11 @@
 """lcpfric: the energy that friction dissipates in elastic contact systems under periodic loads.
 
-The data flow is the layout: model (:mod:`~lcpfric.model`, :mod:`~lcpfric.loads`) -> scene
-(:mod:`~lcpfric.scene`) -> stepper (:mod:`~lcpfric.steppers`, :mod:`~lcpfric.backends`) ->
-periodic driver (:mod:`~lcpfric.periodic`) -> analysis (:mod:`~lcpfric.exact`,
-:mod:`~lcpfric.analytic`, :mod:`~lcpfric.shakedown`, sweeps, figures, CLI).
+The data flow is the layout: model (:mod:`~lcpfric.model`, :mod:`~lcpfric.loads`,
+:mod:`~lcpfric.systems`) -> scene (:mod:`~lcpfric.scene`) -> stepper (:mod:`~lcpfric.steppers`,
+:mod:`~lcpfric.backends`, :mod:`~lcpfric.batch`) -> periodic driver (:mod:`~lcpfric.periodic`) ->
+analysis (:mod:`~lcpfric.exact`, :mod:`~lcpfric.analytic`, :mod:`~lcpfric.shakedown`,
+:mod:`~lcpfric.sweep`, :mod:`~lcpfric.figures`, :mod:`~lcpfric.paper`, :mod:`~lcpfric.bench`,
+:mod:`~lcpfric.stability`, :mod:`~lcpfric.cli`).
 
 Quick use::
 
@@ -24,6 +26,7 @@ from .periodic import steady_state
 from .results import CycleResult, State, SteadyState
 from .scene import Scene, make_scene
 from .shakedown import Shakedown, shakedown
+from .systems import block_diagonal, chain
 
 __version__ = "0.1.0"
 
@@ -32,5 +35,5 @@ __all__ = [
     "SolverError", "SolverNotFound", "exact_W_hat", "Fourier", "Harmonic", "Periodic",
     "available_methods", "get_stepper", "ContactSystem", "IndependentSprings", "SingleNode",
     "W_from_W_hat", "W_hat_from_W", "steady_state", "CycleResult", "State", "SteadyState",
-    "Scene", "make_scene", "Shakedown", "shakedown", "__version__",
+    "Scene", "make_scene", "Shakedown", "shakedown", "chain", "block_diagonal", "__version__",
 ]

@@ -114,7 +114,7 @@ def run_comparison(cases=CASES, methods=None, steps=FULL_STEPS, *, budget: float
         model = case.model()
         for method in methods:
             run_steps = (0,) if method == "exact" else steps
-            last = 0.0
+            last, prev_n = 0.0, 1
             for n in run_steps:
                 if method != "exact" and last * n / max(prev_n, 1) > budget:
                     rows.append(dict(case=case.name, method=method, steps_per_cycle=n,
@@ -146,11 +146,7 @@ def run_comparison(cases=CASES, methods=None, steps=FULL_STEPS, *, budget: float
                                  W=val, exact=ref, note=""))
                 log(f"{case.name:15s} {method:22s} {n:7d}  err {err:9.2e}  {sec:9.4f} s")
                 last, prev_n = sec, max(n, 1)
-            prev_n = 1
     return rows
-
-
-prev_n = 1  # module default for the budget prediction of a method's first run
 
 
 def convergence_order(rows, case: str, method: str, floor: float = 1e-13,

@@ -1,0 +1,295 @@
+"""Batched single-node scenes: many points of a parameter grid advanced together.
+
+Each point (P̂1, Q̂1, φ) is the paper's normalized node (K = 1, f = 1, N = max(1 + P̂1 sin θ, 0),
+Q = Q̂1 sin(θ + φ), θ = ωt) on its own time grid, built exactly as :func:`lcpfric.make_scene`
+builds it: a separating point (P̂1 > 1) starts at its re-contact instant and has its separation
+instant on the grid, so the steps stay second-order accurate. The grids of all points have the
+same number of instants (a point that needs fewer repeats its last instant: an increment of
+length zero, which changes nothing), so step j of every point is taken at once:
+
+:func:`projection_W_hat`
+    the closed-form projection (a clamp, K = 1) as one numpy expression over all points per
+    step: the same numbers as ``steady_state(node, "projection")`` point by point, far faster.
+:func:`batched_W_hat`
+    the points stacked into one block-diagonal problem (P) per step (see
+    :mod:`lcpfric.backends._problem`), so that one Clarabel or OSQP call advances them all. A
+    separated point keeps its variable with the linear term 0 (its answer is F = 0), so the
+    problem's structure never changes.
+
+Both iterate whole cycles until every point repeats its previous cycle within ``tol`` (relative
+to its range of v, as :func:`lcpfric.steady_state` does); a point's Ŵ is that of its first
+converged cycle, Ŵ = J / Q̂1 (0 at Q̂1 = 0).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from . import _checks
+from .errors import ConvergenceError, ConvergenceWarning, InputError, SolverError
+from .scene import PLACEMENTS
+
+__all__ = ["projection_W_hat", "batched_W_hat"]
+
+TWO_PI = 2.0 * math.pi
+_NONCONV = ("raise", "warn", "ignore")
+
+
+class _Grids:
+    """The time grids of many single-node scenes, as :func:`lcpfric.make_scene` builds them.
+
+    Instant j of point p is, piecewise: ``a1 + j s1`` for j < n1 (the uniform or contact
+    steps), the separation instant for n1 <= j < n2, ``a3 + (j - o3) s3`` for n2 <= j < n3,
+    and the cycle's end from n3 on.
+    """
+
+    def __init__(self, P1, Q1, phi, steps: int, placement: str):
+        self.P1, self.Q1, self.phi = P1, Q1, phi
+        T = TWO_PI  # normalized: ω = 1
+        h = T / steps
+        sep = P1 > 1.0
+        inv = np.divide(1.0, P1, out=np.zeros_like(P1), where=sep)
+        base = np.arcsin(-inv)  # the roots of 1 + P̂1 sin θ (lcpfric.loads.Harmonic.zeros)
+        start = np.where(sep, base + 1 * T, 0.0)  # re-contact (lcpfric.scene._start_time)
+        th_s = np.where(sep, (math.pi - base) + 1 * T, np.nan)  # separation within the cycle
+        end = start + T
+        self.start, self.end, self.th_s, self.sep = start, end, th_s, sep
+        npts = P1.size
+        n1 = np.full(npts, steps)
+        n2 = np.full(npts, steps)
+        n3 = np.full(npts, steps)
+        a1, s1 = start, (end - start) / steps  # np.linspace(start, end, steps + 1)
+        a3, s3, o3 = start.copy(), s1.copy(), np.ones(npts, dtype=int)
+        if placement == "uniform":
+            # base points closer than 1e-9 h to the separation instant are dropped (make_scene)
+            idx = np.where(sep, np.ceil((th_s - 1e-9 * h - start) / np.where(sep, s1, 1.0)), 0)
+            idx = np.clip(np.nan_to_num(idx), 0, steps).astype(int)
+            near = sep & (np.abs(idx * s1 + start - th_s) < 1e-9 * h)
+            n1 = np.where(sep, idx, steps)
+            n2 = np.where(sep, idx + 1, steps)
+            n3 = np.where(sep, np.where(near, steps, steps + 1), steps)
+            o3 = np.where(near, 0, 1)
+        else:  # "contact": every step in contact, one increment over the separation
+            length = th_s - start
+            kc = np.where(sep, np.ceil(steps * length / np.where(sep, length, 1.0)), steps)
+            kc = np.maximum(1, kc).astype(int)
+            s1 = np.where(sep, length / kc, s1)
+            n1 = np.where(sep, kc, steps)
+            n2 = np.where(sep, kc + 1, steps)
+            n3 = n2.copy()
+        self.a1, self.s1, self.n1, self.n2, self.n3 = a1, s1, n1, n2, n3
+        self.a3, self.s3, self.o3 = a3, s3, o3
+        self.size = int(np.max(n3)) + 1  # instants per cycle, the same for every point
+        self.zero = 64 * np.finfo(float).eps * (1.0 + P1)  # a few ulps of the normal load
+
+    def at(self, j: int):
+        """(θ, Q, N) of every point at instant j."""
+        theta = np.where(j < self.n1, self.a1 + j * self.s1,
+                         np.where(j < self.n2, self.th_s,
+                                  np.where(j < self.n3, self.a3 + (j - self.o3) * self.s3,
+                                           self.end)))
+        N = np.maximum(1.0 + self.P1 * np.sin(theta), 0.0)
+        N[self.sep & (j >= self.n1) & (j < self.n2)] = 0.0  # exactly zero at separation
+        N[N <= self.zero] = 0.0  # round-off at re-contact is no contact (as make_scene)
+        Q = self.Q1 * np.sin(theta + self.phi)
+        return theta, Q, N
+
+
+def _inputs(P1, Q1, phi, steps_per_cycle, placement, tol, max_cycles, on_nonconvergence):
+    P1 = _checks.finite_array("P1", P1, nonneg=True)
+    Q1 = _checks.finite_array("Q1", Q1, nonneg=True)
+    phi = _checks.finite_array("phi", phi)
+    try:
+        P1, Q1, phi = np.broadcast_arrays(P1, Q1, phi)
+    except ValueError:
+        raise InputError("P1", f"P1, Q1 and phi must broadcast together; got shapes "
+                               f"{np.shape(P1)}, {np.shape(Q1)}, {np.shape(phi)}") from None
+    steps = _checks.positive_int("steps_per_cycle", steps_per_cycle, minimum=4)
+    if placement not in PLACEMENTS:
+        raise InputError("placement", f"must be one of {PLACEMENTS}, got {placement!r}")
+    tol = _checks.positive("tol", tol)
+    max_cycles = _checks.positive_int("max_cycles", max_cycles, minimum=1)
+    if on_nonconvergence not in _NONCONV:
+        raise InputError("on_nonconvergence", f"must be one of {_NONCONV}, "
+                                              f"got {on_nonconvergence!r}")
+    shape = P1.shape
+    if P1.size == 0:
+        raise InputError("P1", "needs at least one point")
+    grids = _Grids(P1.ravel().astype(float), Q1.ravel().astype(float),
+                   phi.ravel().astype(float), steps, placement)
+    return grids, shape, tol, max_cycles
+
+
+def _periodic(grids: _Grids, advance, tol: float, max_cycles: int, on_nonconvergence: str,
+              shape, return_info: bool):
+    """Run whole cycles of every point with ``advance(j, Q, N, u, F) -> (u, F)`` until each
+    repeats its previous cycle (the criterion of :func:`lcpfric.steady_state`)."""
+    npts = grids.P1.size
+    _theta, Q, _N = grids.at(0)
+    u = np.zeros(npts)
+    F = Q + u
+    J = np.full(npts, np.nan)
+    cycles = np.zeros(npts, dtype=int)
+    change = np.full(npts, np.inf)
+    done = np.zeros(npts, dtype=bool)
+    prev_start = None
+    for c in range(max_cycles):
+        start_u = u.copy()
+        lo, hi = u.copy(), u.copy()
+        W = np.zeros(npts)
+        for j in range(1, grids.size):
+            _theta, Q, N = grids.at(j)
+            u1, F1 = advance(j, Q, N, u, F)
+            # slip_dissipation: each point's trapezoid share, clipped at zero
+            W += np.maximum(-0.5 * (F + F1) * (u1 - u), 0.0)
+            u, F = u1, F1
+            np.minimum(lo, u, out=lo)
+            np.maximum(hi, u, out=hi)
+        if prev_start is not None:
+            # the clamp is non-expansive, so the largest change of v over the cycle is the
+            # change of its starting value: the driver's criterion, per point
+            diff = np.abs(start_u - prev_start)
+            span = hi - lo
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ch = np.where(span > 0, diff / span, np.where(diff == 0, 0.0, np.inf))
+            new = ~done & (ch <= tol)
+            J[new] = W[new]
+            cycles[new] = c + 1
+            change = np.where(done, change, ch)
+            done |= new
+            if done.all():
+                break
+        prev_start = start_u
+    if not done.all():
+        J[~done] = W[~done]
+        cycles[~done] = max_cycles
+        msg = (f"{int((~done).sum())} of {npts} points reached no periodic steady state in "
+               f"{max_cycles} cycles (largest relative change {float(np.max(change)):.3g} > "
+               f"tol {tol:g}); raise max_cycles or loosen tol")
+        if on_nonconvergence == "raise":
+            raise ConvergenceError(msg)
+        if on_nonconvergence == "warn":
+            warnings.warn(msg, ConvergenceWarning, stacklevel=3)
+    Q1 = grids.Q1
+    W_hat = np.where(Q1 > 0, J / np.where(Q1 > 0, Q1, 1.0), 0.0).reshape(shape)
+    out = W_hat if W_hat.ndim else float(W_hat)
+    if return_info:
+        return out, {"converged": done.reshape(shape), "cycles": cycles.reshape(shape),
+                     "change": change.reshape(shape), "steps": grids.size - 1}
+    return out
+
+
+def projection_W_hat(P1, Q1, phi, steps_per_cycle: int = 2000, placement: str = "uniform", *,
+                     tol: float = 1e-10, max_cycles: int = 100,
+                     on_nonconvergence: str = "raise", return_info: bool = False):
+    """Ŵ(P̂1, Q̂1, φ) of many points by the closed-form projection, vectorized over the points.
+
+    Parameters
+    ----------
+    P1, Q1, phi : array_like
+        The normalized parameters (P̂1, Q̂1 >= 0; φ in radians); broadcast together.
+    steps_per_cycle : int
+        Increments per cycle (>= 4); the separation instant is added, as in
+        :func:`lcpfric.make_scene`.
+    placement : {"uniform", "contact"}
+        Step placement (see :mod:`lcpfric.scene`).
+    tol, max_cycles, on_nonconvergence
+        As in :func:`lcpfric.steady_state`, per point.
+    return_info : bool
+        Also return a dict with ``converged``, ``cycles`` and ``change`` per point.
+
+    Returns
+    -------
+    ndarray (or float for scalar input)
+        Ŵ per point; with ``return_info``, ``(W_hat, info)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> W = projection_W_hat([0.5, 1.5], 2.0, 0.6 * np.pi, 4000)
+    >>> W.shape
+    (2,)
+    """
+    grids, shape, tol, max_cycles = _inputs(P1, Q1, phi, steps_per_cycle, placement, tol,
+                                            max_cycles, on_nonconvergence)
+
+    def advance(j, Q, N, u, F):
+        f_tr = Q + u
+        F1 = np.minimum(np.maximum(f_tr, -N), N)  # the clamp, Eq. (3) with K = f = 1
+        return u + (F1 - f_tr), F1
+
+    return _periodic(grids, advance, tol, max_cycles, on_nonconvergence, shape, return_info)
+
+
+def batched_W_hat(P1, Q1, phi, method: str = "clarabel", steps_per_cycle: int = 2000,
+                  placement: str = "uniform", *, tol: float = 1e-10, max_cycles: int = 100,
+                  on_nonconvergence: str = "raise", return_info: bool = False, **options):
+    """Ŵ of many points, all advanced by one solver call per step (a block-diagonal problem).
+
+    Parameters
+    ----------
+    P1, Q1, phi, steps_per_cycle, placement, tol, max_cycles, on_nonconvergence, return_info
+        As in :func:`projection_W_hat`.
+    method : str
+        A convex backend: ``"clarabel"`` or ``"osqp"`` (any name of
+        :func:`lcpfric.available_methods` backed by :mod:`lcpfric.backends` works).
+    **options
+        Passed to the backend (``refine``, ``check_tol``, solver settings).
+
+    Returns
+    -------
+    ndarray (or float)
+        As :func:`projection_W_hat`.
+    """
+    import scipy.sparse as sp
+
+    from .backends._problem import ConvexStepper, IncrementProblem, refine_box, residuals
+    from .methods import get_stepper
+
+    grids, shape, tol, max_cycles = _inputs(P1, Q1, phi, steps_per_cycle, placement, tol,
+                                            max_cycles, on_nonconvergence)
+    stepper = get_stepper(method, **options)
+    if not isinstance(stepper, ConvexStepper):
+        raise InputError("method", f"batched_W_hat needs a convex-solver backend such as "
+                                   f"'clarabel' or 'osqp', got {method!r}; for the closed "
+                                   f"form use projection_W_hat")
+    npts = grids.P1.size
+    idx = np.arange(npts)
+    prob = IncrementProblem(idx, idx, 1, sp.identity(npts, format="csc"), None, diagonal=True,
+                            full=True)
+    prob.handle = stepper.guarded(stepper.build, prob)
+    fs = max(1.0 + float(np.max(grids.P1, initial=0.0)), float(np.max(grids.Q1, initial=0.0)))
+    delta = stepper.active_tol * fs
+    label = f"batched {stepper.label}"
+
+    def advance(j, Q, N, u, F):
+        contact = N > 0.0
+        q = np.where(contact, -(Q + u), 0.0)  # a separated point: q = 0, so F = 0
+        b = np.where(contact, N, 1.0)
+        x, status, ok = stepper.guarded(stepper.solve, prob, q, stepper.bounds(prob, b))
+        if not ok:
+            raise SolverError(f"{label}: step {j} ended with solver status {status!s} "
+                              f"({stepper.status_category(status)})", backend=stepper.label,
+                              status=str(status))
+        F1 = np.array(x, dtype=float)
+        refined = refine_box(prob, F1, q, b, delta, fs, 1.0) if stepper.refine else None
+        stick = None
+        if refined is not None and max(refined[2].values()) <= stepper.check_tol:
+            F1, stick = refined[0], refined[1]
+        else:
+            res = residuals(F1, F1 + q, b, 1, fs, 1.0)
+            if not max(res.values()) <= stepper.check_tol:
+                raise SolverError(f"{label}: step {j}: the solver reported {status!s} but its "
+                                  f"answer fails lcpfric's residual check {res}",
+                                  backend=stepper.label, status=str(status), residuals=res)
+        F1[~contact] = 0.0
+        u1 = F1 - Q
+        if stick is not None:  # a refined stick point keeps its displacement exactly
+            stick &= contact
+            u1[stick] = u[stick]
+        return u1, F1
+
+    return _periodic(grids, advance, tol, max_cycles, on_nonconvergence, shape, return_info)
