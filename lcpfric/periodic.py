@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import time
 import warnings
+from dataclasses import replace
 
 import numpy as np
 
@@ -82,13 +83,18 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
                                   f"{type(model).__name__}")
     stepper = get_stepper(method, **options)
     stepper.check(scene.system)
-    state = stepper.init(scene, u0)
+    work, scale = _unit_scaled(scene)
+    state = stepper.init(work, None if u0 is None else np.asarray(u0, dtype=float) / scale)
     W_cycles = []
     prev = None
     change = np.inf
     cyc = None
     for _ in range(max_cycles):
-        state, cyc = stepper.cycle(scene, state)
+        state, cyc = stepper.cycle(work, state)
+        if scale != 1.0:
+            cyc.u = cyc.u * scale
+            cyc.F = cyc.F * scale
+            cyc.W = cyc.W * scale * scale
         W_cycles.append(cyc.W)
         if prev is not None:
             span = float(np.max(np.ptp(cyc.u, axis=0)))
@@ -109,6 +115,25 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
         if on_nonconvergence == "warn":
             warnings.warn(msg, ConvergenceWarning, stacklevel=2)
     return result
+
+
+def _unit_scaled(scene: Scene) -> tuple[Scene, float]:
+    """The scene with forces divided by s, a power of two near the largest friction limit.
+
+    Steppers then see forces of order one whatever the units (loads of 1e6, or 1e-6): the
+    convex solvers' tolerances are absolute, and at P̂1 = Q̂1 = 1e6 Clarabel otherwise stops
+    "DualInfeasible". Q, f N and so u and F scale by 1/s and W by 1/s². Dividing by a power of
+    two is exact in floating point, so the closed-form steppers give the same bits either way.
+    """
+    # the answer F lies within ±f N: its size is the largest friction limit
+    size = float(np.max(scene.N * scene.system.friction, initial=0.0))
+    if not np.isfinite(size) or size == 0.0:
+        return scene, 1.0
+    scale = float(2.0 ** np.round(np.log2(size)))
+    if scale == 1.0:
+        return scene, 1.0
+    return replace(scene, Q=scene.Q / scale, N=scene.N / scale,
+                   _cache={"contact": scene.contact}), scale  # contact is scale-free
 
 
 def _assemble(scene, stepper, cyc, W_cycles, converged, change, seconds) -> SteadyState:

@@ -31,3 +31,15 @@ def test_core_methods_never_wrong(scenario, method):
 def test_backends_never_wrong(scenario, method):
     row = run_scenario(scenario, method, steps=1000, refine=4)
     assert row["verdict"] in ("correct", "error"), row
+
+
+@pytest.mark.parametrize("method", BACKENDS)
+def test_backends_at_large_forces(method):
+    # Without the driver's unit scaling Clarabel stopped "DualInfeasible" here (forces of 1e6
+    # against absolute solver tolerances).
+    big = [s for s in scenarios() if s.name in ("P1=1e+06 Q1=1e+06 phi=pi/2",
+                                                "P1=1e+06 Q1=1e+06 phi=0")]
+    assert len(big) == 2
+    for scenario in big:
+        row = run_scenario(scenario, method, steps=1000, refine=4)
+        assert row["verdict"] == "correct", row
