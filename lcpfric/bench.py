@@ -258,7 +258,7 @@ def _plot(rows, cases, methods, path):
     ncol = 4
     nrow = math.ceil(len(cases) / ncol)
     fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.6 * nrow), squeeze=False)
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    colors = [plt.cm.tab20(i) for i in (0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 1, 3, 5, 7, 9)]
     for ax, c in zip(axes.flat, cases):
         for i, m in enumerate(methods):
             pts = sorted((r["seconds"], max(r["rel_error"], 1e-17)) for r in rows
@@ -266,7 +266,8 @@ def _plot(rows, cases, methods, path):
             if not pts:
                 continue
             x, y = zip(*pts)
-            style = dict(marker="*", ms=12, ls="none") if m == "exact" else dict(marker=".")
+            style = (dict(marker="*", ms=12, ls="none") if m == "exact" else
+                     dict(marker=".", ls="--" if ":" in m else "-"))
             ax.loglog(x, y, label=m, color=colors[i % len(colors)], **style)
         ax.axhline(1e-6, color="0.6", lw=0.8, ls="--")
         ax.set_title(c.label(), fontsize=8)
@@ -280,6 +281,19 @@ def _plot(rows, cases, methods, path):
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
+
+
+def read_rows(path: str) -> list[dict]:
+    """Rows of a compare.csv, with numbers as numbers (to redraw or re-tabulate a run)."""
+    rows = []
+    with open(path, newline="") as fh:
+        for r in csv.DictReader(fh):
+            for key in ("steps_per_cycle", "cycles", "steps"):
+                r[key] = int(r[key]) if r[key] != "" else ""
+            for key in ("rel_error", "seconds", "W", "exact"):
+                r[key] = float(r[key]) if r[key] != "" else ""
+            rows.append(r)
+    return rows
 
 
 def main(argv=None) -> int:
@@ -296,6 +310,8 @@ def _add_options(p):
     p.add_argument("--cases", default=None, help="comma-separated case names")
     p.add_argument("--budget", type=float, default=None, help="seconds per run before a "
                                                               "method stops refining")
+    p.add_argument("--steps", default=None, help="comma-separated steps per cycle (default: "
+                                                 "50 to 1e5, or the --quick set)")
     p.add_argument("--placement", default="contact", choices=("contact", "uniform"))
     p.add_argument("--json", action="store_true", help="print the headline numbers as JSON last")
 
@@ -319,6 +335,13 @@ def _run(args) -> int:
             if m != "exact":
                 get_stepper(m)  # raises InputError / SolverNotFound for a bad name
     steps = QUICK_STEPS if args.quick else FULL_STEPS
+    if args.steps:
+        try:
+            steps = tuple(int(x) for x in args.steps.split(","))
+        except ValueError:
+            raise InputError("--steps", f"expected comma-separated integers, got {args.steps!r}")
+        if min(steps) < 4:
+            raise InputError("--steps", "every entry must be >= 4")
     budget = args.budget if args.budget is not None else (1.0 if args.quick else 20.0)
     if methods is None and args.quick:
         methods = [m for m in default_methods()
@@ -328,7 +351,10 @@ def _run(args) -> int:
     rows = run_comparison(cases, methods, steps, budget=budget,
                           repeats=1 if args.quick else 3, placement=args.placement)
     cmd = "python benchmarks/compare_backends.py" + (" --quick" if args.quick else "") + \
-        f" --out {args.out}" + (f" --placement {args.placement}" if args.placement != "contact"
+        (f" --cases {args.cases}" if args.cases else "") + \
+        (f" --methods {args.methods}" if args.methods else "") + \
+        (f" --steps {args.steps}" if args.steps else "") + \
+        (f" --budget {args.budget:g}" if args.budget is not None else "") + f" --out {args.out}" + (f" --placement {args.placement}" if args.placement != "contact"
                                 else "")
     headline = write_outputs(rows, args.out, cases, cmd)
     headline["seconds"] = time.perf_counter() - t0
