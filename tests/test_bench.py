@@ -9,7 +9,7 @@ import sys
 def test_bench_cli_small(tmp_path):
     out = tmp_path / "b"
     p = subprocess.run([sys.executable, "-m", "lcpfric", "bench", "--cases", "separation",
-                        "--methods", "explicit,projection,exact", "--steps", "100,400,1600",
+                        "--methods", "explicit,projection,exact", "--steps", "100,200,400,800,1600",
                         "--out", str(out), "--json"], capture_output=True, text=True,
                        timeout=300)
     assert p.returncode == 0, p.stderr
