@@ -107,3 +107,17 @@ def finite_array(name: str, values, *, nonneg: bool = False) -> np.ndarray:
         raise InputError(name, f"every value must be >= 0 (allowed range [0, inf)); "
                                f"smallest given is {arr.min()}")
     return arr
+
+
+NONCONVERGENCE = ("raise", "warn", "ignore")
+
+
+def driver_options(tol, max_cycles, on_nonconvergence) -> tuple[float, int, str]:
+    """Validate the periodic driver's options (shared by :mod:`lcpfric.periodic` and
+    :mod:`lcpfric.batch`)."""
+    tol = positive("tol", tol)
+    max_cycles = positive_int("max_cycles", max_cycles, minimum=1)
+    if on_nonconvergence not in NONCONVERGENCE:
+        raise InputError("on_nonconvergence", f"must be one of {NONCONVERGENCE}, "
+                                              f"got {on_nonconvergence!r}")
+    return tol, max_cycles, on_nonconvergence

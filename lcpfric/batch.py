@@ -35,7 +35,6 @@ from .scene import PLACEMENTS
 __all__ = ["projection_W_hat", "batched_W_hat"]
 
 TWO_PI = 2.0 * math.pi
-_NONCONV = ("raise", "warn", "ignore")
 
 
 class _Grids:
@@ -110,11 +109,8 @@ def _inputs(P1, Q1, phi, steps_per_cycle, placement, tol, max_cycles, on_nonconv
     steps = _checks.positive_int("steps_per_cycle", steps_per_cycle, minimum=4)
     if placement not in PLACEMENTS:
         raise InputError("placement", f"must be one of {PLACEMENTS}, got {placement!r}")
-    tol = _checks.positive("tol", tol)
-    max_cycles = _checks.positive_int("max_cycles", max_cycles, minimum=1)
-    if on_nonconvergence not in _NONCONV:
-        raise InputError("on_nonconvergence", f"must be one of {_NONCONV}, "
-                                              f"got {on_nonconvergence!r}")
+    tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
+                                                                on_nonconvergence)
     shape = P1.shape
     if P1.size == 0:
         raise InputError("P1", "needs at least one point")

@@ -26,7 +26,6 @@ from .scene import Scene, make_scene
 
 __all__ = ["steady_state"]
 
-_NONCONV = ("raise", "warn", "ignore")
 
 
 def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
@@ -65,11 +64,8 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     SteadyState
     """
     start = time.perf_counter()
-    tol = _checks.positive("tol", tol)
-    max_cycles = _checks.positive_int("max_cycles", max_cycles, minimum=1)
-    if on_nonconvergence not in _NONCONV:
-        raise InputError("on_nonconvergence", f"must be one of {_NONCONV}, "
-                                              f"got {on_nonconvergence!r}")
+    tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
+                                                                on_nonconvergence)
     if isinstance(method, str) and method.strip().lower() == "exact":
         if options:
             raise InputError("method", f"'exact' takes no solver options, got {sorted(options)}")
