@@ -7,7 +7,7 @@ Same as ``lcpfric bench``.
 
 import sys
 
-from lcpfric.bench import main
+from lcpfric.analysis.convergence import main
 
 if __name__ == "__main__":
     sys.exit(main())

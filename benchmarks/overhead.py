@@ -30,7 +30,7 @@ import time
 import numpy as np
 
 from lcpfric import SingleNode, available_methods, get_stepper, make_scene
-from lcpfric.systems import chain
+from lcpfric.model import chain
 
 DEFAULT_BACKENDS = ("clarabel", "osqp", "qpsolvers:proxqp", "cvxpy:CLARABEL")
 # steps per cycle: short timed blocks, repeated, keep the minimum robust on a shared machine

@@ -9,7 +9,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from lcpfric.paper import claims_command  # noqa: E402
+from lcpfric.paper.claims import claims_command  # noqa: E402
 
 
 def main(argv=None) -> int:

@@ -13,7 +13,7 @@ import time
 from collections import Counter
 
 from lcpfric.methods import available_methods
-from lcpfric.stability import coupled_agreement, run_scenario, scenarios
+from stability_cases import coupled_agreement, run_scenario, scenarios
 
 
 def _err(row):

@@ -1,7 +1,7 @@
 """Speed and accuracy of the Fig. 3 + Fig. 4 map set, against a per-point loop and on Dask.
 
 The set: 11 phases φ = kπ/10 (k = 0..10) on a 101 x 101 grid of P̂1, Q̂1 in [0, 10]
-(112 211 points), computed by ``lcpfric.sweep.sweep`` with the exact method. Measured in one run:
+(112 211 points), computed by ``lcpfric.analysis.sweep.sweep`` with the exact method. Measured in one run:
 
 * the sweep's wall time, serial and on a local process pool (best of ``--repeat``);
 * its accuracy: against Eqs. (11)-(12) at φ = 0 on every grid point, the symmetry
@@ -28,7 +28,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import lcpfric  # noqa: E402
 from lcpfric.analytic import jang_barber  # noqa: E402
-from lcpfric.sweep import sweep  # noqa: E402
+from lcpfric.analysis.sweep import sweep  # noqa: E402
 
 
 def best_time(fn, repeat):
@@ -133,7 +133,7 @@ def main(argv=None):
 
     result = {
         "grid": f"{len(phases)} phases x {n} x {n} (P1, Q1 in [0, 10])", "points": int(W.size),
-        "machine": {"cores": lcpfric.sweep.default_workers(), "python": platform.python_version(),
+        "machine": {"cores": lcpfric.analysis.runners.default_workers(), "python": platform.python_version(),
                     "platform": platform.platform()},
         "sweep_serial_seconds": serial_t,
         "sweep_pool2_seconds": pool_t,

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 import lcpfric
-from lcpfric.motor import Motor
+from lcpfric.paper.motor import Motor
 
 FRICTION = (0.1, 0.2, 0.3, 0.5, 0.8)
 
@@ -61,7 +61,7 @@ def main(argv=None):
     print(f"\ncheck at Ω = {Omega:g} rad/s, f = {f}: SingleNode + steady_state gives W = "
           f"{1e3 * W:.6f} mJ; Motor.dissipation gives {1e3 * W_motor:.6f} mJ")
 
-    from lcpfric.figures import figure_motor
+    from lcpfric.paper.figures import figure_motor
 
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

@@ -15,20 +15,23 @@ Quick use::
     1.866666666667
 """
 
-from . import analytic
+from . import _legacy
+from .analysis import analytic
 from .errors import (ConvergenceError, ConvergenceWarning, InputError, LcpfricError, SolverError,
                      SolverNotFound)
 from .exact import exact_W_hat
-from .loads import Fourier, Harmonic, Periodic
+from .model import Fourier, Harmonic, Periodic
 from .methods import available_methods, get_stepper
 from .model import ContactSystem, IndependentSprings, SingleNode, W_from_W_hat, W_hat_from_W
 from .periodic import steady_state
 from .results import CycleResult, State, SteadyState
 from .scene import Scene, make_scene
-from .shakedown import Shakedown, shakedown
-from .systems import block_diagonal, chain
+from .analysis.shakedown import Shakedown, shakedown
+from .model import block_diagonal, chain
 
 __version__ = "0.1.0"
+
+_legacy.install()
 
 __all__ = [
     "analytic", "ConvergenceError", "ConvergenceWarning", "InputError", "LcpfricError",

@@ -1,5 +1,11 @@
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
+
+# the benchmark harnesses live with the benchmarks; the stability tests reuse their scenarios
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
 
 # Cases (P̂1, Q̂1, φ) used across the suite: full contact, separation, near shakedown, large loads.
 CASES = {

@@ -8,7 +8,7 @@ from lcpfric import (InputError, SingleNode, SolverError, SolverNotFound, availa
                      get_stepper, make_scene, steady_state)
 from lcpfric.exact import exact_W_hat
 from lcpfric.scene import Scene
-from lcpfric.systems import chain
+from lcpfric.model import chain
 
 from backend_table import BACKENDS, FAST, REFINED, need, params
 from conftest import CASES

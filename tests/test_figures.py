@@ -13,7 +13,7 @@ import pytest
 pytest.importorskip("matplotlib")
 pytest.importorskip("xarray")
 
-from lcpfric import figures  # noqa: E402
+from lcpfric.paper import figures  # noqa: E402
 from lcpfric._optional import MissingExtra  # noqa: E402
 from lcpfric.errors import InputError  # noqa: E402
 

@@ -7,7 +7,7 @@ import pytest
 
 from lcpfric import InputError, SingleNode, make_scene, steady_state
 from lcpfric.exact import exact_W_hat
-from lcpfric.systems import block_diagonal, chain, chain_stiffness
+from lcpfric.model import block_diagonal, chain, chain_stiffness
 
 from backend_table import need
 from conftest import CASES, fitted_order

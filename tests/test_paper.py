@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from lcpfric.exact import exact_W_hat
-from lcpfric.paper import (claims_markdown, paper_claims, peak_phase, separation_fraction,
+from lcpfric.paper.claims import (claims_markdown, paper_claims, peak_phase, separation_fraction,
                            sqrt_law)
 
 

@@ -7,7 +7,7 @@ fail with a clear LcpfricError, never with a wrong number.
 import pytest
 
 from lcpfric.methods import available_methods
-from lcpfric.stability import run_scenario, scenarios
+from stability_cases import run_scenario, scenarios  # benchmarks/, put on the path by conftest
 
 QUICK = scenarios(quick=True)
 CORE = ["exact", "explicit", "projection"]

@@ -16,7 +16,7 @@ pytest.importorskip("xarray")
 from lcpfric.analytic import jang_barber  # noqa: E402
 from lcpfric.errors import InputError  # noqa: E402
 from lcpfric.exact import exact_W_hat  # noqa: E402
-from lcpfric.sweep import (VECTORIZED, parse_grid, parse_phi_list,  # noqa: E402
+from lcpfric.analysis.sweep import (VECTORIZED, parse_grid, parse_phi_list,  # noqa: E402
                            register_vectorized, sweep)
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -217,7 +217,7 @@ def test_resume_after_killed_process(tmp_path):
         import numpy as np
         sys.path.insert(0, {str(ROOT)!r})
         from lcpfric.exact import exact_W_hat
-        from lcpfric.sweep import register_vectorized, sweep
+        from lcpfric.analysis.sweep import register_vectorized, sweep
         def slow(P1, Q1, phi):
             time.sleep(0.05)
             return exact_W_hat(P1, Q1, phi)
@@ -258,7 +258,7 @@ def test_map_command(tmp_path, capsys):
     assert summary["shape"] == {"phi": 3, "P1": 5, "Q1": 3}
     import xarray as xr
 
-    from lcpfric.sweep import netcdf_engine
+    from lcpfric.analysis.sweep import netcdf_engine
 
     ds = xr.load_dataset(out, engine=netcdf_engine())
     np.testing.assert_allclose(ds["phi"], [0.0, 0.6 * math.pi, math.pi / 2])

@@ -54,14 +54,14 @@ class Scenario:
 
 
 def _node(P1, Q1, phi):
-    from .model import SingleNode
+    from lcpfric.model import SingleNode
 
     return SingleNode.normalized(P1, Q1, phi)
 
 
 def _node_reference(P1, Q1, phi):
-    from .analytic import jang_barber
-    from .exact import exact_W_hat
+    from lcpfric.analysis.analytic import jang_barber
+    from lcpfric.exact import exact_W_hat
 
     if phi in (0.0, PI):
         return float(jang_barber(P1, Q1)), "Eqs. (11)/(12)"
@@ -115,7 +115,7 @@ _DIM = dict(P1_hat=1.5, Q1_hat=2.0, phi=0.6 * PI, f=0.3)
 
 
 def _dimensional(k11, P0):
-    from .model import SingleNode
+    from lcpfric.model import SingleNode
 
     f = _DIM["f"]
     return SingleNode(k11=k11, f=f, P0=P0, P1=_DIM["P1_hat"] * P0, Q1=_DIM["Q1_hat"] * f * P0,
@@ -123,7 +123,7 @@ def _dimensional(k11, P0):
 
 
 def _dimensional_reference(k11, P0):
-    from .exact import exact_W_hat
+    from lcpfric.exact import exact_W_hat
 
     f = _DIM["f"]
     Q1 = _DIM["Q1_hat"] * f * P0
@@ -136,9 +136,9 @@ _SPREAD = ((0.5, 2.0, 0.0), (1.5, 2.0, 0.6 * PI), (5.0, 5.0, 0.3 * PI))
 
 def _spread_nodes(ratio):
     """Three uncoupled nodes with stiffness 1/sqrt(ratio), 1, sqrt(ratio); f = P0 = 1."""
-    from .exact import exact_W_hat
-    from .loads import Harmonic
-    from .model import ContactSystem, IndependentSprings
+    from lcpfric.exact import exact_W_hat
+    from lcpfric.model import Harmonic
+    from lcpfric.model import ContactSystem, IndependentSprings
 
     k = np.array([ratio ** -0.5, 1.0, ratio ** 0.5])
     P, Q, F = (np.array(x) for x in zip(*_SPREAD))
@@ -164,8 +164,8 @@ def run_scenario(scenario: Scenario, method: str, steps: int = 4000, refine: int
     ``refine * steps``: if it then meets it, the verdict is ``correct`` with a note that it needs
     more steps (a discretization error, converging); if not, ``wrong``.
     """
-    from .errors import LcpfricError
-    from .periodic import steady_state
+    from lcpfric.errors import LcpfricError
+    from lcpfric.periodic import steady_state
 
     ref, how = scenario.reference()
     if scenario.scale is None:
@@ -197,10 +197,10 @@ def run_scenario(scenario: Scenario, method: str, steps: int = 4000, refine: int
 def coupled_agreement(methods, ratio: float, steps: int = 2000) -> dict:
     """Spread of W across methods on a coupled chain with stiffness ratio ``ratio`` (no exact
     solution exists; this measures agreement, reported as such)."""
-    from .errors import LcpfricError
-    from .loads import Harmonic
-    from .model import ContactSystem, IndependentSprings
-    from .periodic import steady_state
+    from lcpfric.errors import LcpfricError
+    from lcpfric.model import Harmonic
+    from lcpfric.model import ContactSystem, IndependentSprings
+    from lcpfric.periodic import steady_state
 
     n = 4
     kc, kg = 1.0, 1.0 / ratio

@@ -22,9 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import _checks
-from ._optional import require
-from .errors import InputError
+from .. import _checks
+from .._optional import require
+from ..errors import InputError
 
 __all__ = ["map_data", "figure_maps", "figure_phase", "figure_motor", "write_figures",
            "FIG5_Q1", "FIG7_Q1", "MOTOR", "MOTOR_FRICTION", "register_cli", "figures_command"]
@@ -59,7 +59,7 @@ def map_data(grid: int = 101, extent: float = 10.0, phases=None, **sweep_options
     """The maps of Figs. 3 and 4: Ŵ on ``grid x grid`` points of [0, extent]² at
     ``phases`` (default φ = kπ/10, k = 0..10), as an ``xarray.Dataset`` from
     :func:`lcpfric.sweep.sweep`."""
-    from .sweep import sweep
+    from ..analysis.sweep import sweep
 
     grid = _checks.positive_int("grid", grid, minimum=3)
     extent = _checks.positive("extent", extent)
@@ -70,7 +70,7 @@ def map_data(grid: int = 101, extent: float = 10.0, phases=None, **sweep_options
 
 
 def _draw_map(ax, W2d, P1, Q1, phi, levels, boundary_points: int = 401):
-    from .shakedown import shakedown_margin
+    from ..analysis.shakedown import shakedown_margin
 
     filled = ax.contourf(P1, Q1, W2d.T, levels=levels, cmap=_CMAP)
     lines = ax.contour(P1, Q1, W2d.T, levels=levels[::2][1:], colors="white", linewidths=0.5,
@@ -143,7 +143,7 @@ def figure_maps(ds, phases=(0.0,), ncols: int = 5, title: str | None = None):
 
 
 def _phase_data(P1: float, Q1s, points: int):
-    from .sweep import sweep
+    from ..analysis.sweep import sweep
 
     phi = np.linspace(0.0, PI, _checks.positive_int("points", points, minimum=3))
     return sweep([P1], list(Q1s), phi, progress=False)["W_hat"].sel(P1=P1)
@@ -157,7 +157,7 @@ def figure_phase(P1: float, Q1s, points: int = 361, title: str | None = None,
     -------
     matplotlib.figure.Figure
     """
-    from .paper import peak_phase
+    from .claims import peak_phase
 
     P1 = _checks.nonnegative("P1", P1)
     data = _phase_data(P1, Q1s, points)
@@ -317,7 +317,7 @@ def register_cli(subparsers) -> None:
 def figures_command(args) -> int:
     """Handler of ``lcpfric figures``."""
     t0 = time.perf_counter()
-    from .sweep import option_names
+    from ..analysis.sweep import option_names
 
     formats = [f.strip().lower() for f in args.format.split(",") if f.strip()]
     with option_names({"formats": "--format", "out": "--out", "grid": "--grid",

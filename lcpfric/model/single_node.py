@@ -1,9 +1,4 @@
-"""What the system is: the paper's single node (Eqs. 1-10) and the general uncoupled system.
-
-Conventions (paper, Eq. 2): the friction force is ``F = Q + K u`` and the normal reaction is
-``N = P + k22 w``; in contact ``w = 0`` so ``N = P``, and in separation ``N = 0``. Coulomb's law,
-Eq. (3), asks ``|F_i| <= f_i N_i``, with slip opposing the force. The dissipation per cycle is
-``W = -∮ F · du`` (Eq. 5).
+"""The paper's single node (Fig. 2, Eqs. 1-10) and its normalization (Eq. 6).
 
 Normalization (Eq. 6): ``P̂ = P/P0``, ``Q̂ = Q/(f P0)``, ``v̂ = k11 v / Q1``, ``F̂ = F/(f P0)`` and
 ``Ŵ = k11 W / (f P0 Q1)``, so Ŵ depends only on (P̂1, Q̂1, φ). Internally lcpfric advances the
@@ -15,15 +10,16 @@ gives ``Ŵ = J / Q̂1`` (and the limit Ŵ = 0 at Q̂1 = 0).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _checks
-from .errors import InputError
-from .loads import Harmonic, Load
+from .. import _checks
+from ..errors import InputError
+from .loads import Fourier, Harmonic, Load, Periodic
+from .normal import IndependentSprings
+from .system import ContactSystem
 
-__all__ = ["SingleNode", "ContactSystem", "IndependentSprings", "W_hat_from_W", "W_from_W_hat"]
+__all__ = ["SingleNode", "W_hat_from_W", "W_from_W_hat"]
 
 
 def W_hat_from_W(W, k11, f, P0, Q1):
@@ -39,151 +35,6 @@ def W_from_W_hat(W_hat, k11, f, P0, Q1):
     """W = f P0 Q1 Ŵ / k11, the inverse of :func:`W_hat_from_W`."""
     out = f * P0 * np.asarray(Q1, dtype=float) * np.asarray(W_hat, dtype=float) / k11
     return out if out.ndim else float(out)
-
-
-@dataclass(frozen=True)
-class IndependentSprings:
-    """Normal model of independent normal springs: ``N_i(t) = max(P_i(t), 0)``.
-
-    The normal reactions do not depend on the tangential displacements (the system is
-    uncoupled), so separation and re-contact instants are known from the loads alone.
-    """
-
-    loads: tuple
-
-    def __post_init__(self):
-        loads = tuple(self.loads)
-        if not loads or not all(isinstance(p, Load) for p in loads):
-            raise InputError("normal_loads", "needs one Load object per node")
-        object.__setattr__(self, "loads", loads)
-
-    @property
-    def n(self) -> int:
-        return len(self.loads)
-
-    def reactions(self, t) -> np.ndarray:
-        """N(t) with shape ``t.shape + (n,)``."""
-        t = np.asarray(t, dtype=float)
-        return np.maximum(np.stack([np.broadcast_to(p(t), t.shape) for p in self.loads],
-                                   axis=-1), 0.0)
-
-    def transitions(self, t0: float, t1: float) -> np.ndarray:
-        """Sorted instants in (t0, t1) where some node separates or re-enters contact."""
-        parts = [p.zeros(t0, t1) for p in self.loads if not p.is_constant]
-        return np.unique(np.concatenate(parts)) if parts else np.empty(0)
-
-    def always_in_contact(self) -> np.ndarray:
-        """Per node: True where P_i(t) > 0 throughout the cycle (no separation logic needed)."""
-        return np.array([p.extrema()[0] > 0 for p in self.loads])
-
-
-@dataclass(frozen=True)
-class ContactSystem:
-    """A discrete uncoupled frictional system: ``F = Q(t) + K u``, ``|F_i| <= f_i N_i(t)``.
-
-    Parameters
-    ----------
-    stiffness : (m, m) array_like or scipy.sparse matrix
-        Symmetric positive definite tangential stiffness K, m = n·d.
-    friction : (n,) array_like
-        Friction coefficients f_i > 0.
-    tangential_loads : sequence of m Load
-        Q(t), ordered node by node (node i owns entries ``i*d .. i*d + d - 1``).
-    normal : IndependentSprings
-        The normal model giving N_i(t).
-    dims : int
-        Tangential directions per node, 1 or 2.
-    compliance : (m, m) array_like, optional
-        C = K⁻¹, when the model provides it (computed otherwise, on first use).
-    """
-
-    stiffness: object
-    friction: np.ndarray
-    tangential_loads: tuple
-    normal: IndependentSprings
-    dims: int = 1
-    compliance: object = None
-    _cache: dict = field(default_factory=dict, repr=False, compare=False)
-
-    def __post_init__(self):
-        import scipy.sparse as sp
-
-        if self.dims not in (1, 2):
-            raise InputError("dims", f"must be 1 or 2 tangential directions, got {self.dims!r}")
-        f = _checks.finite_array("friction", self.friction, nonneg=True).ravel()
-        if np.any(f <= 0):
-            raise InputError("friction", "every friction coefficient must be > 0")
-        object.__setattr__(self, "friction", f)
-        n = f.size
-        if self.normal.n != n:
-            raise InputError("normal", f"needs {n} normal loads (one per node), got {self.normal.n}")
-        m = n * self.dims
-        K = self.stiffness
-        if sp.issparse(K):
-            K = sp.csc_matrix(K, dtype=float)
-            dense = K.toarray() if m <= 2000 else None
-        else:
-            K = _checks.finite_array("stiffness", K)
-            K = np.atleast_2d(K)
-            dense = K
-        if K.shape != (m, m):
-            raise InputError("stiffness", f"must be {m} x {m} (n·d), got {K.shape}")
-        if dense is not None:
-            if not np.all(np.isfinite(dense)):
-                raise InputError("stiffness", "every entry must be finite")
-            if not np.allclose(dense, dense.T, rtol=1e-12, atol=0.0):
-                raise InputError("stiffness", "must be symmetric")
-            try:
-                np.linalg.cholesky(dense)
-            except np.linalg.LinAlgError:
-                raise InputError("stiffness", "must be positive definite") from None
-        object.__setattr__(self, "stiffness", K)
-        loads = tuple(self.tangential_loads)
-        if len(loads) != m or not all(isinstance(q, Load) for q in loads):
-            raise InputError("tangential_loads", f"needs {m} Load objects (n·d), got {len(loads)}")
-        object.__setattr__(self, "tangential_loads", loads)
-        periods = [p.period for p in loads + self.normal.loads if not p.is_constant]
-        period = periods[0] if periods else 1.0
-        if any(not math.isclose(p, period, rel_tol=1e-12) for p in periods):
-            raise InputError("loads", f"all loads must share one period; got {sorted(set(periods))}")
-        object.__setattr__(self, "_cache", {"period": period})
-
-    @property
-    def n(self) -> int:
-        """Number of contact nodes."""
-        return self.friction.size
-
-    @property
-    def m(self) -> int:
-        """Number of tangential unknowns, n·d."""
-        return self.friction.size * self.dims
-
-    @property
-    def period(self) -> float:
-        return self._cache["period"]
-
-    def compliance_matrix(self) -> np.ndarray:
-        """C = K⁻¹ (dense), computed once."""
-        if self.compliance is not None:
-            return np.asarray(self.compliance.toarray() if hasattr(self.compliance, "toarray")
-                              else self.compliance, dtype=float)
-        if "C" not in self._cache:
-            K = self.stiffness.toarray() if hasattr(self.stiffness, "toarray") else self.stiffness
-            self._cache["C"] = np.linalg.inv(K)
-        return self._cache["C"]
-
-    def dense_stiffness(self) -> np.ndarray:
-        K = self.stiffness
-        return K.toarray() if hasattr(K, "toarray") else np.asarray(K)
-
-    def tangential(self, t) -> np.ndarray:
-        """Q(t) with shape ``t.shape + (m,)``."""
-        t = np.asarray(t, dtype=float)
-        return np.stack([np.broadcast_to(q(t), t.shape) for q in self.tangential_loads], axis=-1)
-
-    def is_diagonal(self) -> bool:
-        K = self.dense_stiffness()
-        return bool(np.count_nonzero(K - np.diag(np.diag(K))) == 0)
 
 
 class SingleNode:
@@ -361,8 +212,6 @@ class SingleNode:
 
 def _scaled(load: Load, factor: float, drop_mean: bool = False) -> Load:
     """``factor * (load - mean if drop_mean)``, keeping a harmonic load harmonic."""
-    from .loads import Fourier
-
     shift = load.mean if drop_mean else 0.0
     if isinstance(load, Harmonic):
         return Harmonic(factor * (load.mean - shift), factor * load.amplitude, load.phase,
@@ -370,8 +219,6 @@ def _scaled(load: Load, factor: float, drop_mean: bool = False) -> Load:
     if isinstance(load, Fourier):
         return Fourier(factor * (load.mean - shift), tuple(factor * a for a in load.amplitudes),
                        load.phases, load.omega)
-    from .loads import Periodic
-
     return Periodic(lambda t: factor * (load(t) - shift), load.period,
                     mean=factor * (load.mean - shift),
                     derivative=lambda t: factor * load.derivative(t))

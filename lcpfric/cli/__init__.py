@@ -12,8 +12,8 @@ import json
 import sys
 import time
 
-from . import _checks
-from .errors import ConvergenceError, InputError, LcpfricError, SolverError, SolverNotFound
+from .. import _checks
+from ..errors import ConvergenceError, InputError, LcpfricError, SolverError, SolverNotFound
 
 __all__ = ["main", "build_parser"]
 
@@ -30,7 +30,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _model_from_args(args):
-    from .model import SingleNode
+    from ..model import SingleNode
 
     phi = _checks.parse_angle(args.phi, "--phi")
     P1 = _checks.parse_number(args.P1, "--P1")
@@ -48,7 +48,7 @@ def _model_from_args(args):
 
 
 def _cmd_dissipation(args) -> int:
-    from .periodic import steady_state
+    from ..periodic import steady_state
 
     model = _model_from_args(args)
     steps = _checks.positive_int("--steps", args.steps, minimum=4)
@@ -74,7 +74,7 @@ def _cmd_dissipation(args) -> int:
 
 
 def _cmd_shakedown(args) -> int:
-    from .shakedown import shakedown
+    from ..analysis.shakedown import shakedown
 
     model = _model_from_args(args)
     res = shakedown(model=model)
@@ -91,7 +91,7 @@ def _cmd_shakedown(args) -> int:
 
 
 def _cmd_methods(args) -> int:
-    from .methods import available_methods
+    from ..methods import available_methods
 
     names = available_methods()
     print(json.dumps(names) if args.json else "\n".join(names))
@@ -114,7 +114,7 @@ def _add_case_options(p):
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="lcpfric", description="Frictional dissipation per load cycle in "
                                                  "elastic contact systems under periodic loads.")
-    from . import __version__
+    from .. import __version__
 
     parser.add_argument("--version", action="version", version=f"lcpfric {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -132,7 +132,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("methods", help="list the methods usable on this installation")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_methods)
-    for module in ("sweep", "figures", "paper", "bench"):
+    for module in ("analysis.sweep", "paper.figures", "paper.claims", "analysis.convergence"):
         try:
             mod = __import__(f"lcpfric.{module}", fromlist=["register_cli"])
         except ImportError:

@@ -21,8 +21,8 @@ from typing import Callable
 import numpy as np
 from scipy.optimize import brentq
 
-from . import _checks
-from .errors import InputError
+from .. import _checks
+from ..errors import InputError
 
 __all__ = ["Load", "Harmonic", "Fourier", "Periodic"]
 

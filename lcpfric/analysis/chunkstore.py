@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
 
 __all__ = ["ChunkStore", "atomic_write_bytes", "fingerprint", "temp_path"]
 

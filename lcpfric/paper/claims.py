@@ -15,8 +15,8 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from . import _checks
-from .exact import SEPARATION, exact_cycle, exact_W_hat
+from .. import _checks
+from ..exact import SEPARATION, exact_cycle, exact_W_hat
 
 __all__ = ["Claim", "paper_claims", "claims_markdown", "peak_phase", "separation_fraction",
            "sqrt_law", "register_cli", "claims_command"]
@@ -120,7 +120,7 @@ def sqrt_law(coefficient: float = 1.6, phi: float = 0.6 * PI, lo: float = 5.0, h
 
 # -- the claims ------------------------------------------------------------------------------------
 def _phi0_claims(n: int) -> list[Claim]:
-    from .analytic import jang_barber
+    from ..analysis.analytic import jang_barber
 
     P = np.linspace(0.0, 10.0, n)
     PP, QQ = np.meshgrid(P, P, indexing="ij")

@@ -38,8 +38,8 @@ class Case:
         return bool(self.nodes)
 
     def model(self):
-        from .loads import Harmonic
-        from .model import ContactSystem, IndependentSprings, SingleNode
+        from ..model.loads import Harmonic
+        from ..model import ContactSystem, IndependentSprings, SingleNode
 
         if not self.multi:
             return SingleNode.normalized(self.P1, self.Q1, self.phi)
@@ -51,7 +51,7 @@ class Case:
 
     def exact(self) -> float:
         """Exact Ŵ (single node) or exact W = Σ Q̂1_i Ŵ_i (block-diagonal normalized nodes)."""
-        from .exact import exact_W_hat
+        from ..exact import exact_W_hat
 
         if not self.multi:
             return float(exact_W_hat(self.P1, self.Q1, self.phi))
@@ -83,7 +83,7 @@ QUICK_STEPS = (50, 200, 1000, 5000, 20000)
 
 
 def default_methods() -> list[str]:
-    from .methods import available_methods
+    from ..methods import available_methods
 
     return available_methods()
 
@@ -104,8 +104,8 @@ def run_comparison(cases=CASES, methods=None, steps=FULL_STEPS, *, budget: float
     A method stops refining a case once one run takes longer than ``budget`` seconds, or the
     next is predicted to. A method that cannot treat a case (or fails) gets one row saying why.
     """
-    from .errors import LcpfricError
-    from .periodic import steady_state
+    from ..errors import LcpfricError
+    from ..periodic import steady_state
 
     methods = list(methods or default_methods())
     rows = []
@@ -317,7 +317,7 @@ def _add_options(p):
 
 
 def _run(args) -> int:
-    from .errors import InputError
+    from ..errors import InputError
 
     cases = CASES
     if args.cases:
@@ -329,7 +329,7 @@ def _run(args) -> int:
         cases = tuple(c for c in CASES if c.name in names)
     methods = [s.strip() for s in args.methods.split(",")] if args.methods else None
     if methods:
-        from .methods import get_stepper
+        from ..methods import get_stepper
 
         for m in methods:
             if m != "exact":

@@ -37,11 +37,11 @@ from typing import Callable
 
 import numpy as np
 
-from . import _checks
-from ._chunkstore import ChunkStore, fingerprint, temp_path
-from ._optional import require
-from ._runners import default_workers, run_dask, run_processes, run_serial
-from .errors import InputError, LcpfricError
+from .. import _checks
+from .chunkstore import ChunkStore, fingerprint, temp_path
+from .._optional import require
+from .runners import default_workers, run_dask, run_processes, run_serial
+from ..errors import InputError, LcpfricError
 
 __all__ = ["sweep", "VECTORIZED", "register_vectorized", "per_point_W_hat", "parse_grid",
            "parse_phi_list", "write_dataset", "netcdf_engine", "register_cli", "map_command",
@@ -77,7 +77,7 @@ def register_vectorized(name: str, func: Callable, seconds_per_point: float | No
 
 
 def _exact(P1, Q1, phi):
-    from .exact import exact_W_hat
+    from ..exact import exact_W_hat
 
     return exact_W_hat(P1, Q1, phi)
 
@@ -89,7 +89,7 @@ def _vectorized(method: str) -> Callable | None:
     """The vectorized function of ``method``, loading the batched projection when it exists."""
     if method == "projection" and method not in VECTORIZED:
         try:
-            from .batch import projection_W_hat
+            from ..batch import projection_W_hat
         except ModuleNotFoundError as exc:  # not written yet: point by point
             if exc.name != f"{__package__}.batch":
                 raise
@@ -100,8 +100,8 @@ def _vectorized(method: str) -> Callable | None:
 
 def per_point_W_hat(P1, Q1, phi, *, method: str, **options):
     """Ŵ point by point through :func:`lcpfric.steady_state` (the fallback for any method)."""
-    from . import steady_state
-    from .model import SingleNode
+    from ..periodic import steady_state
+    from ..model import SingleNode
 
     out = np.zeros(np.shape(P1))
     for n in np.flatnonzero(np.asarray(Q1) > 0):  # Q̂1 = 0: the limit Ŵ = 0, nothing to run
@@ -185,7 +185,7 @@ def _check_method(method) -> str:
                                    f"got {method!r}")
     method = method.strip()
     if _vectorized(method) is None:
-        from .methods import get_stepper
+        from ..methods import get_stepper
 
         get_stepper(method)  # unknown name or missing extra: fail here, not in a worker
     return method
@@ -244,7 +244,7 @@ def _read_dataset(out: Path):
 
 def _version() -> str:
     try:
-        from . import __version__
+        from .. import __version__
         return str(__version__)
     except ImportError:
         from importlib.metadata import PackageNotFoundError, version

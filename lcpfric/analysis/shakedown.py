@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _checks
+from .. import _checks
 
 __all__ = ["Shakedown", "shakedown", "shakedown_margin"]
 
@@ -59,7 +59,7 @@ def shakedown(P1=None, Q1=None, phi=0.0, *, model=None) -> Shakedown:
     Call as ``shakedown(P1, Q1, phi)`` with normalized parameters, or ``shakedown(model=node)``
     (or ``shakedown(node)``) for a :class:`~lcpfric.model.SingleNode` with any periodic loads.
     """
-    from .model import SingleNode
+    from ..model import SingleNode
 
     if isinstance(P1, SingleNode):
         model, P1 = P1, None
@@ -69,7 +69,7 @@ def shakedown(P1=None, Q1=None, phi=0.0, *, model=None) -> Shakedown:
         else:
             fp0 = model.f * model.P0
             Pn, Qn = model.normal_load, model.tangential_load
-            from .loads import Periodic
+            from ..model.loads import Periodic
 
             minus = Periodic(lambda t: (Qn(t) - Qn.mean) / fp0 - Pn(t) / model.P0, model.period,
                              mean=0.0)

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _checks
+from .. import _checks
 
 __all__ = ["Motor"]
 
@@ -71,7 +71,7 @@ class Motor:
 
     def dissipation(self, Omega, f: float):
         """Energy dissipated per revolution, W [J], at the speeds ``Omega`` [rad/s] (exact)."""
-        from .exact import exact_W_hat
+        from ..exact import exact_W_hat
 
         Omega = _checks.finite_array("Omega", Omega, nonneg=True)
         f = _checks.positive("f", f)

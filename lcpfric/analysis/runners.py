@@ -14,8 +14,8 @@ import signal
 import warnings
 from typing import Callable
 
-from ._optional import require
-from .errors import InputError
+from .._optional import require
+from ..errors import InputError
 
 __all__ = ["run_serial", "run_processes", "run_dask", "default_workers"]
 

@@ -23,7 +23,7 @@ def jang_barber(P1, Q1):
     P̂1 >= 1, Q̂1 > P̂1               (Q̂1 - P̂1)(1 + P̂1)² / (P̂1 (Q̂1 + P̂1))   (Eq. 12)
     ============================  ===================================================
     """
-    from ._checks import finite_array
+    from .._checks import finite_array
 
     P1 = np.abs(finite_array("P1", P1))
     Q1 = np.abs(finite_array("Q1", Q1))

@@ -14,10 +14,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _checks
-from .errors import InputError
+from .. import _checks
+from ..errors import InputError
 from .loads import Harmonic, Load
-from .model import ContactSystem, IndependentSprings, SingleNode
+from .normal import IndependentSprings
+from .single_node import SingleNode
+from .system import ContactSystem
 
 __all__ = ["chain", "chain_stiffness", "block_diagonal"]
 

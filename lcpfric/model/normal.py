@@ -1,0 +1,126 @@
+"""Normal models: what gives the normal reactions N_i(t) of the contact nodes.
+
+The protocol
+------------
+lcpfric treats *uncoupled* systems (paper, Section 2): the normal reactions do not depend on the
+tangential displacements, so they are known over the whole cycle before any tangential
+computation, and so are the instants where a node separates or re-enters contact. A normal model
+is any object with:
+
+``n`` : int
+    The number of contact nodes.
+``period`` : float or None
+    The period of its loads (None when nothing varies in time).
+``reactions(t) -> ndarray``
+    ``N(t)`` with shape ``t.shape + (n,)``, every entry >= 0 (0 = separated).
+``transitions(t0, t1) -> ndarray``
+    The sorted instants in the open interval (t0, t1) where some node separates or re-enters
+    contact. The scene puts them on its time grid, so that every node is in contact or separated
+    for a whole increment.
+``scale(t) -> ndarray``
+    Per node, the magnitude of the normal load at ``t`` (shape ``t.shape + (n,)``): reactions
+    within a few ulps of it are round-off and are set to exactly zero by the scene.
+``always_in_contact() -> ndarray``
+    Per node, True where N_i > 0 over the whole cycle (no separation logic needed).
+
+:class:`NormalModel` states this as a :class:`typing.Protocol`; the scene and the steppers use
+nothing else, so a contact model whose area changes with the load (a Hertz contact, a half-space
+on a grid) plugs in by providing these members. :class:`IndependentSprings` is the paper's model
+(a normal spring per node, Eq. 2) and the first implementation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from ..errors import InputError
+from .loads import Load
+
+__all__ = ["NormalModel", "IndependentSprings", "check_normal_model"]
+
+
+@runtime_checkable
+class NormalModel(Protocol):
+    """What a normal model provides (see the module docstring)."""
+
+    @property
+    def n(self) -> int: ...
+
+    @property
+    def period(self) -> float | None: ...
+
+    def reactions(self, t) -> np.ndarray: ...
+
+    def transitions(self, t0: float, t1: float) -> np.ndarray: ...
+
+    def scale(self, t) -> np.ndarray: ...
+
+    def always_in_contact(self) -> np.ndarray: ...
+
+
+def check_normal_model(normal) -> None:
+    """Raise :class:`InputError` if ``normal`` does not provide the :class:`NormalModel`
+    members."""
+    missing = [name for name in ("n", "period", "reactions", "transitions", "scale",
+                                 "always_in_contact") if not hasattr(normal, name)]
+    if missing:
+        raise InputError("normal", f"must be a normal model (lcpfric.model.NormalModel, e.g. "
+                                   f"IndependentSprings); {type(normal).__name__} lacks "
+                                   f"{', '.join(missing)}")
+
+
+@dataclass(frozen=True)
+class IndependentSprings:
+    """Independent normal springs (paper, Eq. 2): ``N_i(t) = max(P_i(t), 0)``.
+
+    Parameters
+    ----------
+    loads : sequence of Load
+        The normal load P_i(t) of each node.
+    """
+
+    loads: tuple
+
+    def __post_init__(self):
+        loads = tuple(self.loads)
+        if not loads or not all(isinstance(p, Load) for p in loads):
+            raise InputError("normal_loads", "needs one Load object per node")
+        object.__setattr__(self, "loads", loads)
+
+    @property
+    def n(self) -> int:
+        return len(self.loads)
+
+    @property
+    def period(self) -> float | None:
+        periods = [p.period for p in self.loads if not p.is_constant]
+        return periods[0] if periods else None
+
+    def periods(self) -> list[float]:
+        """The period of every load that varies (for the system's check that they agree)."""
+        return [p.period for p in self.loads if not p.is_constant]
+
+    def loads_at(self, t) -> np.ndarray:
+        """P(t) with shape ``t.shape + (n,)`` (negative in separation)."""
+        t = np.asarray(t, dtype=float)
+        return np.stack([np.broadcast_to(p(t), t.shape) for p in self.loads], axis=-1)
+
+    def reactions(self, t) -> np.ndarray:
+        """N(t) = max(P(t), 0) with shape ``t.shape + (n,)``."""
+        return np.maximum(self.loads_at(t), 0.0)
+
+    def scale(self, t) -> np.ndarray:
+        """|P(t)|, the magnitude against which a round-off zero of N is judged."""
+        return np.abs(self.loads_at(t))
+
+    def transitions(self, t0: float, t1: float) -> np.ndarray:
+        """Sorted instants in (t0, t1) where some node separates or re-enters contact."""
+        parts = [p.zeros(t0, t1) for p in self.loads if not p.is_constant]
+        return np.unique(np.concatenate(parts)) if parts else np.empty(0)
+
+    def always_in_contact(self) -> np.ndarray:
+        """Per node: True where P_i(t) > 0 throughout the cycle (no separation logic needed)."""
+        return np.array([p.extrema()[0] > 0 for p in self.loads])
