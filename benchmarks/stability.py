@@ -49,8 +49,9 @@ def main(argv=None):
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
-    cmd = "python benchmarks/stability.py" + (" --quick" if args.quick else "") + \
-        f" --out {args.out}"
+    cmd = ("python benchmarks/stability.py" + (" --quick" if args.quick else "")
+           + (f" --steps {args.steps}" if args.steps != 4000 else "")
+           + (f" --methods {args.methods}" if args.methods else "") + f" --out {args.out}")
     lines = [f"Reproduce: `{cmd}`", "",
              "References: the independent mpmath solution, pinned in "
              "benchmarks/stability_references.py. Verdicts: `exact` must be within 1e-9 "

@@ -189,6 +189,9 @@ def test_single_node_normalized_strict_types(kwargs, param):
     (dict(P0=1e-300, P1=1e10), "P1"),             # P̂1 = 1e310 overflows
     (dict(P0=1e300, Q1=1e-20, f=1e-5), "Q1"),     # Q̂1 = 1e-315 is subnormal
     (dict(P0=1e200, P1=1e-200), "P1"),            # P̂1 underflows to 0
+    (dict(k11=1e-320), "k11"),                   # subnormal stiffness
+    (dict(k11=1e-300, f=1e10, P0=1e10), "k11"),   # displacement unit f P0 / k11 = 1e320
+    (dict(omega=1e-320), "omega"),                # period 2π/ω overflows
     (dict(k11=True), "k11"), (dict(f="0.3"), "f"), (dict(dimensional="yes"), "dimensional"),
     (dict(dimensional=1), "dimensional"),
 ])
@@ -200,7 +203,7 @@ def test_single_node_refuses_unrepresentable_units(kwargs, param):
 
 
 def test_single_node_accepts_wide_but_representable_units():
-    node = SingleNode(k11=1e-300, f=1e-150, P0=1e150, P1=3e149, Q1=2.0, phi=0.4)
+    node = SingleNode(k11=1e-200, f=1e-150, P0=1e150, P1=3e149, Q1=2.0, phi=0.4)
     assert node.P1_hat == pytest.approx(0.3) and node.Q1_hat == pytest.approx(2.0)
     assert SingleNode(dimensional=np.bool_(False)).dimensional is False
 

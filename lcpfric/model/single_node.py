@@ -122,6 +122,18 @@ class SingleNode:
         if not _TINY <= fp0 <= _HUGE:
             raise InputError("f", f"the force unit f·P0 = {fp0:.4g} must be in [{_TINY:.4g}, "
                                   f"{_HUGE:.4g}] (f = {f!r}, P0 = {P0!r})")
+        for name, k in (("k11", self.k11), ("k22", self.k22)):
+            if k < _TINY:
+                raise InputError(name, f"must be >= {_TINY:.4g} (a normal double), got {k!r}")
+        unit = fp0 / self.k11
+        if not _TINY <= unit <= _HUGE:
+            raise InputError("k11", f"the displacement unit f·P0/k11 = {unit:.4g} must be in "
+                                    f"[{_TINY:.4g}, {_HUGE:.4g}] (f·P0 = {fp0!r}, "
+                                    f"k11 = {self.k11!r})")
+        omega = 2 * math.pi / self.period
+        if not (_TINY <= omega and math.isfinite(self.period)):
+            raise InputError("omega", f"must be >= {_TINY:.4g} (the period 2π/ω must be "
+                                      f"finite), got {omega!r}")
         for name, amp, unit, what in ((p_name, self.normal_load.amplitude, P0, "P1/P0"),
                                       (q_name, self.tangential_load.amplitude, fp0,
                                        "Q1/(f·P0)")):
