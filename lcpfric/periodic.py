@@ -1,16 +1,16 @@
-"""The periodic steady-state driver: cycles until v(t) repeats.
+"""The periodic steady-state driver: cycles until the cycle repeats.
 
-:func:`steady_state` runs whole cycles of a scene with a stepper until the tangential
-displacement over a cycle repeats the previous cycle's within ``tol`` (relative to the cycle's
-range of v), or until ``max_cycles``. Non-convergence is reported (``converged=False``, and an
-error or a warning by ``on_nonconvergence``), never returned as converged.
-
-For a single node with harmonic loads, ``method="exact"`` returns the closed-form steady state
-(:mod:`lcpfric.exact`) with no cycles at all.
+:func:`steady_state` asks the registry (:mod:`lcpfric.methods`) for the method. A closed-form
+method returns the steady state directly. A time stepper is run whole cycles at a time on a
+scene (:mod:`lcpfric.scene`) until the tangential displacement over a cycle repeats the previous
+cycle's (:func:`cycle_change`, the one convergence criterion, shared with :mod:`lcpfric.batch`),
+or until ``max_cycles``. Non-convergence is reported (``converged=False``, and an error or a
+warning by ``on_nonconvergence``), never returned as converged.
 """
 
 from __future__ import annotations
 
+import difflib
 import time
 import warnings
 from dataclasses import replace
@@ -19,13 +19,27 @@ import numpy as np
 
 from . import _checks
 from .errors import ConvergenceError, ConvergenceWarning, InputError
-from .methods import get_stepper
+from .methods import CLOSED_FORM, get_stepper
 from .model import ContactSystem, SingleNode
-from .results import SteadyState
+from .results import CycleResult, SteadyState
 from .scene import Scene, make_scene
 
-__all__ = ["steady_state"]
+__all__ = ["steady_state", "cycle_change", "DRIVER_OPTIONS"]
 
+#: The driver's own keyword options (everything else goes to the method).
+DRIVER_OPTIONS = ("steps_per_cycle", "tol", "max_cycles", "on_nonconvergence", "placement", "u0")
+
+
+def cycle_change(diff, span):
+    """The convergence measure of a cycle: the change ``diff`` of the displacements from the
+    previous cycle, relative to ``span`` (0 where both vanish, inf where only the span does).
+    Works on scalars and on arrays (one entry per point of a batch)."""
+    diff = np.asarray(diff, dtype=float)
+    span = np.asarray(span, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = np.where(span > 0, diff / np.where(span > 0, span, 1.0),
+                       np.where(diff == 0, 0.0, np.inf))
+    return out if out.ndim else float(out)
 
 
 def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
@@ -38,14 +52,17 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     model : SingleNode, ContactSystem or Scene
         What to solve. A Scene fixes the grid (then ``steps_per_cycle`` and ``placement`` are
         ignored).
-    method : str or Stepper
-        ``"exact"``, ``"explicit"``, ``"projection"``, ``"clarabel"``, ``"osqp"``,
-        ``"qpsolvers:<solver>"``, ``"cvxpy:<SOLVER>"`` (see :mod:`lcpfric.methods`).
+    method : str or method instance
+        A registry name (:func:`lcpfric.available_methods`): ``"exact"``, ``"explicit"``,
+        ``"projection"``, ``"clarabel"``, ``"osqp"``, ``"qpsolvers:<solver>"``,
+        ``"cvxpy:<SOLVER>"``.
     steps_per_cycle : int
-        Increments per cycle (the known separation instants are added). For ``"exact"`` it only
-        sets the resolution of the returned time series.
+        Increments per cycle requested (the known separation instants are added: see
+        ``steps_used`` of the result). For a closed-form method it only sets the number of
+        samples of the returned time series.
     tol : float
-        Convergence test: ``max |v_c - v_{c-1}| <= tol * range(v_c)`` over the grid.
+        Convergence test: ``max |v_c - v_{c-1}| <= tol * range(v_c)`` over the grid
+        (:func:`cycle_change`).
     max_cycles : int
         Cap on the cycles run.
     on_nonconvergence : {"raise", "warn", "ignore"}
@@ -57,7 +74,8 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     u0 : array_like, optional
         Initial tangential displacement (default zero).
     **options
-        Passed to the stepper (solver tolerances and settings).
+        The method's own options (solver tolerances and settings). An option that neither the
+        driver nor the method takes raises :class:`InputError` naming the valid ones.
 
     Returns
     -------
@@ -66,10 +84,9 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     start = time.perf_counter()
     tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
                                                                 on_nonconvergence)
-    if isinstance(method, str) and method.strip().lower() == "exact":
-        if options:
-            raise InputError("method", f"'exact' takes no solver options, got {sorted(options)}")
-        return _exact(model, _checks.positive_int("steps_per_cycle", steps_per_cycle, 4), start)
+    solver = _method(method, options)
+    if solver.kind == CLOSED_FORM:
+        return solver.steady_state(model, steps_per_cycle)
     if isinstance(model, Scene):
         scene = model
     elif isinstance(model, (SingleNode, ContactSystem)):
@@ -77,40 +94,59 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     else:
         raise InputError("model", "expected a SingleNode, ContactSystem or Scene, got "
                                   f"{type(model).__name__}")
-    stepper = get_stepper(method, **options)
-    stepper.check(scene.system)
+    solver.check(scene.system)
+    if u0 is not None:
+        u0 = _checks.finite_array("u0", u0)
+        if u0.size != scene.system.m:
+            raise InputError("u0", f"needs {scene.system.m} displacements (n·d), got {u0.size}")
     work, scale = _unit_scaled(scene)
-    state = stepper.init(work, None if u0 is None else np.asarray(u0, dtype=float) / scale)
+    state = solver.init(work, None if u0 is None else u0 / scale)
     W_cycles = []
     prev = None
     change = np.inf
-    cyc = None
     for _ in range(max_cycles):
-        state, cyc = stepper.cycle(work, state)
-        if scale != 1.0:
-            cyc.u = cyc.u * scale
-            cyc.F = cyc.F * scale
-            cyc.W = cyc.W * scale * scale
-        W_cycles.append(cyc.W)
+        state, cyc = solver.cycle(work, state)
+        W_cycles.append(cyc.W * scale * scale)
         if prev is not None:
-            span = float(np.max(np.ptp(cyc.u, axis=0)))
-            diff = float(np.max(np.abs(cyc.u - prev)))
-            change = diff / span if span > 0 else (0.0 if diff == 0 else np.inf)
+            change = cycle_change(np.max(np.abs(cyc.u - prev)), np.max(np.ptp(cyc.u, axis=0)))
             if change <= tol:
                 break
         prev = cyc.u
-    converged = change <= tol
-    result = _assemble(scene, stepper, cyc, np.asarray(W_cycles), converged, change,
-                       time.perf_counter() - start)
+    if scale != 1.0:
+        cyc = CycleResult(cyc.t, cyc.u * scale, cyc.F * scale, cyc.state, cyc.W * scale * scale,
+                          cyc.stats)
+    converged = bool(change <= tol)
+    result = _assemble(scene, solver, cyc, np.asarray(W_cycles), converged, change,
+                       _requested(model, steps_per_cycle), time.perf_counter() - start)
     if not converged:
         msg = (f"no periodic steady state after {len(W_cycles)} cycles (relative change of v "
                f"{change:.3g} > tol {tol:g}); raise max_cycles or loosen tol")
-        result.message = msg
+        result = replace(result, message=msg)
         if on_nonconvergence == "raise":
             raise ConvergenceError(msg, result)
         if on_nonconvergence == "warn":
             warnings.warn(msg, ConvergenceWarning, stacklevel=2)
     return result
+
+
+def _method(method, options: dict):
+    """The registry's instance for ``method``; an unknown option names the driver's and the
+    method's valid ones."""
+    try:
+        return get_stepper(method, **options)
+    except InputError as exc:
+        if exc.parameter not in options:
+            raise
+        close = difflib.get_close_matches(exc.parameter, DRIVER_OPTIONS, n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise InputError(exc.parameter, f"{exc.detail}{hint}; the driver's options: "
+                                        f"{', '.join(DRIVER_OPTIONS)}") from None
+
+
+def _requested(model, steps_per_cycle) -> int:
+    if isinstance(model, Scene):
+        return model.steps_requested
+    return _checks.positive_int("steps_per_cycle", steps_per_cycle, 4)
 
 
 def _unit_scaled(scene: Scene) -> tuple[Scene, float]:
@@ -132,67 +168,21 @@ def _unit_scaled(scene: Scene) -> tuple[Scene, float]:
                    _cache={"contact": scene.contact}), scale  # contact is scale-free
 
 
-def _assemble(scene, stepper, cyc, W_cycles, converged, change, seconds) -> SteadyState:
+def _assemble(scene, solver, cyc, W_cycles, converged, change, requested,
+              seconds) -> SteadyState:
     model = scene.model
-    name = stepper.name if not getattr(stepper, "label", None) else stepper.label
+    common = dict(cycles=len(W_cycles), converged=converged, method=solver.label,
+                  steps_requested=requested, steps_used=scene.steps, t=scene.t,
+                  state=cyc.state if model is None else cyc.state[:, 0], seconds=seconds,
+                  change=change, message="converged" if converged else "",
+                  solver_stats=cyc.stats)
     if model is None:
-        return SteadyState(W_hat=None, W=float(W_cycles[-1]), W_per_cycle=W_cycles,
-                           cycles=len(W_cycles), converged=converged, method=name,
-                           steps_per_cycle=scene.steps, t=scene.t, v=cyc.u, F=cyc.F, N=scene.N,
-                           state=cyc.state, seconds=seconds, change=change,
-                           message="converged" if converged else "",
-                           solver_stats=cyc.stats)
+        return SteadyState(W=float(W_cycles[-1]), W_cycles=W_cycles, v=cyc.u, F=cyc.F,
+                           N=scene.N, **common)
+    # a single node is advanced in the units f P0 (force), f P0/k11 (displacement): J = Q̂1 Ŵ
     q1 = model.Q1_hat
     W_hat_cycles = W_cycles / q1 if q1 > 0 else np.zeros_like(W_cycles)
-    W_hat = float(W_hat_cycles[-1])
-    u, F, N = cyc.u[:, 0], cyc.F[:, 0], scene.N[:, 0]
-    t, v, F, N = _dimensional(model, scene.t, u, F, N)
-    return SteadyState(W_hat=W_hat, W=float(model.W(W_hat)) if model.dimensional else None,
-                       W_per_cycle=W_hat_cycles, cycles=len(W_cycles), converged=converged,
-                       method=name, steps_per_cycle=scene.steps, t=t, v=v, F=F, N=N,
-                       state=cyc.state[:, 0], seconds=seconds, change=change,
-                       message="converged" if converged else "", solver_stats=cyc.stats)
-
-
-def _dimensional(model: SingleNode, t, u, F, N):
-    """Map the normalized series (u in f P0/k11, F in f P0, N in P0) to the model's units:
-    dimensional (v, F, N) for a dimensional model; (v̂, F̂, N̂) of Eq. (6) for a normalized one."""
-    if model.dimensional:
-        v = (model.force_unit * u - model.Q0) / model.k11
-        return t, v, model.force_unit * F, model.P0 * N
-    q1 = model.Q1_hat
-    return t, (u / q1 if q1 > 0 else u), F, N
-
-
-def _exact(model, steps: int, start: float) -> SteadyState:
-    from .exact import exact_cycle
-
-    if isinstance(model, Scene):
-        model = model.model
-    if not isinstance(model, (SingleNode, ContactSystem)):
-        raise InputError("model", "expected a SingleNode, ContactSystem or Scene, got "
-                                  f"{type(model).__name__}")
-    if not isinstance(model, SingleNode):
-        raise InputError("method", "'exact' solves the single node (SingleNode); for a general "
-                                   "system use 'explicit', 'projection' or a solver backend")
-    if not model.is_harmonic:
-        raise InputError("method", "'exact' needs harmonic loads P0 + P1 sin(ωt), "
-                                   "Q0 + Q1 sin(ωt + φ); for other periodic loads use "
-                                   "'explicit' or 'projection'")
-    P1, Q1, phi = model.normalized_parameters()
-    cyc = exact_cycle(P1, Q1, phi)
-    T = model.period
-    psi_p = model.normal_load.phase
-    t = np.linspace(0.0, T, steps + 1)
-    theta = model.omega * t + psi_p
-    u = cyc.w(theta)
-    Qn = Q1 * np.sin(theta + phi)
-    Nn = np.maximum(1.0 + P1 * np.sin(theta), 0.0)
-    F = Qn + u
-    t, v, F, N = _dimensional(model, t, u, F, Nn)
-    W_hat = cyc.W_hat
-    return SteadyState(W_hat=W_hat, W=float(model.W(W_hat)) if model.dimensional else None,
-                       W_per_cycle=np.array([W_hat]), cycles=1, converged=True, method="exact",
-                       steps_per_cycle=steps, t=t, v=v, F=F, N=N, state=cyc.state(theta),
-                       seconds=time.perf_counter() - start, change=0.0,
-                       message="exact steady state (closed form, no cycles iterated)")
+    v, F, N = model.series(cyc.u[:, 0], cyc.F[:, 0], scene.N[:, 0])
+    return SteadyState(W=float(model.W(W_hat_cycles[-1])),
+                       W_cycles=np.atleast_1d(model.W(W_hat_cycles)), v=v, F=F, N=N,
+                       normalization=model.normalization(), W_hat_cycles=W_hat_cycles, **common)
