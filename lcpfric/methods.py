@@ -53,8 +53,9 @@ class Method:
         by the periodic driver).
     summary : str
         One line for listings.
-    target : str
-        ``"module:Class"`` of the implementation, imported only when the method is used.
+    target : str or class
+        The implementation: a class, or its ``"module:Class"`` path (imported only when the
+        method is used).
     dims : tuple of int
         Tangential directions per node it accepts.
     accepts : str
@@ -80,7 +81,7 @@ class Method:
     name: str
     kind: str
     summary: str
-    target: str
+    target: object
     dims: tuple = (1,)
     accepts: str = "any ContactSystem or SingleNode"
     extra: str | None = None
@@ -106,6 +107,8 @@ class Method:
 
     def load(self):
         """The implementation class (imports its module)."""
+        if not isinstance(self.target, str):
+            return self.target
         module, _, attr = self.target.partition(":")
         return getattr(importlib.import_module(module), attr)
 

@@ -82,6 +82,13 @@ FULL_STEPS = (50, 100, 200, 500, 1000, 2000, 5000, 10000, 20000, 50000, 100000)
 QUICK_STEPS = (50, 200, 1000, 5000, 20000)
 
 
+def _closed_form(method: str) -> bool:
+    """Whether the registry lists ``method`` as a closed form (timed once, no step counts)."""
+    from ..methods import CLOSED_FORM, get_method
+
+    return get_method(method)[0].kind == CLOSED_FORM
+
+
 def default_methods() -> list[str]:
     from ..methods import available_methods
 
@@ -113,24 +120,25 @@ def run_comparison(cases=CASES, methods=None, steps=FULL_STEPS, *, budget: float
         ref = case.exact()
         model = case.model()
         for method in methods:
-            run_steps = (0,) if method == "exact" else steps
+            closed = _closed_form(method)
+            run_steps = (0,) if closed else steps
             last, prev_n = 0.0, 1
             for n in run_steps:
-                if method != "exact" and last * n / max(prev_n, 1) > budget:
+                if not closed and last * n / max(prev_n, 1) > budget:
                     rows.append(dict(case=case.name, method=method, steps_per_cycle=n,
                                      rel_error="", seconds="", cycles="", steps="",
                                      W="", exact=ref, note="skipped: over time budget"))
                     continue
                 try:
-                    if method == "exact":
+                    if closed:
                         # what computes Ŵ exactly: lcpfric.exact_W_hat (steady_state(...,
                         # "exact") adds a time series of the cycle, ~0.3 ms at 2000 points)
                         val, sec = _time(case.exact, 200)
                         res = None
                     else:
-                        kw = {} if method == "exact" else dict(placement=placement)
-                        res, sec = _time(lambda: steady_state(model, method, n or 2000, **kw),
-                                         repeats if method == "exact" or last < 2.0 else 1)
+                        res, sec = _time(lambda: steady_state(model, method, n or 2000,
+                                                              placement=placement),
+                                         repeats if last < 2.0 else 1)
                         val = case.value(res)
                 except LcpfricError as exc:
                     rows.append(dict(case=case.name, method=method, steps_per_cycle=n,
@@ -142,7 +150,7 @@ def run_comparison(cases=CASES, methods=None, steps=FULL_STEPS, *, budget: float
                 rows.append(dict(case=case.name, method=method, steps_per_cycle=n,
                                  rel_error=err, seconds=sec,
                                  cycles=1 if res is None else res.cycles,
-                                 steps=0 if res is None else res.steps_per_cycle,
+                                 steps=0 if res is None else res.steps_used,
                                  W=val, exact=ref, note=""))
                 log(f"{case.name:15s} {method:22s} {n:7d}  err {err:9.2e}  {sec:9.4f} s")
                 last, prev_n = sec, max(n, 1)
@@ -180,6 +188,7 @@ def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
         w.writeheader()
         w.writerows(rows)
     methods = list(dict.fromkeys(r["method"] for r in rows))
+    closed = {m for m in methods if _closed_form(m)}
     headline = {"orders": {}, "time_to_1e-6": {}, "exact": {}}
     lines = [f"Reproduce: `{command}`" if command else "", "",
              "## Time to reach a relative error of 1e-6 (s; steps per cycle)", "",
@@ -188,8 +197,8 @@ def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
     for m in methods:
         cells = []
         for c in cases:
-            t = time_to_reach(rows, c.name, m, 1e-6 if m != "exact" else 1e-10)
-            cells.append("-" if t is None else (f"{t[0]:.2e}" + ("" if m == "exact"
+            t = time_to_reach(rows, c.name, m, 1e-10 if m in closed else 1e-6)
+            cells.append("-" if t is None else (f"{t[0]:.2e}" + ("" if m in closed
                                                                   else f" ({t[1]})")))
             headline["time_to_1e-6"].setdefault(m, {})[c.name] = None if t is None else t[0]
         lines.append(f"| {m} | " + " | ".join(cells) + " |")
@@ -212,7 +221,7 @@ def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
               "| method | " + " | ".join(c.name for c in cases) + " |",
               "|---|" + "---|" * len(cases)]
     for m in methods:
-        if m == "exact":
+        if m in closed:
             continue
         cells = []
         for c in cases:
@@ -223,7 +232,7 @@ def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
     lines += ["", "## Relative error of Ŵ (W for multi-node) against the exact solution", ""]
     for c in cases:
         sub = [r for r in rows if r["case"] == c.name]
-        steps = sorted({r["steps_per_cycle"] for r in sub if r["method"] != "exact"})
+        steps = sorted({r["steps_per_cycle"] for r in sub if r["method"] not in closed})
         lines += [f"### {c.label()}", "", "| method | " + " | ".join(str(s) for s in steps)
                   + " |", "|---|" + "---|" * len(steps)]
         for m in methods:
@@ -232,7 +241,7 @@ def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
                 hit = [r for r in sub if r["method"] == m and r["steps_per_cycle"] == s]
                 cells.append(f"{hit[0]['rel_error']:.1e}" if hit and hit[0]["rel_error"] != ""
                              else "")
-            if m == "exact":
+            if m in closed:
                 hit = [r for r in sub if r["method"] == m]
                 cells = [f"{hit[0]['rel_error']:.1e}" if hit and hit[0]["rel_error"] != ""
                          else ""] + [""] * (len(steps) - 1)
@@ -243,18 +252,22 @@ def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
         lines.append("")
     with open(os.path.join(out_dir, "compare.md"), "w") as fh:
         fh.write("\n".join(lines))
-    _plot(rows, cases, methods, os.path.join(out_dir, "compare.png"))
+    files = ["compare.csv", "compare.md"]
+    if _plot(rows, cases, methods, closed, os.path.join(out_dir, "compare.png")):
+        files.append("compare.png")
+    headline["files"] = files
     return headline
 
 
-def _plot(rows, cases, methods, path):
+def _plot(rows, cases, methods, closed, path) -> bool:
+    """Draw compare.png; False (and nothing written) without matplotlib."""
     try:
         import matplotlib
 
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
-        return
+        return False
     ncol = 4
     nrow = math.ceil(len(cases) / ncol)
     fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.6 * nrow), squeeze=False)
@@ -266,7 +279,7 @@ def _plot(rows, cases, methods, path):
             if not pts:
                 continue
             x, y = zip(*pts)
-            style = (dict(marker="*", ms=12, ls="none") if m == "exact" else
+            style = (dict(marker="*", ms=12, ls="none") if m in closed else
                      dict(marker=".", ls="--" if ":" in m else "-"))
             ax.loglog(x, y, label=m, color=colors[i % len(colors)], **style)
         ax.axhline(1e-6, color="0.6", lw=0.8, ls="--")
@@ -281,6 +294,7 @@ def _plot(rows, cases, methods, path):
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
+    return True
 
 
 def read_rows(path: str) -> list[dict]:
