@@ -35,7 +35,7 @@ from . import _checks
 from .errors import ConvergenceError, ConvergenceWarning, InputError, SolverError
 from .periodic import cycle_change
 from .results import BatchResult
-from .scene import PLACEMENTS
+from .scene import PLACEMENTS, increments
 from .steppers.dissipation import node_shares
 
 __all__ = ["projection_W_hat", "batched_W_hat", "projection_steady_states",
@@ -80,8 +80,7 @@ class _Grids:
             o3 = np.where(near, 0, 1)
         else:  # "contact": every step in contact, one increment over the separation
             length = th_s - start
-            kc = np.where(sep, np.ceil(steps * length / np.where(sep, length, 1.0)), steps)
-            kc = np.maximum(1, kc).astype(int)
+            kc = np.where(sep, increments(steps * length / np.where(sep, length, 1.0)), steps)
             s1 = np.where(sep, length / kc, s1)
             n1 = np.where(sep, kc, steps)
             n2 = np.where(sep, kc + 1, steps)
@@ -138,7 +137,8 @@ def _periodic(grids: _Grids, advance, tol: float, max_cycles: int, on_nonconverg
     cycles = np.zeros(npts, dtype=int)
     change = np.full(npts, np.inf)
     done = np.zeros(npts, dtype=bool)
-    prev_start = None
+    prev_start = prev_W = None
+    qlo, qhi = Q.copy(), Q.copy()
     for c in range(max_cycles):
         start_u = u.copy()
         lo, hi = u.copy(), u.copy()
@@ -150,10 +150,16 @@ def _periodic(grids: _Grids, advance, tol: float, max_cycles: int, on_nonconverg
             u, F = u1, F1
             np.minimum(lo, u, out=lo)
             np.maximum(hi, u, out=hi)
+            if c == 0:
+                np.minimum(qlo, Q, out=qlo)
+                np.maximum(qhi, Q, out=qhi)
         if prev_start is not None:
             # the clamp is non-expansive, so the largest change of v over the cycle is the
-            # change of its starting value: the driver's criterion, per point
-            ch = cycle_change(np.abs(start_u - prev_start), hi - lo)
+            # change of its starting value: the driver's criterion, per point (K = 1, so the
+            # loads' displacement and force scales are both the range of Q)
+            span = qhi - qlo
+            ch = cycle_change(np.abs(start_u - prev_start), hi - lo, W - prev_W, W,
+                              (span, span))
             new = ~done & (ch <= tol)
             J[new] = W[new]
             cycles[new] = c + 1
@@ -161,7 +167,7 @@ def _periodic(grids: _Grids, advance, tol: float, max_cycles: int, on_nonconverg
             done |= new
             if done.all():
                 break
-        prev_start = start_u
+        prev_start, prev_W = start_u, W
     if not done.all():
         J[~done] = W[~done]
         cycles[~done] = max_cycles

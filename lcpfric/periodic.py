@@ -24,22 +24,51 @@ from .model import ContactSystem, SingleNode
 from .results import CycleResult, SteadyState
 from .scene import Scene, make_scene
 
-__all__ = ["steady_state", "cycle_change", "DRIVER_OPTIONS"]
+__all__ = ["steady_state", "cycle_change", "load_scales", "DRIVER_OPTIONS"]
 
 #: The driver's own keyword options (everything else goes to the method).
 DRIVER_OPTIONS = ("steps_per_cycle", "tol", "max_cycles", "on_nonconvergence", "placement", "u0")
 
 
-def cycle_change(diff, span):
-    """The convergence measure of a cycle: the change ``diff`` of the displacements from the
-    previous cycle, relative to ``span`` (0 where both vanish, inf where only the span does).
-    Works on scalars and on arrays (one entry per point of a batch)."""
-    diff = np.asarray(diff, dtype=float)
-    span = np.asarray(span, dtype=float)
+def cycle_change(du, v_span, dW, W, load_span):
+    """The convergence measure of a cycle (the one criterion, shared with :mod:`lcpfric.batch`).
+
+    ``max(du / s_v, |dW| / s_W)`` with the scales
+
+    * ``s_v = max(v_span, load_span)``: the cycle's range of the displacements, or the loads'
+      displacement scale (the range of the tangential loads times the compliance), whichever is
+      larger. It does not vanish when the system shakes down or slips very little, so such a
+      steady state is confirmed like any other;
+    * ``s_W = max(|W|, load_span · load_span / compliance)``, the same for the dissipation.
+
+    Parameters
+    ----------
+    du : float or ndarray
+        ``max |v_c - v_{c-1}|`` over the grid (per point of a batch).
+    v_span : float or ndarray
+        The cycle's range of v.
+    dW, W : float or ndarray
+        ``W_c - W_{c-1}`` and ``W_c``.
+    load_span : tuple (displacement, force) of floats or ndarrays
+        The loads' scales: the range of Q times the compliance, and the range of Q.
+    """
+    u_scale, f_scale = (np.asarray(x, dtype=float) for x in load_span)
+    s_v = np.maximum(np.asarray(v_span, dtype=float), u_scale)
+    s_W = np.maximum(np.abs(np.asarray(W, dtype=float)), u_scale * f_scale)
     with np.errstate(divide="ignore", invalid="ignore"):
-        out = np.where(span > 0, diff / np.where(span > 0, span, 1.0),
-                       np.where(diff == 0, 0.0, np.inf))
+        a = np.where(s_v > 0, np.abs(du) / np.where(s_v > 0, s_v, 1.0),
+                     np.where(np.asarray(du) == 0, 0.0, np.inf))
+        b = np.where(s_W > 0, np.abs(dW) / np.where(s_W > 0, s_W, 1.0),
+                     np.where(np.asarray(dW) == 0, 0.0, np.inf))
+    out = np.maximum(a, b)
     return out if out.ndim else float(out)
+
+
+def load_scales(Q, compliance) -> tuple[float, float]:
+    """The loads' displacement and force scales of a scene: ``(c r, r)`` with r the largest range
+    of a tangential load over the cycle and c the largest diagonal compliance."""
+    r = float(np.max(np.ptp(Q, axis=0), initial=0.0))
+    return compliance * r, r
 
 
 def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
@@ -61,8 +90,11 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
         ``steps_used`` of the result). For a closed-form method it only sets the number of
         samples of the returned time series.
     tol : float
-        Convergence test: ``max |v_c - v_{c-1}| <= tol * range(v_c)`` over the grid
-        (:func:`cycle_change`).
+        Convergence test: the change of v over the cycle, relative to the larger of its range
+        and the loads' displacement scale, and the change of W relative to the larger of W and
+        the loads' energy scale, both at most ``tol`` (:func:`cycle_change`). A cycle whose
+        dissipation is at round-off level while no node slips is a shakedown: reported as
+        converged with ``W = 0``.
     max_cycles : int
         Cap on the cycles run.
     on_nonconvergence : {"raise", "warn", "ignore"}
@@ -101,32 +133,102 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
             raise InputError("u0", f"needs {scene.system.m} displacements (n·d), got {u0.size}")
     work, scale = _unit_scaled(scene)
     state = solver.init(work, None if u0 is None else u0 / scale)
+    loads = load_scales(work.Q, _compliance_scale(scene.system))
     W_cycles = []
     prev = None
     change = np.inf
+    starts = [state.u]
+    extrapolations = 0
     for _ in range(max_cycles):
         state, cyc = solver.cycle(work, state)
         W_cycles.append(cyc.W * scale * scale)
         if prev is not None:
-            change = cycle_change(np.max(np.abs(cyc.u - prev)), np.max(np.ptp(cyc.u, axis=0)))
+            change = cycle_change(np.max(np.abs(cyc.u - prev)), np.max(np.ptp(cyc.u, axis=0)),
+                                  (cyc.W - prev_W), cyc.W, loads)
             if change <= tol:
                 break
-        prev = cyc.u
+        prev, prev_W = cyc.u, cyc.W
+        starts.append(state.u)
+        jump = _extrapolate(starts, work)
+        if jump is not None:
+            state = replace(state, u=jump[0], F=jump[1])
+            starts = [jump[0]]
+            extrapolations += 1
+    shakedown = _shakedown(cyc, loads, scene.steps)
+    if shakedown:
+        W_cycles[-1] = 0.0
     if scale != 1.0:
         cyc = CycleResult(cyc.t, cyc.u * scale, cyc.F * scale, cyc.state, cyc.W * scale * scale,
                           cyc.stats)
     converged = bool(change <= tol)
     result = _assemble(scene, solver, cyc, np.asarray(W_cycles), converged, change,
                        _requested(model, steps_per_cycle), time.perf_counter() - start)
+    if extrapolations:
+        result = replace(result, solver_stats={**result.solver_stats,
+                                               "extrapolations": extrapolations})
+    if converged and shakedown:
+        result = replace(result, message="converged: shakedown (W of the steady cycle is at "
+                                         "round-off level, reported as 0)")
     if not converged:
-        msg = (f"no periodic steady state after {len(W_cycles)} cycles (relative change of v "
-               f"{change:.3g} > tol {tol:g}); raise max_cycles or loosen tol")
+        msg = (f"no periodic steady state after {len(W_cycles)} cycles (relative change of the "
+               f"cycle {change:.3g} > tol {tol:g}); raise max_cycles or loosen tol")
         result = replace(result, message=msg)
         if on_nonconvergence == "raise":
             raise ConvergenceError(msg, result)
         if on_nonconvergence == "warn":
             warnings.warn(msg, ConvergenceWarning, stacklevel=2)
     return result
+
+
+def _extrapolate(starts: list, scene: Scene):
+    """Jump to the fixed point of a slowly contracting cycle map, or None.
+
+    The cycle maps the state at the cycle's start to the next cycle's start; near the steady
+    state, with the stick/slip pattern settled, it is affine, and a slow approach (a weakly
+    grounded system drifting back, ratio ρ close to 1 per cycle) is dominated by one mode. When
+    the last three differences ``d`` shrink at one steady ratio ρ in [0.3, 0.999], the start is
+    moved to ``s + ρ/(1 - ρ) d`` (Aitken's extrapolation), its force put back inside the friction
+    cone (``F = Π(Q + K u)``, ``u = K⁻¹ (F - Q)``). Nothing is taken from it but a starting
+    point: convergence is still confirmed by two whole cycles that repeat.
+    """
+    if len(starts) < 4:
+        return None
+    d = [np.linalg.norm(starts[i + 1] - starts[i]) for i in range(len(starts) - 4, len(starts) - 1)]
+    if d[0] == 0 or d[1] == 0:
+        return None
+    r1, r2 = d[1] / d[0], d[2] / d[1]
+    if not (0.3 <= r2 <= 0.999 and abs(r2 - r1) <= 0.05 * r2):
+        return None
+    system = scene.system
+    u = starts[-1] + r2 / (1.0 - r2) * (starts[-1] - starts[-2])
+    Q0, bound = scene.Q[0], scene.N[0] * system.friction
+    F = Q0 + system.stiffness @ u
+    if system.dims == 1:
+        Fp = np.clip(F, -bound, bound)
+    else:
+        F2 = F.reshape(-1, 2)
+        norm = np.hypot(F2[:, 0], F2[:, 1])
+        shrink = np.where(norm > bound, bound / np.where(norm > 0, norm, 1.0), 1.0)
+        Fp = (F2 * shrink[:, None]).ravel()
+    if np.any(Fp != F):
+        u = u + system.compliance_matrix() @ (Fp - F)
+    return u, Fp
+
+
+def _compliance_scale(system) -> float:
+    """The largest diagonal compliance (C = K⁻¹; 1/k for a diagonal K)."""
+    if system.is_diagonal():
+        return float(1.0 / np.min(np.diag(system.dense_stiffness())))
+    return float(np.max(np.diag(system.compliance_matrix())))
+
+
+def _shakedown(cyc: CycleResult, loads, steps: int) -> bool:
+    """W of the cycle at the round-off level of its energy scale (``16 ε · steps · s_W``,
+    below any time stepper's discretization error): the system has shaken down (a node that
+    touches its limit slips by round-off only) and W is reported as 0."""
+    u_scale, f_scale = loads
+    s_W = max(abs(cyc.W), u_scale * f_scale)
+    return abs(cyc.W) <= 16 * np.finfo(float).eps * max(steps, 1) * s_W
 
 
 def _method(method, options: dict):

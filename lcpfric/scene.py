@@ -21,7 +21,6 @@ Placement of the remaining steps:
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -30,7 +29,7 @@ from . import _checks
 from .errors import InputError
 from .model import ContactSystem, SingleNode
 
-__all__ = ["Scene", "make_scene"]
+__all__ = ["Scene", "make_scene", "increments"]
 
 PLACEMENTS = ("contact", "uniform")
 
@@ -151,6 +150,16 @@ def make_scene(system_or_model, steps_per_cycle: int = 1000, *, placement: str =
     return Scene(system, model, grid, Q, N, transitions, placement, steps)
 
 
+def increments(x):
+    """``ceil(x)`` (at least 1) for a share ``x = steps · L / total`` of the steps, ignoring the
+    round-off of the ratio: 400.00000000000006 is 400 increments, not 401, whatever the period
+    (otherwise the grid, and a time stepper's W, would depend on ω through round-off). Works on
+    arrays too (:mod:`lcpfric.batch` builds the same grids)."""
+    x = np.asarray(x, dtype=float)
+    k = np.maximum(1, np.ceil(x * (1.0 - 64 * np.finfo(float).eps))).astype(int)
+    return k if k.ndim else int(k)
+
+
 def _contact_grid(system: ContactSystem, start: float, end: float, transitions: np.ndarray,
                   steps: int) -> np.ndarray:
     """Spread ``steps`` increments over the parts of the cycle where some node is in contact."""
@@ -162,7 +171,7 @@ def _contact_grid(system: ContactSystem, start: float, end: float, transitions: 
     total = active.sum()
     pieces = []
     for a, b, L, on in zip(edges[:-1], edges[1:], active, any_contact):
-        k = max(1, int(math.ceil(steps * L / total))) if on and total > 0 else 1
+        k = increments(steps * L / total) if on and total > 0 else 1
         pieces.append(np.linspace(a, b, k + 1)[:-1])
     pieces.append([end])
     return np.concatenate(pieces)
