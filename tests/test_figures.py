@@ -118,10 +118,10 @@ POINTS = 41
 
 
 @pytest.fixture(scope="module")
-def written(maps, tmp_path_factory):
+def written(tmp_path_factory):
     out = tmp_path_factory.mktemp("figures")
     messages = []
-    paths = figures.write_figures(out, points=POINTS, formats=("png", "pdf"), data=maps,
+    paths = figures.write_figures(out, grid=11, points=POINTS, formats=("png", "pdf"),
                                   progress=messages.append)
     return out, paths, messages
 
@@ -184,18 +184,13 @@ def _curves(ax):
             if not line.get_label().startswith("_") and len(line.get_xdata()) > 2]
 
 
-def test_write_figures_reports_progress(written):
+def test_write_figures_reports_progress(written, tmp_path):
     out, paths, messages = written
-    assert len(messages) == len(NAMES)  # data given: no map message, one line per figure
-    for name, message in zip(NAMES, messages):
+    assert len(messages) == len(NAMES) + 1  # the maps, then one line per figure
+    assert messages[0].startswith("maps:")
+    for name, message in zip(NAMES, messages[1:]):
         assert name in message and "\n" not in message
     assert {p.name for p in paths} == {f"{n}.{ext}" for n in NAMES for ext in ("png", "pdf")}
-
-
-def test_write_figures_progress_includes_the_maps(tmp_path):
-    messages = []
-    figures.write_figures(tmp_path, grid=5, points=5, formats=("svg",), progress=messages.append)
-    assert len(messages) == len(NAMES) + 1 and messages[0].startswith("maps:")
     with pytest.raises(InputError):
         figures.write_figures(tmp_path, grid=5, progress="yes")
 

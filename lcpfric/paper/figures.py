@@ -212,6 +212,15 @@ def _luminance(rgba) -> float:
     return 0.2126 * r + 0.7152 * g + 0.0722 * b
 
 
+def _boundary_effects():
+    """A thin dark outline around the (red) shakedown boundary, so that it stands out on every
+    colour of the map, also in greyscale."""
+    from matplotlib import patheffects
+
+    return [patheffects.Stroke(linewidth=_BOUNDARY["linewidths"] + 1.0, foreground="0.1"),
+            patheffects.Normal()]
+
+
 def _separation_line(ax, x: float = 1.0):
     """The line P̂1 = 1: black dashes on a white line, visible on dark and light colours."""
     ax.axvline(x, color="white", lw=1.3, zorder=3)
@@ -268,7 +277,8 @@ def _draw_map(ax, W2d, P1, Q1, phi, levels, norm, boundary_points: int = 401,
     margin = shakedown_margin(p[:, None], q[None, :], phi)
     if margin.min() < 0 < margin.max():
         # above the line P̂1 = 1, which it partly follows at φ = 0 and π
-        ax.contour(p, q, margin.T, levels=[0.0], zorder=3.5, **_BOUNDARY)
+        boundary = ax.contour(p, q, margin.T, levels=[0.0], zorder=3.5, **_BOUNDARY)
+        boundary.set_path_effects(_boundary_effects())
     no_slip = abs(math.sin(phi)) < 1e-12 and P1.max() > 1.0
     if no_slip:  # φ = 0 or π: Ŵ = 0 also for P̂1 > 1, Q̂1 <= P̂1 (Section 3.1)
         big = 10.0 * max(P1.max(), Q1.max(), 1.0)
@@ -288,7 +298,8 @@ def _map_legend_handles(no_slip: bool, cmap_low):
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    handles = [Line2D([], [], color=_BOUNDARY["colors"], lw=_BOUNDARY["linewidths"]),
+    handles = [Line2D([], [], color=_BOUNDARY["colors"], lw=_BOUNDARY["linewidths"],
+                      path_effects=_boundary_effects()),
                _separation_handle()]
     labels = [r"shakedown boundary ($\hat W$ = 0 inside)",
               r"$\hat P_1 = 1$ (separation for $\hat P_1 > 1$)"]
