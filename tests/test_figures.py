@@ -111,7 +111,7 @@ def test_missing_matplotlib_names_the_extra(monkeypatch):
         figures._figure()
 
 
-# -- print quality ----------------------------------------------------------------------------------
+# -- print quality ---------------------------------------------------------------------------------
 COLUMN = {"fig3_map_phi0", "fig5_phase_P1_0.5", "fig6_phase_P1_Q1_5", "fig7_phase_P1_1.5",
           "fig9_motor"}
 POINTS = 41

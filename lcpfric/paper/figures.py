@@ -184,7 +184,7 @@ def map_data(grid: int = 101, extent: float = 10.0, phases=None, **sweep_options
     return sweep(axis, axis, phases, **sweep_options)
 
 
-# -- maps (Figs. 3 and 4) ---------------------------------------------------------------------------
+# -- maps (Figs. 3 and 4) --------------------------------------------------------------------------
 def _map_levels(tops):
     """Contour levels for panels whose maxima are ``tops``, and whether they are uneven.
 
@@ -411,7 +411,7 @@ def _figure_maps(ds, phases, ncols, title):
     return _finish(fig)
 
 
-# -- Ŵ against phase (Figs. 5-7) ------------------------------------------------------------------
+# -- Ŵ against phase (Figs. 5-7) -------------------------------------------------------------------
 def _phase_data(P1: float, Q1s, points: int):
     from ..analysis.sweep import sweep
 
@@ -631,6 +631,8 @@ def _save(fig, out_dir: Path, name: str, formats) -> list[Path]:
         path = out_dir / f"{name}.{fmt}"
         with _style():
             fig.savefig(path, dpi=DPI)
+        if fig.get_layout_engine() is not None:
+            fig.set_layout_engine("none")  # laid out by the first save: keep it (faster)
         paths.append(path)
     return paths
 
