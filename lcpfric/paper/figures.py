@@ -15,9 +15,7 @@ user's matplotlib backend; files are written with the Agg renderer.
 
 from __future__ import annotations
 
-import json
 import math
-import time
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +25,7 @@ from .._optional import require
 from ..errors import InputError
 
 __all__ = ["map_data", "figure_maps", "figure_phase", "figure_motor", "write_figures",
-           "FIG5_Q1", "FIG7_Q1", "MOTOR", "MOTOR_FRICTION", "register_cli", "figures_command"]
+           "FIG5_Q1", "FIG7_Q1", "MOTOR", "MOTOR_FRICTION"]
 
 PI = math.pi
 FIG4_PHASES = tuple(k * PI / 10 for k in range(1, 11))
@@ -294,40 +292,3 @@ def write_figures(out_dir, grid: int = 101, points: int = 361, formats=("png", "
     for name, make in figures.items():
         written += _save(make(), out_dir, name, formats)
     return written
-
-
-# -- command line ----------------------------------------------------------------------------------
-def register_cli(subparsers) -> None:
-    """Add ``lcpfric figures`` to an argparse ``subparsers`` object."""
-    p = subparsers.add_parser(
-        "figures", help="compute and draw the paper's Figs. 3-7 and 9 (PNG and PDF)",
-        description="Compute the data of the paper's figures with the exact solution and write "
-                    "them as PNG and PDF files.")
-    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    p.add_argument("--grid", type=int, default=101, metavar="N",
-                   help="points per axis of the maps (default 101, as in the paper)")
-    p.add_argument("--points", type=int, default=361, metavar="N",
-                   help="points per curve (default 361)")
-    p.add_argument("--format", default="png,pdf", metavar="LIST",
-                   help="comma-separated file formats among png, pdf, svg (default png,pdf)")
-    p.add_argument("--json", action="store_true", help="print the files written as JSON")
-    p.set_defaults(func=figures_command)
-
-
-def figures_command(args) -> int:
-    """Handler of ``lcpfric figures``."""
-    t0 = time.perf_counter()
-    from ..analysis.sweep import option_names
-
-    formats = [f.strip().lower() for f in args.format.split(",") if f.strip()]
-    with option_names({"formats": "--format", "out": "--out", "grid": "--grid",
-                       "points": "--points"}):
-        paths = write_figures(args.out, grid=args.grid, points=args.points, formats=formats)
-    seconds = time.perf_counter() - t0
-    if args.json:
-        print(json.dumps({"out": str(args.out), "files": [str(p) for p in paths],
-                          "seconds": seconds}))
-    else:
-        print(f"wrote {len(paths)} files to {args.out} in {seconds:.2f} s: "
-              + ", ".join(p.name for p in paths))
-    return 0
