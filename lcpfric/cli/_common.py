@@ -18,9 +18,12 @@ import math
 import os
 import re
 import sys
-from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..errors import ConvergenceError, InputError, LcpfricError, SolverError, SolverNotFound
+
+if TYPE_CHECKING:  # pathlib imports urllib and ipaddress: not for --help
+    from pathlib import Path
 
 __all__ = [
     "Parser", "add_case_options", "case_from_args", "option_names", "option_for", "execute",
@@ -302,6 +305,8 @@ def _parent_writable(path: Path, option: str) -> None:
 def output_file(text, option: str, suffix: str) -> Path:
     """Check an output file path before any work: not empty, ending in ``suffix``, not a
     directory, in an existing writable directory."""
+    from pathlib import Path
+
     text = "" if text is None else str(text)
     if not text.strip():
         raise InputError(option, f"is empty; give a file name ending in {suffix}, e.g. "
@@ -324,6 +329,8 @@ def output_file(text, option: str, suffix: str) -> Path:
 def output_dir(text, option: str) -> Path:
     """Check an output directory path before any work: not empty, not an existing file, its
     parent an existing writable directory (or itself an existing writable directory)."""
+    from pathlib import Path
+
     text = "" if text is None else str(text)
     if not text.strip():
         raise InputError(option, "is empty; give a directory, e.g. figures (use . for the "

@@ -5,10 +5,13 @@ from __future__ import annotations
 import json
 import re
 import sys
-from pathlib import Path
+from typing import TYPE_CHECKING
 
 from . import _common
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from pathlib import Path
 
 HELP = "compute a dissipation map W_hat(phi, P1, Q1) and write it to NetCDF"
 DESCRIPTION = ("Compute W_hat on the grid phi x P1 x Q1 and write it to a NetCDF file. Finished "
