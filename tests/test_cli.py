@@ -141,6 +141,17 @@ def test_missing_package_deep_inside_is_one_line(capsys, monkeypatch):
     assert_one_line_error(code, err, 'pip install "lcpfric[clarabel]"')
 
 
+def test_closed_pipe_is_quiet(capsys, monkeypatch):
+    import lcpfric.methods
+
+    def closed():
+        raise BrokenPipeError(32, "Broken pipe")
+
+    monkeypatch.setattr(lcpfric.methods, "available_methods", closed)
+    code, _, err = run(capsys, "methods")
+    assert code == 1 and err == ""
+
+
 # -- B5. negative values ---------------------------------------------------------------------------
 @pytest.mark.parametrize("phi,value", [("-0.5pi", -0.5 * math.pi), ("-pi/2", -0.5 * math.pi),
                                        ("-1.2", -1.2), ("-3*pi/10", -0.3 * math.pi)])

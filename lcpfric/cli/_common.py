@@ -184,6 +184,12 @@ def execute(args) -> int:
     except KeyboardInterrupt:
         print(f"{prog}: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # the reader went away (lcpfric methods | head -1): stop quietly
+        try:  # and keep the interpreter from complaining when it flushes stdout at exit
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError, AttributeError):
+            pass
+        return 1
 
 
 def _fail(prog: str, kind: str, message: str, code: int) -> int:
