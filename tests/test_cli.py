@@ -148,6 +148,7 @@ def test_closed_pipe_is_quiet(capsys, monkeypatch):
         raise BrokenPipeError(32, "Broken pipe")
 
     monkeypatch.setattr(lcpfric.methods, "available_methods", closed)
+    monkeypatch.setattr(os, "dup2", lambda *args: None)  # keep this process's stdout (pytest -s)
     code, _, err = run(capsys, "methods")
     assert code == 1 and err == ""
 
