@@ -80,7 +80,8 @@ class _Grids:
             o3 = np.where(near, 0, 1)
         else:  # "contact": every step in contact, one increment over the separation
             length = th_s - start
-            kc = np.where(sep, increments(steps * length / np.where(sep, length, 1.0)), steps)
+            kc = np.where(sep, increments(np.where(sep, steps * length, 1.0)
+                                          / np.where(sep, length, 1.0)), steps)
             s1 = np.where(sep, length / kc, s1)
             n1 = np.where(sep, kc, steps)
             n2 = np.where(sep, kc + 1, steps)

@@ -76,6 +76,9 @@ class Method:
         Cost estimate of ``grid`` per point (closed form), for sizing sweep chunks.
     seconds_per_point_step : float or None
         Cost estimate per point and time step (batched or per-point time steppers).
+    floats_per_step : int
+        Memory estimate: float64 values held per time step and tangential unknown by one steady
+        state (measured peaks, rounded up), for refusing runs that would exhaust memory.
     """
 
     name: str
@@ -91,6 +94,7 @@ class Method:
     grid: object = None
     seconds_per_point: float | None = None
     seconds_per_point_step: float | None = None
+    floats_per_step: int = 128
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -145,14 +149,15 @@ for _m in (
     Method("exact", CLOSED_FORM, "closed-form event-by-event steady state",
            "lcpfric.closed_form:ExactSolver", dims=(1,),
            accepts="SingleNode with harmonic loads of one frequency",
-           grid="lcpfric.exact:exact_W_hat", seconds_per_point=1.2e-6),
+           grid="lcpfric.exact:exact_W_hat", seconds_per_point=1.2e-6, floats_per_step=12),
     Method("explicit", TIME_STEPPER, "the paper's state-based stepper, events located",
            "lcpfric.steppers.explicit:ExplicitStepper", dims=(1,),
-           seconds_per_point_step=3e-6),
+           seconds_per_point_step=3e-6, floats_per_step=32),
     Method("projection", TIME_STEPPER, "closed-form maximum-dissipation projection per step",
            "lcpfric.steppers.projection:ProjectionStepper", dims=(1, 2),
            accepts="diagonal K (uncoupled nodes; isotropic per node for d = 2)",
-           grid="lcpfric.batch:projection_W_hat", seconds_per_point_step=3e-7),
+           grid="lcpfric.batch:projection_W_hat", seconds_per_point_step=3e-7,
+           floats_per_step=32),
     Method("clarabel", TIME_STEPPER, "problem (P) by Clarabel's direct API, updated in place",
            "lcpfric.backends.clarabel_:ClarabelStepper", dims=(1, 2), extra="clarabel",
            requires="clarabel", seconds_per_point_step=3e-5),
@@ -252,7 +257,8 @@ def _solver_name(entry: Method, sub: str) -> str:
     name = spelled.get(sub.lower())
     installed = entry.installed_solvers()
     if name is None:
-        raise InputError("method", f"{entry.name} has no solver {sub!r} that fits problem (P); "
+        raise InputError("method", f"'{entry.name}:{sub}': {entry.name} has no solver {sub!r} "
+                                   f"that fits problem (P); "
                                    f"installed: {', '.join(installed) or 'none'}; others it "
                                    f"knows: {', '.join(s for s in entry.solvers if s not in installed)}")
     if name not in installed:

@@ -9,9 +9,7 @@ of repeats, measured in the same run for all methods. Writes ``compare.csv``, ``
 
 from __future__ import annotations
 
-import argparse
 import csv
-import json
 import math
 import os
 import statistics
@@ -20,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["CASES", "Case", "run_comparison", "convergence_order", "register_cli"]
+__all__ = ["CASES", "Case", "run_comparison", "convergence_order"]
 
 
 @dataclass(frozen=True)
@@ -308,78 +306,3 @@ def read_rows(path: str) -> list[dict]:
                 r[key] = float(r[key]) if r[key] != "" else ""
             rows.append(r)
     return rows
-
-
-def main(argv=None) -> int:
-    p = argparse.ArgumentParser(prog="lcpfric bench", description=__doc__.splitlines()[0])
-    _add_options(p)
-    return _run(p.parse_args(argv))
-
-
-def _add_options(p):
-    p.add_argument("--quick", action="store_true", help="reduced set, under 3 minutes")
-    p.add_argument("--out", default="bench-out", help="output directory")
-    p.add_argument("--methods", default=None, help="comma-separated methods (default: all "
-                                                   "installed)")
-    p.add_argument("--cases", default=None, help="comma-separated case names")
-    p.add_argument("--budget", type=float, default=None, help="seconds per run before a "
-                                                              "method stops refining")
-    p.add_argument("--steps", default=None, help="comma-separated steps per cycle (default: "
-                                                 "50 to 1e5, or the --quick set)")
-    p.add_argument("--placement", default="contact", choices=("contact", "uniform"))
-    p.add_argument("--json", action="store_true", help="print the headline numbers as JSON last")
-
-
-def _run(args) -> int:
-    from ..errors import InputError
-
-    cases = CASES
-    if args.cases:
-        names = [s.strip() for s in args.cases.split(",")]
-        unknown = set(names) - {c.name for c in CASES}
-        if unknown:
-            raise InputError("--cases", f"unknown {sorted(unknown)}; choose from "
-                                        f"{[c.name for c in CASES]}")
-        cases = tuple(c for c in CASES if c.name in names)
-    methods = [s.strip() for s in args.methods.split(",")] if args.methods else None
-    if methods:
-        from ..methods import get_stepper
-
-        for m in methods:
-            if m != "exact":
-                get_stepper(m)  # raises InputError / SolverNotFound for a bad name
-    steps = QUICK_STEPS if args.quick else FULL_STEPS
-    if args.steps:
-        try:
-            steps = tuple(int(x) for x in args.steps.split(","))
-        except ValueError:
-            raise InputError("--steps", f"expected comma-separated integers, got {args.steps!r}")
-        if min(steps) < 4:
-            raise InputError("--steps", "every entry must be >= 4")
-    budget = args.budget if args.budget is not None else (1.0 if args.quick else 20.0)
-    if methods is None and args.quick:
-        methods = [m for m in default_methods()
-                   if not m.startswith(("qpsolvers:", "cvxpy:"))
-                   or m in ("qpsolvers:proxqp", "cvxpy:CLARABEL", "cvxpy:OSQP")]
-    t0 = time.perf_counter()
-    rows = run_comparison(cases, methods, steps, budget=budget,
-                          repeats=1 if args.quick else 3, placement=args.placement)
-    cmd = "python benchmarks/compare_backends.py" + (" --quick" if args.quick else "") + \
-        (f" --cases {args.cases}" if args.cases else "") + \
-        (f" --methods {args.methods}" if args.methods else "") + \
-        (f" --steps {args.steps}" if args.steps else "") + \
-        (f" --budget {args.budget:g}" if args.budget is not None else "") + f" --out {args.out}" + (f" --placement {args.placement}" if args.placement != "contact"
-                                else "")
-    headline = write_outputs(rows, args.out, cases, cmd)
-    headline["seconds"] = time.perf_counter() - t0
-    print(f"wrote {args.out}/compare.csv, compare.md, compare.png in "
-          f"{headline['seconds']:.0f} s")
-    if args.json:
-        print(json.dumps(headline))
-    return 0
-
-
-def register_cli(subparsers):
-    p = subparsers.add_parser("bench", help="error against run time for every method")
-    _add_options(p)
-    p.set_defaults(func=_run)

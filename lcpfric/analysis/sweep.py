@@ -32,7 +32,6 @@ import math
 import os
 import sys
 import time
-from contextlib import contextmanager
 from pathlib import Path
 from typing import Callable
 
@@ -45,9 +44,8 @@ from ..methods import CLOSED_FORM, get_stepper, grid_function
 from .runners import default_workers, run_dask, run_processes, run_serial
 from ..errors import InputError, LcpfricError
 
-__all__ = ["sweep", "per_point_W_hat", "parse_grid",
-           "parse_phi_list", "write_dataset", "netcdf_engine", "register_cli", "map_command",
-           "option_names"]
+__all__ = ["sweep", "per_point_W_hat", "parse_grid", "parse_phi_list", "write_dataset",
+           "netcdf_engine"]
 
 DIMS = ("phi", "P1", "Q1")
 
@@ -402,93 +400,3 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
         if chunk_store is not None and store == out.with_name(out.name + ".parts"):
             chunk_store.remove()  # everything is in ``out`` now
     return ds
-
-
-# -- command line ----------------------------------------------------------------------------------
-def register_cli(subparsers) -> None:
-    """Add ``lcpfric map`` to an argparse ``subparsers`` object."""
-    p = subparsers.add_parser(
-        "map", help="compute a dissipation map W_hat(phi, P1, Q1) and write it to NetCDF",
-        description="Compute W_hat on the grid phi x P1 x Q1 and write it to NetCDF. Finished "
-                    "chunks are saved next to the output (<out>.parts) and an interrupted run "
-                    "resumes when the same command is run again.")
-    p.add_argument("--P1", required=True, metavar="START:STOP:NUM",
-                   help="normal amplitudes P1/P0: START:STOP:NUM or a comma-separated list")
-    p.add_argument("--Q1", required=True, metavar="START:STOP:NUM",
-                   help="tangential amplitudes Q1/(f P0): START:STOP:NUM or a list")
-    p.add_argument("--phi", required=True, metavar="LIST",
-                   help="phases: comma-separated radians or multiples of pi (0,0.6pi,pi/2), "
-                        "or START:STOP:NUM (0:pi:11)")
-    p.add_argument("--out", required=True, metavar="FILE.nc", help="output NetCDF file")
-    p.add_argument("--method", default="exact", help="method (default: exact)")
-    p.add_argument("--steps", type=int, default=None, metavar="N",
-                   help="steps per cycle for time-stepping methods")
-    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                   help="Dask scheduler address (tcp://host:8786); default: local processes")
-    p.add_argument("--processes", type=int, default=None, metavar="N",
-                   help="local worker processes (default: all cores when it pays)")
-    p.add_argument("--chunk-size", type=int, default=None, metavar="N",
-                   help="grid points per saved chunk")
-    p.add_argument("--restart", action="store_true",
-                   help="discard the saved chunks of an earlier run and start again")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.add_argument("--json", action="store_true", help="print the summary as JSON")
-    p.set_defaults(func=map_command)
-
-
-@contextmanager
-def option_names(names: dict):
-    """Re-raise an :class:`InputError` about a parameter under its command-line option name."""
-    try:
-        yield
-    except InputError as exc:
-        if exc.parameter in names:
-            message = str(exc).split(": ", 1)[1]
-            raise InputError(names[exc.parameter], message) from None
-        raise
-
-
-_MAP_OPTIONS = {"steps_per_cycle": "--steps", "chunk_size": "--chunk-size", "out": "--out",
-                "processes": "--processes", "scheduler": "--scheduler", "method": "--method",
-                "store": "--out", "phi": "--phi"}
-
-
-def map_command(args) -> int:
-    """Handler of ``lcpfric map``."""
-    P1 = parse_grid(args.P1, "--P1")
-    Q1 = parse_grid(args.Q1, "--Q1")
-    phi = parse_grid(args.phi, "--phi", angle=True)
-    out = Path(args.out)
-    try:
-        with option_names(_MAP_OPTIONS):
-            ds = sweep(P1, Q1, phi, method=args.method, steps_per_cycle=args.steps,
-                       chunk_size=args.chunk_size, out=out, resume=not args.restart,
-                       scheduler=args.scheduler, processes=args.processes,
-                       progress=not args.no_progress)
-    except KeyboardInterrupt:
-        parts = out.with_name(out.name + ".parts")
-        saved = len(list(parts.glob("chunk-*.npy"))) if parts.is_dir() else 0
-        print(f"interrupted: {saved} finished chunks are saved in {parts}; run the same "
-              "command again to resume", file=sys.stderr)
-        return 130
-    W = ds.W_hat
-    where = W.argmax(...)
-    summary = {
-        "out": str(out), "method": ds.attrs["method"],
-        "shape": {d: int(ds.sizes[d]) for d in DIMS}, "points": int(W.size),
-        "seconds": round(float(ds.attrs["seconds"]), 4), "executor": ds.attrs["executor"],
-        "chunks_computed": int(ds.attrs["chunks_computed"]),
-        "chunks_reused": int(ds.attrs["chunks_reused"]),
-        "W_hat_max": float(W.max()),
-        "at": {d: float(ds[d][where[d]]) for d in DIMS},
-    }
-    if args.json:
-        print(json.dumps(summary))
-    else:
-        at = ", ".join(f"{d}={v:.4g}" for d, v in summary["at"].items())
-        print(f"wrote {out}: W_hat on {W.size} points (phi x P1 x Q1 = "
-              f"{' x '.join(str(v) for v in summary['shape'].values())}) by {summary['method']} "
-              f"in {summary['seconds']:.3g} s [{summary['executor']}; "
-              f"{summary['chunks_reused']} of {ds.attrs['chunks']} "
-              f"chunks reused]; max W_hat = {summary['W_hat_max']:.6g} at {at}")
-    return 0

@@ -24,7 +24,6 @@ caller's rcParams, because their ``savefig`` applies these settings locally.
 
 from __future__ import annotations
 
-import json
 import math
 import time
 from contextlib import contextmanager
@@ -38,7 +37,7 @@ from ..errors import InputError
 
 __all__ = ["map_data", "figure_maps", "figure_phase", "figure_motor", "write_figures",
            "FIG5_Q1", "FIG7_Q1", "MOTOR", "MOTOR_FRICTION", "COLUMN_WIDTH", "PAGE_WIDTH",
-           "MIN_FONT_SIZE", "DPI", "register_cli", "figures_command"]
+           "MIN_FONT_SIZE", "DPI"]
 
 PI = math.pi
 FIG4_PHASES = tuple(k * PI / 10 for k in range(1, 11))
@@ -704,40 +703,3 @@ def write_figures(out_dir, grid: int = 101, points: int = 361, formats=("png", "
         say(f"[{k}/{len(figures)}] {name}: {', '.join(p.suffix[1:] for p in paths)}, "
             f"{width:.2f} x {height:.2f} in ({time.perf_counter() - t0:.1f} s)")
     return written
-
-
-# -- command line ----------------------------------------------------------------------------------
-def register_cli(subparsers) -> None:
-    """Add ``lcpfric figures`` to an argparse ``subparsers`` object."""
-    p = subparsers.add_parser(
-        "figures", help="compute and draw the paper's Figs. 3-7 and 9 (PNG and PDF)",
-        description="Compute the data of the paper's figures with the exact solution and write "
-                    "them as PNG and PDF files.")
-    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    p.add_argument("--grid", type=int, default=101, metavar="N",
-                   help="points per axis of the maps (default 101, as in the paper)")
-    p.add_argument("--points", type=int, default=361, metavar="N",
-                   help="points per curve (default 361)")
-    p.add_argument("--format", default="png,pdf", metavar="LIST",
-                   help="comma-separated file formats among png, pdf, svg (default png,pdf)")
-    p.add_argument("--json", action="store_true", help="print the files written as JSON")
-    p.set_defaults(func=figures_command)
-
-
-def figures_command(args) -> int:
-    """Handler of ``lcpfric figures``."""
-    t0 = time.perf_counter()
-    from ..analysis.sweep import option_names
-
-    formats = [f.strip().lower() for f in args.format.split(",") if f.strip()]
-    with option_names({"formats": "--format", "out": "--out", "grid": "--grid",
-                       "points": "--points"}):
-        paths = write_figures(args.out, grid=args.grid, points=args.points, formats=formats)
-    seconds = time.perf_counter() - t0
-    if args.json:
-        print(json.dumps({"out": str(args.out), "files": [str(p) for p in paths],
-                          "seconds": seconds}))
-    else:
-        print(f"wrote {len(paths)} files to {args.out} in {seconds:.2f} s: "
-              + ", ".join(p.name for p in paths))
-    return 0
