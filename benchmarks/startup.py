@@ -9,14 +9,12 @@ tree this file sits in.
 Targets (ratio to the numpy import): ``lcpfric --help`` and ``lcpfric shakedown`` at most 1.5,
 ``lcpfric dissipation`` (method exact) at most 3; ``lcpfric methods`` is reported.
 
-A second column (skip it with ``--no-lazy``) runs the same commands with the package's
-``__init__`` replaced by an empty module (``sys.modules["lcpfric"]`` preset to a bare package):
-what the commands cost once ``import lcpfric`` imports nothing eagerly. It is a simulation, labelled
-as such. Then ``python -X importtime`` of each command lists the packages that cost the most.
+Then ``python -X importtime`` of each command lists the packages that cost the most, and any
+heavy package (scipy, xarray, matplotlib, a solver) a command imports.
 
 Run::
 
-    PYTHONPATH=. python benchmarks/startup.py [--runs 10] [--no-lazy] [--no-write]
+    PYTHONPATH=. python benchmarks/startup.py [--runs 10] [--no-write]
 
 Writes ``benchmarks/results/startup.md`` (unless ``--no-write``).
 """
@@ -47,21 +45,13 @@ BASELINE = "python -c \"import numpy\""
 HEAVY = ("scipy", "xarray", "pandas", "matplotlib", "dask", "distributed", "h5py", "h5netcdf",
          "cvxpy", "qpsolvers", "clarabel", "osqp", "tqdm")
 
-# the package's __init__ replaced by a bare package: what the CLI costs by itself
-_LAZY = ("import sys, types; m = types.ModuleType('lcpfric'); m.__path__ = [{path!r}]; "
-         "m.__version__ = 'lazy-init-simulation'; sys.modules['lcpfric'] = m; "
-         "from lcpfric.cli import main; sys.exit(main(sys.argv[1:]))")
-
-
 def _env() -> dict:
     env = dict(os.environ)
     env["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), env.get("PYTHONPATH", "")) if p)
     return env
 
 
-def command(args: list[str], lazy: bool = False) -> list[str]:
-    if lazy:
-        return [sys.executable, "-c", _LAZY.format(path=str(ROOT / "lcpfric")), *args]
+def command(args: list[str]) -> list[str]:
     return [sys.executable, "-m", "lcpfric", *args]
 
 
@@ -75,14 +65,12 @@ def _once(cmd: list[str], env: dict) -> float:
     return seconds
 
 
-def measure(runs: int, lazy: bool) -> dict[str, dict[str, float]]:
+def measure(runs: int) -> dict[str, dict[str, float]]:
     """Median seconds of every command (and the numpy baseline), round robin."""
     env = _env()
     cmds = {BASELINE: ([sys.executable, "-c", "import numpy"], None)}
     for name, (args, _) in COMMANDS.items():
         cmds[name] = command(args), "as is"
-        if lazy:
-            cmds[name + " [lazy init]"] = command(args, lazy=True), "lazy"
     times = defaultdict(list)
     for cmd, _ in cmds.values():  # warm the file system cache
         _once(cmd, env)
@@ -92,9 +80,9 @@ def measure(runs: int, lazy: bool) -> dict[str, dict[str, float]]:
     return {name: {"median": statistics.median(t), "min": min(t)} for name, t in times.items()}
 
 
-def import_profile(args: list[str], lazy: bool = False, top: int = 6) -> tuple[float, list]:
+def import_profile(args: list[str], top: int = 6) -> tuple[float, list]:
     """(total import seconds, [(top-level package, seconds), ...]) from ``-X importtime``."""
-    cmd = command(args, lazy)
+    cmd = command(args)
     cmd.insert(1, "-X")
     cmd.insert(2, "importtime")
     run = subprocess.run(cmd, env=_env(), cwd=ROOT, capture_output=True, text=True)
@@ -108,8 +96,8 @@ def import_profile(args: list[str], lazy: bool = False, top: int = 6) -> tuple[f
     return total, sorted(per.items(), key=lambda kv: -kv[1])[:top]
 
 
-def heavy_imports(args: list[str], lazy: bool = False) -> list[str]:
-    cmd = command(args, lazy)
+def heavy_imports(args: list[str]) -> list[str]:
+    cmd = command(args)
     cmd.insert(1, "-X")
     cmd.insert(2, "importtime")
     run = subprocess.run(cmd, env=_env(), cwd=ROOT, capture_output=True, text=True)
@@ -121,36 +109,26 @@ def heavy_imports(args: list[str], lazy: bool = False) -> list[str]:
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--runs", type=int, default=10, help="timed runs per command (default 10)")
-    p.add_argument("--no-lazy", action="store_true",
-                   help="skip the simulated lazy-__init__ column")
     p.add_argument("--no-write", action="store_true", help=f"do not write {OUT.name}")
     args = p.parse_args(argv)
-    lazy = not args.no_lazy
-    res = measure(max(1, args.runs), lazy)
+    res = measure(max(1, args.runs))
     base = res[BASELINE]["median"]
 
     head = ["command", "median (s)", "ratio to numpy", "target", "ok"]
-    if lazy:
-        head += ["lazy init: median (s)", "lazy init: ratio", "lazy init: ok"]
-    rows = [[BASELINE, f"{base:.3f}", "1.00", "", ""] + ([""] * 3 if lazy else [])]
+    rows = [[BASELINE, f"{base:.3f}", "1.00", "", ""]]
     for name, (cmd_args, target) in COMMANDS.items():
         med = res[name]["median"]
         row = [name, f"{med:.3f}", f"{med / base:.2f}", "" if target is None else f"<= {target}",
                "" if target is None else ("yes" if med / base <= target else "no")]
-        if lazy:
-            lm = res[name + " [lazy init]"]["median"]
-            row += [f"{lm:.3f}", f"{lm / base:.2f}",
-                    "" if target is None else ("yes" if lm / base <= target else "no")]
         rows.append(row)
 
     profile = ["| command | heavy packages imported | top packages by import time (s) |",
                "|---|---|---|"]
     for name, (cmd_args, _) in COMMANDS.items():
-        for tag, lz in (("", False), (" [lazy init]", True)) if lazy else (("", False),):
-            total, top = import_profile(cmd_args, lz)
-            heavy = ", ".join(heavy_imports(cmd_args, lz)) or "none"
-            tops = ", ".join(f"{k} {v:.3f}" for k, v in top)
-            profile.append(f"| {name}{tag} | {heavy} | total {total:.3f}: {tops} |")
+        total, top = import_profile(cmd_args)
+        heavy = ", ".join(heavy_imports(cmd_args)) or "none"
+        tops = ", ".join(f"{k} {v:.3f}" for k, v in top)
+        profile.append(f"| {name} | {heavy} | total {total:.3f}: {tops} |")
 
     table = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     table += ["| " + " | ".join(r) + " |" for r in rows]
@@ -161,9 +139,6 @@ def main(argv=None) -> int:
         f"{platform.platform()}, {os.cpu_count()} CPUs. Reproduce: "
         "`PYTHONPATH=. python benchmarks/startup.py`.", "",
         *table, "",
-        ("\"lazy init\": the same commands with `lcpfric/__init__.py` replaced by an empty "
-         "package (simulated; what the CLI itself costs once `import lcpfric` is lazy)."
-         if lazy else ""), "",
         "## What the commands import (`python -X importtime`, self time summed per top-level "
         "package, one run)", "", *profile, ""])
     print(text)
