@@ -17,7 +17,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from . import _checks
+from . import _checks, memory
 from .errors import ConvergenceError, ConvergenceWarning, InputError
 from .methods import CLOSED_FORM, get_stepper
 from .model import ContactSystem, SingleNode
@@ -117,6 +117,11 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
                                                                 on_nonconvergence)
     solver = _method(method, options)
+    if not isinstance(model, Scene):
+        steps = _checks.positive_int("steps_per_cycle", steps_per_cycle, 4)
+        size = model.m if isinstance(model, ContactSystem) else 1
+        memory.check(memory.steady_state_bytes(steps, getattr(solver, "label", ""), size),
+                     "steps_per_cycle", f"a steady state with {steps} steps per cycle")
     if solver.kind == CLOSED_FORM:
         return solver.steady_state(model, steps_per_cycle)
     if isinstance(model, Scene):
@@ -135,7 +140,7 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     state = solver.init(work, None if u0 is None else u0 / scale)
     loads = load_scales(work.Q, _compliance_scale(scene.system))
     W_cycles = []
-    prev = None
+    prev, prev_W = None, 0.0
     change = np.inf
     starts = [state.u]
     extrapolations = 0

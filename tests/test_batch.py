@@ -5,8 +5,7 @@ import numpy as np
 import pytest
 
 from lcpfric import ConvergenceError, InputError, SingleNode, steady_state
-from lcpfric.batch import (batched_W_hat, batched_steady_states, projection_steady_states,
-                           projection_W_hat)
+from lcpfric.batch import batched_W_hat, projection_steady_states, projection_W_hat
 from lcpfric.exact import exact_W_hat
 
 from backend_table import need

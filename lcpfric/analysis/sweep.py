@@ -37,7 +37,7 @@ from typing import Callable
 
 import numpy as np
 
-from .. import _checks
+from .. import _checks, memory
 from .chunkstore import ChunkStore, fingerprint, temp_path
 from .._optional import require
 from ..methods import CLOSED_FORM, get_stepper, grid_function
@@ -175,6 +175,24 @@ def _chunking(n: int, chunk_size, cost: float, batched: bool) -> list[tuple[int,
 
 
 # -- output ----------------------------------------------------------------------------------------
+def _output(out) -> Path:
+    """Check the NetCDF output path before any work: a ``.nc`` file (not a directory) in an
+    existing directory."""
+    if not isinstance(out, (str, os.PathLike)) or not str(out).strip():
+        raise InputError("out", f"must be a file path ending in .nc, got {out!r}")
+    out = Path(out)
+    if out.suffix == ".zarr":
+        raise InputError("out", "Zarr output is not supported; write NetCDF (e.g. map.nc)")
+    if out.suffix != ".nc":
+        raise InputError("out", f"must end in .nc (the map is written as NetCDF-4), got "
+                                f"{str(out)!r}")
+    if out.is_dir():
+        raise InputError("out", f"{str(out)!r} is a directory; give a file path ending in .nc")
+    if not out.parent.is_dir():
+        raise InputError("out", f"the directory {str(out.parent)!r} does not exist")
+    return out
+
+
 def _xarray():
     return require("xarray", "dist", "Sweeps (xarray datasets)")
 
@@ -321,11 +339,7 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
     options = _options(entry, steps_per_cycle)
     if processes is not None:
         processes = _checks.positive_int("processes", processes)
-    out = None if out is None else Path(out)
-    if out is not None and not out.parent.is_dir():
-        raise InputError("out", f"the directory {str(out.parent)!r} does not exist")
-    if out is not None and out.suffix == ".zarr":
-        raise InputError("out", "Zarr output is not supported; write NetCDF (e.g. map.nc)")
+    out = None if out is None else _output(out)
     _xarray()  # fail before any work if the dist extra is missing
     t0 = time.perf_counter()
 
@@ -335,6 +349,10 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
     cost = _cost(entry, batched, steps)
     workers = processes or default_workers()
     chunks = _chunking(n, chunk_size, cost, batched)
+    largest = max(b - a for a, b in chunks)
+    memory.check(memory.map_bytes(n, P1.size + Q1.size + phi.size, method, steps, largest,
+                                  1 if scheduler is not None else workers),
+                 "P1", f"a map of {n} points ({phi.size} x {P1.size} x {Q1.size})")
     digest = hashlib.sha256(b"".join(a.tobytes() for a in (phi, P1, Q1))).hexdigest()[:16]
     description = {"dims": list(DIMS), "shape": [phi.size, P1.size, Q1.size],
                    "coords_sha256": digest, "method": method,

@@ -14,17 +14,11 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
-import math
 import os
-import re
 import sys
-from typing import TYPE_CHECKING
 
 from ..errors import (ConvergenceError, InputError, LcpfricError, MissingDependency,
                       SolverError)
-
-if TYPE_CHECKING:  # pathlib imports urllib and ipaddress: not for --help
-    from pathlib import Path
 
 __all__ = [
     "Parser", "add_case_options", "case_from_args", "option_names", "option_for", "execute",
@@ -34,8 +28,10 @@ __all__ = [
     "steady_state_bytes", "map_bytes", "add_note",
 ]
 
-OUTPUT_RULE = ("The output's parent directory must exist; lcpfric creates only the output itself "
-               "and removes what it created if the run fails.")
+from ..memory import (MEMORY_ENV, check, default_limit, format_bytes, map_bytes,  # noqa: F401
+                      parse_size, steady_state_bytes)
+from ._paths import (OUTPUT_RULE, output_dir, output_file, remove_created,  # noqa: F401
+                     snapshot, written_files)
 
 
 # -- the parser ------------------------------------------------------------------------------------
@@ -159,7 +155,13 @@ def execute(args) -> int:
     module, parser = args._module, args._parser
     prog = parser.prog
     try:
-        return int(module.run(args) or 0)
+        given = getattr(args, "max_memory", None)
+        if given is None:
+            return int(module.run(args) or 0)
+        from .. import memory  # --max-memory holds for the library's own checks too
+
+        with memory.limit(parse_size(given, "--max-memory"), "--max-memory"):
+            return int(module.run(args) or 0)
     except InputError as exc:
         option = option_for(exc.parameter, option_names(parser, getattr(module, "OPTIONS", {})))
         notes = "".join(f"; {n}" for n in getattr(exc, "__notes__", ()) or ())
@@ -298,161 +300,7 @@ def assumed_line(assumed: dict) -> str:
             + " (not given; they do not change W)")
 
 
-# -- output paths ----------------------------------------------------------------------------------
-def _parent_writable(path: Path, option: str) -> None:
-    parent = path.parent
-    if not parent.is_dir():
-        raise InputError(option, f"the directory {str(parent)!r} does not exist; create it "
-                                 "first (lcpfric creates only the output itself)")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise InputError(option, f"cannot write in the directory {str(parent)!r} (permission "
-                                 "denied)")
-
-
-def output_file(text, option: str, suffix: str) -> Path:
-    """Check an output file path before any work: not empty, ending in ``suffix``, not a
-    directory, in an existing writable directory."""
-    from pathlib import Path
-
-    text = "" if text is None else str(text)
-    if not text.strip():
-        raise InputError(option, f"is empty; give a file name ending in {suffix}, e.g. "
-                                 f"map{suffix}")
-    path = Path(text)
-    if path.is_dir() or text.endswith(("/", os.sep)):
-        raise InputError(option, f"{text!r} is a directory; give a file name ending in {suffix}, "
-                                 f"e.g. {str(path / ('map' + suffix))!r}")
-    if path.suffix.lower() != suffix:
-        raise InputError(option, f"must end in {suffix} (the file is written as NetCDF-4), got "
-                                 f"{text!r}")
-    if path.exists() and not path.is_file():
-        raise InputError(option, f"{text!r} exists and is not a regular file")
-    _parent_writable(path, option)
-    if path.exists() and not os.access(path, os.R_OK):
-        raise InputError(option, f"{text!r} exists and cannot be read (permission denied)")
-    return path
-
-
-def output_dir(text, option: str) -> Path:
-    """Check an output directory path before any work: not empty, not an existing file, its
-    parent an existing writable directory (or itself an existing writable directory)."""
-    from pathlib import Path
-
-    text = "" if text is None else str(text)
-    if not text.strip():
-        raise InputError(option, "is empty; give a directory, e.g. figures (use . for the "
-                                 "working directory)")
-    path = Path(text)
-    if path.exists() and not path.is_dir():
-        raise InputError(option, f"{text!r} exists and is not a directory")
-    if path.is_dir():
-        if not os.access(path, os.W_OK | os.X_OK):
-            raise InputError(option, f"cannot write in {text!r} (permission denied)")
-        return path
-    _parent_writable(path, option)
-    return path
-
-
-def _stat_key(path: Path):
-    try:
-        st = path.stat()
-    except OSError:
-        return None
-    return (st.st_ino, st.st_size, st.st_mtime_ns)
-
-
-def snapshot(directory: Path) -> dict:
-    """What files ``directory`` holds now (to tell afterwards which ones a run wrote)."""
-    if not directory.is_dir():
-        return {}
-    return {p.name: _stat_key(p) for p in directory.iterdir()}
-
-
-def written_files(directory: Path, before: dict, names=None) -> list[Path]:
-    """The files of ``directory`` (among ``names`` if given) that are new or changed since the
-    ``before`` snapshot."""
-    if not directory.is_dir():
-        return []
-    out = []
-    for p in sorted(directory.iterdir()):
-        if names is not None and p.name not in names:
-            continue
-        if p.is_file() and before.get(p.name) != _stat_key(p):
-            out.append(p)
-    return out
-
-
-def remove_created(directory: Path, before: dict, existed: bool) -> None:
-    """After a failed run: delete the files the run created in ``directory`` (never one that
-    was there before), and the directory itself if the run created it and it is now empty."""
-    if not directory.is_dir():
-        return
-    for p in directory.iterdir():
-        if p.name not in before and p.is_file():
-            p.unlink(missing_ok=True)
-    if not existed:
-        try:
-            directory.rmdir()
-        except OSError:
-            pass
-
-
 # -- memory ----------------------------------------------------------------------------------------
-MEMORY_ENV = "LCPFRIC_MAX_MEMORY"
-_DEFAULT_FRACTION = 0.5
-_UNITS = {"": 1, "b": 1, "k": 1e3, "kb": 1e3, "kib": 2**10, "m": 1e6, "mb": 1e6, "mib": 2**20,
-          "g": 1e9, "gb": 1e9, "gib": 2**30, "t": 1e12, "tb": 1e12, "tib": 2**40,
-          "p": 1e15, "pb": 1e15, "pib": 2**50, "e": 1e18, "eb": 1e18, "eib": 2**60}
-_SIZE = re.compile(r"^\s*(\d+(?:\.\d*)?|\.\d+)(?:[eE]([+-]?\d+))?\s*([A-Za-z]*)\s*$")
-
-#: float64 values held per time step (per tangential degree of freedom) by a steady state: the
-#: scene's t, Q, N, the cycle's u, F, state, the previous cycle's u and the result's series.
-#: Each method's factor is in its registry entry (``Method.floats_per_step``; measured peaks with
-#: tracemalloc, single node: exact 10, explicit and projection 26, the convex solver backends 83
-#: to 116, rounded up); this one serves a name the registry does not know.
-_FLOATS_PER_STEP_SOLVER = 128
-#: float64 values per grid point of a map: the values (1), and the copies made to build, write
-#: and read back the dataset (3).
-_FLOATS_PER_MAP_POINT = 4
-#: float64 values per point of a chunk in evaluation (exact_W_hat: 39 measured; the batched
-#: projection: 37; plus the chunk's coordinates and indices)
-_FLOATS_PER_CHUNK_POINT = 64
-_DEFAULT_CHUNK = 2_000_000  # an upper bound on the sweep's default chunk size
-
-
-def parse_size(text, name: str) -> float:
-    """Bytes from ``8G``, ``500MB``, ``2GiB``, ``1e10``; ``none`` (or ``0``) for no limit (inf)."""
-    s = str(text).strip()
-    if s.lower() in ("none", "off", "unlimited", "inf", "0"):
-        return math.inf
-    m = _SIZE.match(s)
-    unit = m.group(3).lower() if m else None
-    if m is None or unit not in _UNITS:
-        raise InputError(name, f"cannot parse {text!r} as a memory size; give e.g. 8G, 500M, "
-                               "2GiB, or none for no limit")
-    value = float(m.group(1)) * 10.0 ** int(m.group(2) or 0) * _UNITS[unit]
-    if not math.isfinite(value) or value <= 0:
-        raise InputError(name, f"must be a positive size, got {text!r}")
-    return value
-
-
-def format_bytes(n: float) -> str:
-    if math.isinf(n):
-        return "unlimited"
-    for unit, size in (("EB", 1e18), ("PB", 1e15), ("TB", 1e12), ("GB", 1e9), ("MB", 1e6),
-                       ("kB", 1e3)):
-        if n >= size:
-            return f"{n / size:.3g} {unit}"
-    return f"{int(n)} B"
-
-
-def physical_memory() -> int | None:
-    try:
-        return int(os.sysconf("SC_PHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
-    except (AttributeError, ValueError, OSError):
-        return None
-
-
 def add_memory_option(p: argparse.ArgumentParser) -> None:
     p.add_argument("--max-memory", default=None, metavar="SIZE",
                    help=f"refuse runs estimated to need more memory than this (e.g. 8G, 500M, "
@@ -465,55 +313,14 @@ def memory_limit(args) -> tuple[float, str]:
     given = getattr(args, "max_memory", None)
     if given is not None:
         return parse_size(given, "--max-memory"), "--max-memory"
-    env = os.environ.get(MEMORY_ENV)
-    if env is not None and env.strip():
-        return parse_size(env, MEMORY_ENV), MEMORY_ENV
-    phys = physical_memory()
-    if phys is None:
-        return 8e9, "the default when the physical memory is unknown"
-    return _DEFAULT_FRACTION * phys, f"half the physical memory of {format_bytes(phys)}"
-
-
-def steady_state_bytes(steps: int, method: str = "exact", dofs: int = 1) -> float:
-    """Estimated peak bytes of one steady state with ``steps`` steps per cycle."""
-    return 8.0 * _entry(method, "floats_per_step", _FLOATS_PER_STEP_SOLVER) * \
-        (float(steps) + 1.0) * max(1, dofs)
-
-
-def _entry(method, attr: str, default):
-    """An attribute of ``method``'s registry entry (``default`` for an unknown name: the name
-    itself is checked, and reported, where the method is resolved)."""
-    from ..methods import get_method
-
-    try:
-        return getattr(get_method(str(method))[0], attr)
-    except InputError:
-        return default
-
-
-def map_bytes(points: float, axes: float = 0.0, method: str = "exact", steps: int | None = None,
-              chunk_size: int | None = None, workers: int = 1) -> float:
-    """Estimated peak bytes of a map of ``points`` grid points (``axes``: the total length of
-    its coordinate axes) run with ``workers`` chunks in flight at once."""
-    points = float(points)
-    chunk = min(points, float(chunk_size or _DEFAULT_CHUNK))
-    in_flight = min(points, chunk * max(1, workers))
-    if _entry(method, "grid", None) is not None:  # vectorized: a chunk in one pass
-        work = 8.0 * _FLOATS_PER_CHUNK_POINT * in_flight
-    else:  # point by point: one steady state per worker at a time
-        work = max(1, workers) * steady_state_bytes(steps or 2000, method)
-    return 8.0 * (_FLOATS_PER_MAP_POINT * points + axes) + work
+    return default_limit()
 
 
 def check_memory(need: float, args, option: str, what: str) -> None:
     """Raise InputError naming ``option`` when ``need`` bytes exceed the memory limit."""
-    limit, source = memory_limit(args)
-    if need <= limit:
-        return
-    raise InputError(option, (
-        f"{what} needs about {format_bytes(need)} of memory, over the limit of "
-        f"{format_bytes(limit)} ({source}); ask for less, or raise the limit with "
-        f"--max-memory {format_bytes(need * 1.25).replace(' ', '')} (or ${MEMORY_ENV})"))
+    size = format_bytes(need * 1.25).replace(" ", "")
+    check(need, option, what, memory_limit(args),
+          how=f"--max-memory {size} (or ${MEMORY_ENV})")
 
 
 def workers_for(processes) -> int:
