@@ -93,18 +93,16 @@ def figure_loop(loop: HysteresisLoop, title: str | None = None, units: tuple = (
     with style():
         fig = figure(figsize=(COLUMN_WIDTH, 3.0), layout="constrained")
         ax = fig.add_subplot()
-        seen = set()
-        for code, (label, color, ls) in STATE_STYLES.items():
-            mask = loop.state[1:] == code
-            if not mask.any():
-                continue
-            segs = np.flatnonzero(mask)
-            xs = np.full(3 * segs.size, np.nan)
-            ys = np.full(3 * segs.size, np.nan)
-            xs[0::3], xs[1::3] = loop.v[segs], loop.v[segs + 1]
-            ys[0::3], ys[1::3] = loop.F[segs], loop.F[segs + 1]
-            ax.plot(xs, ys, color=color, ls=ls, lw=1.4, label=label)
-            seen.add(code)
+        # each run of increments in one state is one polyline, so dashes and dots show
+        states = loop.state[1:]
+        cuts = np.flatnonzero(np.diff(states)) + 1
+        drawn = set()
+        for a, b in zip(np.r_[0, cuts], np.r_[cuts, states.size]):
+            code = State(int(states[a]))
+            label, color, ls = STATE_STYLES[code]
+            ax.plot(loop.v[a:b + 1], loop.F[a:b + 1], color=color, ls=ls, lw=1.4,
+                    label=None if code in drawn else label, zorder=3 if code else 2)
+            drawn.add(code)
         vu, fu = units
         ax.set_xlabel(f"tangential displacement v{f' [{vu}]' if vu else ''}")
         ax.set_ylabel(f"friction force F{f' [{fu}]' if fu else ''}")

@@ -7,6 +7,7 @@ names that differ from its option names), ``configure(parser)`` and ``run(args)`
 subcommand         module               what it does
 =================  ===================  =======================================================
 ``dissipation``    :mod:`.dissipation`  Ŵ (and W) of one load case
+``loop``           :mod:`.loop`         its hysteresis loop (F against v), area = W
 ``shakedown``      :mod:`.shakedown`    the exact shakedown test of one load case
 ``methods``        :mod:`.methods`      the methods usable on this installation
 ``map``            :mod:`.map`          a dissipation map over (φ, P̂1, Q̂1), to NetCDF
@@ -21,8 +22,8 @@ the numerical parts it needs (and the optional extras) only when it runs; a miss
 reported in one line naming what to install. Bad input prints one line naming the option and
 exits with code 2 (no traceback); a solver failure exits with code 1.
 
-To add a subcommand (``loop``, say): write ``lcpfric/cli/loop.py`` with the four names above and
-add it to :data:`COMMANDS`.
+To add a subcommand: write ``lcpfric/cli/<name>.py`` with the four names above and add it to
+:data:`COMMANDS` (``loop`` was added so).
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ __all__ = ["main", "build_parser", "COMMANDS"]
 #: subcommand -> module under lcpfric.cli, in the order ``--help`` lists them
 COMMANDS = {
     "dissipation": "dissipation",
+    "loop": "loop",
     "shakedown": "shakedown",
     "methods": "methods",
     "map": "map",

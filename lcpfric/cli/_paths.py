@@ -28,22 +28,25 @@ def _parent_writable(path: Path, option: str) -> None:
                                  "denied)")
 
 
-def output_file(text, option: str, suffix: str) -> Path:
-    """Check an output file path before any work: not empty, ending in ``suffix``, not a
-    directory, in an existing writable directory."""
+def output_file(text, option: str, suffix) -> Path:
+    """Check an output file path before any work: not empty, ending in ``suffix`` (one, or a
+    tuple of allowed ones), not a directory, in an existing writable directory."""
     from pathlib import Path
 
+    suffixes = (suffix,) if isinstance(suffix, str) else tuple(suffix)
+    name = {".nc": "map", ".png": "loop", ".pdf": "loop", ".svg": "loop"}.get(suffixes[0], "out")
     text = "" if text is None else str(text)
     if not text.strip():
-        raise InputError(option, f"is empty; give a file name ending in {suffix}, e.g. "
-                                 f"map{suffix}")
+        raise InputError(option, f"is empty; give a file name ending in {suffixes[0]}, e.g. "
+                                 f"{name}{suffixes[0]}")
     path = Path(text)
     if path.is_dir() or text.endswith(("/", os.sep)):
-        raise InputError(option, f"{text!r} is a directory; give a file name ending in {suffix}, "
-                                 f"e.g. {str(path / ('map' + suffix))!r}")
-    if path.suffix.lower() != suffix:
-        raise InputError(option, f"must end in {suffix} (the file is written as NetCDF-4), got "
-                                 f"{text!r}")
+        raise InputError(option, f"{text!r} is a directory; give a file name ending in "
+                                 f"{suffixes[0]}, e.g. {str(path / (name + suffixes[0]))!r}")
+    if path.suffix.lower() not in suffixes:
+        what = (" (the file is written as NetCDF-4)" if suffixes == (".nc",)
+                else f" (one of {', '.join(suffixes)})")
+        raise InputError(option, f"must end in {suffixes[0]}{what}, got {text!r}")
     if path.exists() and not path.is_file():
         raise InputError(option, f"{text!r} exists and is not a regular file")
     _parent_writable(path, option)

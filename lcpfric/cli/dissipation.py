@@ -30,7 +30,9 @@ def configure(p) -> None:
     _common.add_memory_option(p)
 
 
-def run(args) -> int:
+def solve(args):
+    """The steady state asked for by the case options: ``(model, result, seconds, assumed,
+    closed_form)`` (shared with ``lcpfric loop``)."""
     from .. import _checks
 
     steps = _checks.positive_int("--steps", args.steps, minimum=4)
@@ -52,7 +54,12 @@ def run(args) -> int:
     res = steady_state(model, method=method, steps_per_cycle=steps, tol=tol,
                        max_cycles=max_cycles, **kwargs)
     seconds = time.perf_counter() - t0
-    requested = getattr(res, "steps_requested", steps)
+    return model, res, seconds, assumed, exact
+
+
+def run(args) -> int:
+    model, res, seconds, assumed, exact = solve(args)
+    requested = int(res.steps_requested)
     samples = int(len(res.t))
     if args.json:
         out = res.summary()
