@@ -48,7 +48,7 @@ def test_every_subcommand_is_listed(capsys):
     assert code == 0
     for name in COMMANDS:
         assert name in out
-    assert set(COMMANDS) == {"dissipation", "shakedown", "methods", "map", "figures",
+    assert set(COMMANDS) == {"dissipation", "loop", "shakedown", "methods", "map", "figures",
                              "paper-claims", "bench"}
 
 
