@@ -25,6 +25,7 @@ NAMES = ("fig3_map_phi0", "fig4_maps", "fig5_phase_P1_0.5", "fig6_phase_P1_Q1_5"
          "fig7_phase_P1_1.5", "fig9_motor")
 
 
+@pytest.mark.slow
 def test_figures_command_fresh_process(tmp_path):
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH",
                                                                                    "")]))
