@@ -17,12 +17,27 @@ _NUMBER = r"(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?"
 _PI_FORM = re.compile(rf"^\s*([+-])?\s*({_NUMBER})?\s*\*?\s*pi\s*(?:/\s*({_NUMBER}))?\s*$")
 
 
+_NOT_NUMBERS = (str, bytes, bool, np.bool_)
+
+
+def _not_a_number(value) -> bool:
+    """Strings and booleans are not numbers for the API (the CLI parses its strings first)."""
+    if isinstance(value, _NOT_NUMBERS):
+        return True
+    return isinstance(value, (np.ndarray, np.generic)) and value.dtype.kind not in "fiu"
+
+
+def _short(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:18] + "..." + text[-18:]
+
+
 def parse_angle(text, name: str = "phi") -> float:
     """Parse an angle in radians: a plain number, or a multiple of pi such as ``0.6pi``,
-    ``pi/2``, ``3*pi/10`` or ``-pi``."""
-    if isinstance(text, (int, float, np.floating, np.integer)):
-        return finite(name, float(text))
-    s = str(text).strip().lower().replace("π", "pi")
+    ``pi/2``, ``3*pi/10`` or ``-pi`` (the CLI's parser: it accepts strings)."""
+    if not isinstance(text, str):
+        return finite(name, text)
+    s = text.strip().lower().replace("π", "pi")
     m = _PI_FORM.match(s)
     if m:
         factor = (-1.0 if m.group(1) == "-" else 1.0) * (float(m.group(2)) if m.group(2) else 1.0)
@@ -46,18 +61,24 @@ def parse_number(text, name: str) -> float:
             value = float(text)
         except ValueError:
             raise InputError(name, f"cannot parse {text!r} as a number") from None
-    else:
-        try:
-            value = float(text)
-        except (TypeError, ValueError):
-            raise InputError(name, f"expected a real number, got {text!r}") from None
-    return finite(name, value)
+        return finite(name, value)
+    return finite(name, text)
 
 
 def finite(name: str, value) -> float:
-    """Return ``value`` as a float, raising :class:`InputError` if it is not a finite real."""
+    """Return ``value`` as a float, raising :class:`InputError` if it is not a finite real.
+
+    Strings and booleans are refused (``"1.5"``, ``True``): the API takes numbers; text goes
+    through :func:`parse_number` or :func:`parse_angle`.
+    """
+    if _not_a_number(value) or isinstance(value, (complex, np.complexfloating)):
+        raise InputError(name, f"expected a finite real number (int or float), got {value!r} "
+                               f"of type {type(value).__name__}")
     try:
         x = float(value)
+    except OverflowError:
+        raise InputError(name, f"must be a finite number within the double range "
+                               f"(|x| <= {np.finfo(float).max:.4g}), got {_short(value)}") from None
     except (TypeError, ValueError):
         raise InputError(name, f"expected a finite real number, got {value!r}") from None
     if not math.isfinite(x):
@@ -79,10 +100,23 @@ def positive(name: str, value) -> float:
     return x
 
 
+def boolean(name: str, value) -> bool:
+    """Return ``value`` as a bool; only ``True``/``False`` (or numpy booleans) are accepted, not
+    ``"yes"``, 1 or None."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise InputError(name, f"must be True or False, got {value!r} of type "
+                           f"{type(value).__name__}")
+
+
 def positive_int(name: str, value, minimum: int = 1) -> int:
+    """An integer >= ``minimum``; integer strings are accepted (the CLI passes its text), floats
+    only when integral; booleans are refused."""
+    if isinstance(value, (bool, np.bool_)):
+        raise InputError(name, f"expected an integer >= {minimum}, got {value!r}")
     try:
         ivalue = int(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError(name, f"expected an integer >= {minimum}, got {value!r}") from None
     if ivalue != value and not (isinstance(value, str) and str(ivalue) == value.strip()):
         try:
@@ -95,17 +129,61 @@ def positive_int(name: str, value, minimum: int = 1) -> int:
     return ivalue
 
 
-def finite_array(name: str, values, *, nonneg: bool = False) -> np.ndarray:
-    """Return ``values`` as a float array, checking every entry is finite (and >= 0)."""
+def _range(nonneg: bool, upper) -> str:
+    return f"[{0 if nonneg else '-inf'}, {'inf)' if upper is None else f'{upper:g}]'}"
+
+
+def amplitude(name: str, value, upper: float) -> float:
+    """A finite real in ``[0, upper]``."""
+    if _not_a_number(value) or isinstance(value, (complex, np.complexfloating)):
+        finite(name, value)  # raises, with the type in the message
     try:
-        arr = np.asarray(values, dtype=float)
+        x = float(value)
+    except OverflowError:
+        x = math.inf
+    except (TypeError, ValueError):
+        return finite(name, value)  # raises
+    if not 0.0 <= x <= upper:  # NaN fails too
+        raise InputError(name, f"must be a finite number in [0, {upper:g}], got {_short(value)}")
+    return x
+
+
+def finite_array(name: str, values, *, nonneg: bool = False, upper: float | None = None
+                 ) -> np.ndarray:
+    """Return ``values`` as a float array, checking every entry is a finite real (and >= 0,
+    and <= ``upper`` if given).
+
+    Strings and booleans are refused, as in :func:`finite`.
+    """
+    try:
+        raw = np.asarray(values)
+    except (TypeError, ValueError):
+        raise InputError(name, f"expected real numbers, got {values!r}") from None
+    kind = raw.dtype.kind
+    if kind == "O":  # e.g. a list mixing Python numbers and other objects
+        flat = raw.ravel().tolist()
+        if any(_not_a_number(v) or isinstance(v, (complex, np.complexfloating)) for v in flat):
+            raise InputError(name, f"expected real numbers (int or float), got {values!r}")
+    elif kind not in "fiu":
+        raise InputError(name, f"expected real numbers (int or float), got {values!r} "
+                               f"(dtype {raw.dtype})")
+    try:
+        arr = np.asarray(raw, dtype=float)
+    except OverflowError:
+        raise InputError(name, f"every value must be within the double range (|x| <= "
+                               f"{np.finfo(float).max:.4g})") from None
     except (TypeError, ValueError):
         raise InputError(name, f"expected real numbers, got {values!r}") from None
     if not np.all(np.isfinite(arr)):
-        raise InputError(name, "every value must be a finite number; found NaN or inf")
+        bad = arr[~np.isfinite(arr)].flat[0]
+        raise InputError(name, f"every value must be a finite number (allowed range "
+                               f"{_range(nonneg, upper)}); found {bad}")
     if nonneg and np.any(arr < 0):
-        raise InputError(name, f"every value must be >= 0 (allowed range [0, inf)); "
-                               f"smallest given is {arr.min()}")
+        raise InputError(name, f"every value must be >= 0 (allowed range {_range(nonneg, upper)}"
+                               f"); smallest given is {arr.min()}")
+    if upper is not None and np.any(arr > upper):
+        raise InputError(name, f"every value must be <= {upper:g} (allowed range "
+                               f"{_range(nonneg, upper)}); largest given is {arr.max()}")
     return arr
 
 

@@ -1,13 +1,17 @@
 """The fast part of the stability study (benchmarks/stability.py) as regression tests.
 
-Every scenario has an exact reference (see lcpfric/stability.py for the tolerances); a method may
-fail with a clear LcpfricError, never with a wrong number.
+Every scenario has an exact reference (benchmarks/stability_cases.py); a method may fail with a
+clear LcpfricError only where ALLOWED_ERRORS says so, and must be "correct" everywhere else.
 """
+
+import itertools
+import math
 
 import pytest
 
 from lcpfric.methods import available_methods
-from stability_cases import run_scenario, scenarios  # benchmarks/, put on the path by conftest
+from stability_cases import node_points, run_scenario, scenarios  # benchmarks/, on the path
+from stability_references import MP_REFERENCE
 
 QUICK = scenarios(quick=True)
 CORE = ["exact", "explicit", "projection"]
@@ -15,22 +19,77 @@ CORE = ["exact", "explicit", "projection"]
 BACKENDS = [m for m in available_methods() if m in ("clarabel", "osqp")]
 
 
-@pytest.mark.parametrize("method", CORE)
-@pytest.mark.parametrize("scenario", QUICK, ids=[f"{s.group}:{s.name}" for s in QUICK])
+def _id(scenario):
+    return f"{scenario.group}:{scenario.name}"
+
+
+# (scenario, method) runs allowed to end in a clear LcpfricError instead of a number. Every
+# other run must be "correct": a method that errors everywhere fails the tests.
+ALLOWED_ERRORS = {
+    # ConvergenceError: at the shakedown border v changes by 4e-6 of its range per cycle (P̂1
+    # = 1e-6, Q̂1 = 1) or the cycle never settles (P̂1 = 1, Q̂1 = 1e-6) at 2000 steps
+    ("extreme:P1=1e-06 Q1=1 phi=0", "explicit"),
+    ("extreme:P1=1e-06 Q1=1 phi=pi-1e-9", "explicit"),
+    ("extreme:P1=1 Q1=1e-06 phi=pi-1e-9", "explicit"),
+    # the conic solvers stop (DualInfeasible, maximum iterations) at tangential loads 1e10 to
+    # 1e20 times the normal load
+    ("ratio:P1=0.5 Q1=5e+09 phi=1", "osqp"),
+    ("ratio:P1=0.5 Q1=5e+14 phi=1", "clarabel"),
+    ("ratio:P1=0.5 Q1=5e+14 phi=1", "osqp"),
+    ("ratio:P1=0.5 Q1=5e+19 phi=1", "clarabel"),
+    ("ratio:P1=0.5 Q1=5e+19 phi=1", "osqp"),
+}
+
+# Wrong numbers found by the extreme-ratio cases and not fixed here (the stepper is another
+# change's file). Strict xfails: when the stepper is fixed they pass, fail as XPASS, and the
+# entry is removed.
+KNOWN_WRONG = {
+    ("ratio:P1=0.5 Q1=5e+14 phi=1", "explicit"):
+        "explicit stepper returns Ŵ = 4.57 for 4 at Q̂1/P̂1 = 1e15 (the same at 16x steps)",
+    ("ratio:P1=0.5 Q1=5e+19 phi=1", "explicit"):
+        "explicit stepper returns Ŵ = 6.8e4 for 4 at Q̂1/P̂1 = 1e20",
+}
+
+
+def _check(scenario, method, row):
+    key = (_id(scenario), method)
+    if row["verdict"] == "error" and key in ALLOWED_ERRORS:
+        return
+    assert row["verdict"] == "correct", row
+
+
+def _cases(scenario_list, methods):
+    out = []
+    for scenario, method in itertools.product(scenario_list, methods):
+        if method == "exact" and scenario.group == "multi-node":
+            continue
+        key = (_id(scenario), method)
+        marks = ([pytest.mark.xfail(strict=True, reason=KNOWN_WRONG[key])]
+                 if key in KNOWN_WRONG else [])
+        out.append(pytest.param(scenario, method, marks=marks, id=f"{key[0]}-{method}"))
+    return out
+
+
+@pytest.mark.parametrize("scenario,method", _cases(QUICK, CORE))
 def test_core_methods_never_wrong(scenario, method):
-    if method == "exact" and scenario.group == "multi-node":
-        pytest.skip("exact solves the single node")
-    row = run_scenario(scenario, method, steps=2000)
-    assert row["verdict"] in ("correct", "error"), row
+    _check(scenario, method, run_scenario(scenario, method, steps=2000))
+
+
+BACKEND_SCENARIOS = ([s for s in QUICK if s.group == "boundary"][:12]
+                     + [s for s in QUICK if s.group == "ratio"])
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("method", BACKENDS)
-@pytest.mark.parametrize("scenario", [s for s in QUICK if s.group != "extreme"][:12],
-                         ids=lambda s: f"{s.group}:{s.name}")
+@pytest.mark.parametrize("scenario,method", _cases(BACKEND_SCENARIOS, BACKENDS))
 def test_backends_never_wrong(scenario, method):
-    row = run_scenario(scenario, method, steps=1000, refine=4)
-    assert row["verdict"] in ("correct", "error"), row
+    _check(scenario, method, run_scenario(scenario, method, steps=1000, refine=4))
+
+
+def test_allowed_errors_name_real_runs():
+    ids = {_id(s) for s in QUICK}
+    for name, method in ALLOWED_ERRORS | set(KNOWN_WRONG):
+        assert name in ids, name
+        assert method in CORE + ["clarabel", "osqp"], method
 
 
 @pytest.mark.parametrize("method", BACKENDS)
@@ -43,3 +102,53 @@ def test_backends_at_large_forces(method):
     for scenario in big:
         row = run_scenario(scenario, method, steps=1000, refine=4)
         assert row["verdict"] == "correct", row
+
+
+# -- exact on the whole matrix, against the pinned independent references ---------------------
+
+def test_exact_correct_on_every_scenario():
+    # the full matrix (extreme, boundary, extreme ratios 1e-20..1e20, dimensional): exact within
+    # 1e-9 relative, or within the 16-ulp input spread where Ŵ is ill-conditioned
+    for scenario in scenarios(quick=False):
+        if scenario.group == "multi-node":
+            continue
+        row = run_scenario(scenario, "exact")
+        assert row["verdict"] == "correct", row
+        if scenario.spread <= 1e-10 * abs(row["reference"]):
+            assert row["rel_error"] is None or row["rel_error"] <= 1e-9, row
+
+
+def test_every_node_scenario_has_an_independent_reference():
+    for scenario in scenarios(quick=False):
+        if scenario.point is not None:
+            assert scenario.point in MP_REFERENCE, scenario.name
+            assert scenario.reference()[1].startswith("mpmath"), scenario.name
+    assert set(node_points()) == set(MP_REFERENCE)
+
+
+def test_ratio_cases_cover_1e_minus_20_to_1e20():
+    pts = [s.point for s in scenarios(quick=False) if s.group == "ratio"]
+    ratios = {round(math.log10(q / p)) for p, q, _ in pts}
+    assert {-20, -15, -10, 10, 15, 20} <= ratios
+    assert all(1e-20 <= x <= 1e20 for p, q, _ in pts for x in (p, q))
+
+
+def test_pinned_references_agree_with_eqs_11_12():
+    from lcpfric.analysis.analytic import jang_barber
+
+    n = 0
+    for (P1, Q1, phi), (W, _) in MP_REFERENCE.items():
+        if phi == 0.0:
+            jb = float(jang_barber(P1, Q1))
+            assert abs(W - jb) <= 1e-13 * jb + 1e-300, (P1, Q1, W, jb)
+            n += 1
+    assert n >= 30
+
+
+def test_pinned_references_match_mpmath():
+    pytest.importorskip("mpmath")
+    from exact_reference import reference_W_hat
+
+    for (P1, Q1, phi), (W, _) in MP_REFERENCE.items():
+        ref = reference_W_hat(P1, Q1, phi)
+        assert abs(ref - W) <= 4e-16 * abs(W), (P1, Q1, phi, W, ref)

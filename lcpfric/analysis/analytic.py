@@ -14,6 +14,8 @@ __all__ = ["jang_barber"]
 def jang_barber(P1, Q1):
     """Steady-state Ŵ at φ = 0 for P̂1, Q̂1 >= 0 (arrays broadcast).
 
+    Raises :class:`~lcpfric.errors.InputError` for negative, non-finite or non-numeric input.
+
     ============================  ===================================================
     régime                        Ŵ
     ============================  ===================================================
@@ -25,15 +27,16 @@ def jang_barber(P1, Q1):
     """
     from .._checks import finite_array
 
-    P1 = np.abs(finite_array("P1", P1))
-    Q1 = np.abs(finite_array("Q1", Q1))
+    P1 = finite_array("P1", P1, nonneg=True)
+    Q1 = finite_array("Q1", Q1, nonneg=True)
     P1, Q1 = np.broadcast_arrays(P1, Q1)
     out = np.zeros(P1.shape)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         full = (P1 < 1) & (Q1 > 1)
-        eq11 = 4 * (Q1 - 1) * (Q1 - P1**2) / (Q1**2 - P1**2)
+        # factored so that no square of a large amplitude is formed (finite up to 1e308)
+        eq11 = 4 * ((Q1 - 1) / (Q1 + P1)) * ((Q1 - P1**2) / (Q1 - P1))
         sepr = (P1 >= 1) & (Q1 > P1)
-        eq12 = (Q1 - P1) * (1 + P1) ** 2 / (P1 * (Q1 + P1))
+        eq12 = ((Q1 - P1) / (Q1 + P1)) * (1 + P1) * (1 + 1 / P1)
     out = np.where(full, eq11, out)
     out = np.where(sepr, eq12, out)
     return out if out.ndim else float(out)

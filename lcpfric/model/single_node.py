@@ -21,6 +21,9 @@ from .system import ContactSystem
 
 __all__ = ["SingleNode", "W_hat_from_W", "W_from_W_hat"]
 
+_TINY = float(np.finfo(float).tiny)  # the smallest normal double, 2.2e-308
+_HUGE = float(np.finfo(float).max)
+
 
 def W_hat_from_W(W, k11, f, P0, Q1):
     """Ŵ = k11 W / (f P0 Q1) (Eq. 6); zero where Q1 = 0 (the limit, since W = O(Q1²))."""
@@ -76,7 +79,8 @@ class SingleNode:
         self.k11 = _checks.positive("k11", k11)
         self.k22 = _checks.positive("k22", k22)
         self.f = _checks.positive("f", f)
-        self.dimensional = bool(dimensional)
+        self.dimensional = _checks.boolean("dimensional", dimensional)
+        harmonic_inputs = normal_load is None and tangential_load is None
         if normal_load is None:
             P0 = _checks.finite("P0", P0)
             if P0 <= 0:
@@ -98,11 +102,35 @@ class SingleNode:
                                    f"got {normal_load.mean}")
         self.normal_load = normal_load
         self.tangential_load = tangential_load
+        self._check_units(harmonic_inputs)
         periods = [ld.period for ld in (normal_load, tangential_load) if not ld.is_constant]
         if len(periods) == 2 and not math.isclose(periods[0], periods[1], rel_tol=1e-12):
             raise InputError("tangential_load", f"must have the normal load's period "
                                                 f"{periods[0]}, got {periods[1]}")
         self._system = None
+
+    def _check_units(self, harmonic_inputs: bool) -> None:
+        """P0, f P0 and the normalized amplitudes P̂1 = P1/P0, Q̂1 = Q1/(f P0) must be finite
+        normal doubles (no overflow to inf, no underflow to 0 or to subnormals)."""
+        P0, f = self.normal_load.mean, self.f
+        p_name = "P1" if harmonic_inputs else "normal_load"
+        q_name = "Q1" if harmonic_inputs else "tangential_load"
+        if not _TINY <= P0 <= _HUGE:
+            raise InputError("P0", f"must be in [{_TINY:.4g}, {_HUGE:.4g}] (the loads are "
+                                   f"divided by P0), got {P0!r}")
+        fp0 = f * P0
+        if not _TINY <= fp0 <= _HUGE:
+            raise InputError("f", f"the force unit f·P0 = {fp0:.4g} must be in [{_TINY:.4g}, "
+                                  f"{_HUGE:.4g}] (f = {f!r}, P0 = {P0!r})")
+        for name, amp, unit, what in ((p_name, self.normal_load.amplitude, P0, "P1/P0"),
+                                      (q_name, self.tangential_load.amplitude, fp0,
+                                       "Q1/(f·P0)")):
+            ratio = amp / unit
+            if not math.isfinite(ratio) or (amp > 0 and ratio < _TINY):
+                raise InputError(name, f"the normalized amplitude {what} = {ratio:.4g} is not "
+                                       f"representable (allowed {what} = 0 or in "
+                                       f"[{_TINY:.4g}, {_HUGE:.4g}]); got amplitude {amp!r} "
+                                       f"for the unit {unit!r}")
 
     @classmethod
     def normalized(cls, P1: float, Q1: float, phi: float = 0.0) -> "SingleNode":
