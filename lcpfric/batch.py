@@ -140,6 +140,7 @@ def _periodic(grids: _Grids, advance, tol: float, max_cycles: int, on_nonconverg
     done = np.zeros(npts, dtype=bool)
     prev_start = prev_W = None
     qlo, qhi = Q.copy(), Q.copy()
+    nmax = _N.copy()
     for c in range(max_cycles):
         start_u = u.copy()
         lo, hi = u.copy(), u.copy()
@@ -154,13 +155,13 @@ def _periodic(grids: _Grids, advance, tol: float, max_cycles: int, on_nonconverg
             if c == 0:
                 np.minimum(qlo, Q, out=qlo)
                 np.maximum(qhi, Q, out=qhi)
+                np.maximum(nmax, N, out=nmax)
         if prev_start is not None:
             # the clamp is non-expansive, so the largest change of v over the cycle is the
-            # change of its starting value: the driver's criterion, per point (K = 1, so the
-            # loads' displacement and force scales are both the range of Q)
-            span = qhi - qlo
+            # change of its starting value: the driver's criterion, per point (K = f = 1: the
+            # loads' displacement scale is the range of Q, the force scale the largest N)
             ch = cycle_change(np.abs(start_u - prev_start), hi - lo, W - prev_W, W,
-                              (span, span))
+                              (qhi - qlo, nmax))
             new = ~done & (ch <= tol)
             J[new] = W[new]
             cycles[new] = c + 1

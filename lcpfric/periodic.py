@@ -21,7 +21,7 @@ from . import _checks, memory
 from .errors import ConvergenceError, ConvergenceWarning, InputError
 from .methods import CLOSED_FORM, get_stepper
 from .model import ContactSystem, SingleNode
-from .results import CycleResult, SteadyState
+from .results import CycleResult, State, SteadyState
 from .scene import Scene, make_scene
 
 __all__ = ["steady_state", "cycle_change", "load_scales", "DRIVER_OPTIONS"]
@@ -39,7 +39,9 @@ def cycle_change(du, v_span, dW, W, load_span):
       displacement scale (the range of the tangential loads times the compliance), whichever is
       larger. It does not vanish when the system shakes down or slips very little, so such a
       steady state is confirmed like any other;
-    * ``s_W = max(|W|, load_span · load_span / compliance)``, the same for the dissipation.
+    * ``s_W = max(|W|, s_u · s_F)``, the same for the dissipation, with ``s_u`` the loads'
+      displacement scale and ``s_F`` the largest friction limit f N: the dissipating forces
+      never exceed it (the tangential load itself may be far larger).
 
     Parameters
     ----------
@@ -50,7 +52,8 @@ def cycle_change(du, v_span, dW, W, load_span):
     dW, W : float or ndarray
         ``W_c - W_{c-1}`` and ``W_c``.
     load_span : tuple (displacement, force) of floats or ndarrays
-        The loads' scales: the range of Q times the compliance, and the range of Q.
+        The loads' scales: the range of Q times the compliance, and the largest friction
+        limit f N.
     """
     u_scale, f_scale = (np.asarray(x, dtype=float) for x in load_span)
     s_v = np.maximum(np.asarray(v_span, dtype=float), u_scale)
@@ -64,11 +67,13 @@ def cycle_change(du, v_span, dW, W, load_span):
     return out if out.ndim else float(out)
 
 
-def load_scales(Q, compliance) -> tuple[float, float]:
-    """The loads' displacement and force scales of a scene: ``(c r, r)`` with r the largest range
-    of a tangential load over the cycle and c the largest diagonal compliance."""
-    r = float(np.max(np.ptp(Q, axis=0), initial=0.0))
-    return compliance * r, r
+def load_scales(scene, compliance) -> tuple[float, float]:
+    """The loads' displacement and force scales of a scene: ``(c r, b)`` with r the largest
+    range of a tangential load over the cycle, c the largest diagonal compliance and b the
+    largest friction limit f N."""
+    r = float(np.max(np.ptp(scene.Q, axis=0), initial=0.0))
+    b = float(np.max(scene.N * scene.system.friction, initial=0.0))
+    return compliance * r, b
 
 
 def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
@@ -92,9 +97,9 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     tol : float
         Convergence test: the change of v over the cycle, relative to the larger of its range
         and the loads' displacement scale, and the change of W relative to the larger of W and
-        the loads' energy scale, both at most ``tol`` (:func:`cycle_change`). A cycle whose
-        dissipation is at round-off level while no node slips is a shakedown: reported as
-        converged with ``W = 0``.
+        the loads' energy scale, both at most ``tol`` (:func:`cycle_change`). A shakedown (no
+        node slips over the steady cycle, W = 0) is confirmed like any other steady state, and
+        the message says so.
     max_cycles : int
         Cap on the cycles run.
     on_nonconvergence : {"raise", "warn", "ignore"}
@@ -138,7 +143,7 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
             raise InputError("u0", f"needs {scene.system.m} displacements (n·d), got {u0.size}")
     work, scale = _unit_scaled(scene)
     state = solver.init(work, None if u0 is None else u0 / scale)
-    loads = load_scales(work.Q, _compliance_scale(scene.system))
+    loads = load_scales(work, _compliance_scale(scene.system))
     W_cycles = []
     prev, prev_W = None, 0.0
     change = np.inf
@@ -159,9 +164,7 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
             state = replace(state, u=jump[0], F=jump[1])
             starts = [jump[0]]
             extrapolations += 1
-    shakedown = _shakedown(cyc, loads, scene.steps)
-    if shakedown:
-        W_cycles[-1] = 0.0
+    shakedown = _shakedown(cyc)
     if scale != 1.0:
         cyc = CycleResult(cyc.t, cyc.u * scale, cyc.F * scale, cyc.state, cyc.W * scale * scale,
                           cyc.stats)
@@ -172,8 +175,8 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
         result = replace(result, solver_stats={**result.solver_stats,
                                                "extrapolations": extrapolations})
     if converged and shakedown:
-        result = replace(result, message="converged: shakedown (W of the steady cycle is at "
-                                         "round-off level, reported as 0)")
+        result = replace(result, message="converged: shakedown (no node slips over the steady "
+                                         "cycle)")
     if not converged:
         msg = (f"no periodic steady state after {len(W_cycles)} cycles (relative change of the "
                f"cycle {change:.3g} > tol {tol:g}); raise max_cycles or loosen tol")
@@ -227,13 +230,10 @@ def _compliance_scale(system) -> float:
     return float(np.max(np.diag(system.compliance_matrix())))
 
 
-def _shakedown(cyc: CycleResult, loads, steps: int) -> bool:
-    """W of the cycle at the round-off level of its energy scale (``16 ε · steps · s_W``,
-    below any time stepper's discretization error): the system has shaken down (a node that
-    touches its limit slips by round-off only) and W is reported as 0."""
-    u_scale, f_scale = loads
-    s_W = max(abs(cyc.W), u_scale * f_scale)
-    return abs(cyc.W) <= 16 * np.finfo(float).eps * max(steps, 1) * s_W
+def _shakedown(cyc: CycleResult) -> bool:
+    """A shakedown: no node recorded slipping over the cycle and no dissipation at all."""
+    return cyc.W == 0.0 and not np.any((cyc.state == State.FORWARD)
+                                       | (cyc.state == State.BACKWARD))
 
 
 def _method(method, options: dict):
