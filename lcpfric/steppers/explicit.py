@@ -82,8 +82,8 @@ class ExplicitStepper(Stepper):
         for _ in range(4 * n + 16):
             Nt = Na + tau * dN
             Qt = Qa + tau * dQ
-            F0 = Qt + K @ u
             bound = f * Nt
+            F0 = _on_limits(Qt + K @ u, bound, slipping & ~sep, slipping_b & ~sep)
             du, node_state = self._rates(K, f, F0, bound, dQ, dN, sep, slipping, slipping_b,
                                          touch_lo, touch_hi)
             dF = dQ + K @ du
@@ -104,7 +104,8 @@ class ExplicitStepper(Stepper):
                 continue
             touch_lo = touch_hi = np.zeros(n, dtype=bool)
             u_new = u + (t_end - tau) * du
-            F1 = Qa + t_end * dQ + K @ u_new
+            F1 = _on_limits(Qa + t_end * dQ + K @ u_new, f * (Na + t_end * dN),
+                            node_state == FORWARD, node_state == BACKWARD)
             W += increment_dissipation(F0, F1, u_new - u)
             substeps += 1
             u = u_new
@@ -118,7 +119,7 @@ class ExplicitStepper(Stepper):
             raise SolverError(f"explicit stepper: more than {4 * n + 16} state changes in "
                               f"increment {k}; the loads may be inconsistent", backend="explicit",
                               status="too_many_events")
-        F = Qb + K @ u
+        F = F1
         data = {"K": K, "substeps": data["substeps"] + substeps,
                 "events": data["events"] + n_events}
         return StepState(u, F, node_state, W, data)
@@ -196,6 +197,14 @@ class ExplicitStepper(Stepper):
         return {"substeps": state.data["substeps"], "events": state.data["events"]}
 
 
+def _on_limits(F, bound, forward, backward):
+    """``F`` with the slipping nodes put exactly on their limits (-f N forward, +f N backward):
+    ``Q + K u`` carries the round-off of Q, which is all of f N when |Q| >> f N."""
+    if forward.any() or backward.any():
+        F = np.where(forward, -bound, np.where(backward, bound, F))
+    return F
+
+
 def _single_node_cycle(scene, state):
     """The same algorithm for one node in scalar arithmetic (one LCP of size 1 is a sign test)."""
     k = float(state.data["K"][0, 0])
@@ -210,16 +219,19 @@ def _single_node_cycle(scene, state):
     U[0], Fs[0], S[0] = u, float(state.F[0]), int(state.state[0])
     W = 0.0
     events = 0
+    st = S[0]
     for j in range(n):
         Qa, Qb, ba, bb = Q[j], Q[j + 1], B[j], B[j + 1]
         if ba + bb <= 0.0:  # separated over the whole increment: F = 0
             u = -Qb / k
             U[j + 1], Fs[j + 1], S[j + 1] = u, 0.0, SEPARATION
+            st = SEPARATION
             continue
         dQ, db = Qb - Qa, bb - ba
         tau = 0.0
-        F0 = Qa + k * u
-        st = STICK
+        # a node that was slipping is on its limit (exactly: Q + k u would carry the round-off
+        # of Q, which is all of f N when |Q| >> f N)
+        F0 = -ba if st == FORWARD else (ba if st == BACKWARD else Qa + k * u)
         while True:
             bt = ba + tau * db
             tol = _REL * (bt + abs(F0))
@@ -242,14 +254,17 @@ def _single_node_cycle(scene, state):
                 else:
                     t_end = min(t_end, t_hi, t_lo)
             u1 = u + (t_end - tau) * du
-            F1 = Qa + t_end * dQ + k * u1
+            if st == STICK:
+                F1 = Qa + t_end * dQ + k * u1
+            else:  # slipping: on the limit
+                F1 = (ba + t_end * db) * (-1.0 if st == FORWARD else 1.0)
             W += scalar_share(F0, F1, u1 - u)
             u, F0 = u1, F1
             if t_end >= 1.0:
                 break
             tau = t_end
             events += 1
-        U[j + 1], Fs[j + 1], S[j + 1] = u, Qb + k * u, st
+        U[j + 1], Fs[j + 1], S[j + 1] = u, F0, st
     Ua = np.array(U)[:, None]
     Fa = np.array(Fs)[:, None]
     Sa = np.array(S, dtype=np.int8)[:, None]
