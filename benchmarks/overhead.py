@@ -62,12 +62,11 @@ def raw_call(stepper):
     elif name == "qpsolvers":
         import qpsolvers
 
-        settings = dict(stepper.settings)
-
         def call(prob, q, bdata):
             problem = qpsolvers.Problem(prob.handle["P"], q, lb=bdata[0], ub=bdata[1])
             return qpsolvers.solve_problem(problem, solver=stepper.solver,
-                                           initvals=prob.handle["x"], **settings).x
+                                           initvals=prob.handle["x"],
+                                           **prob.handle["settings"]).x
     elif name == "cvxpy":
         def call(prob, q, bdata):
             problem, F, lin, bnd, settings = prob.handle

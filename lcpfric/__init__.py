@@ -1,11 +1,13 @@
 """lcpfric: the energy that friction dissipates in elastic contact systems under periodic loads.
 
-The data flow is the layout: model (:mod:`~lcpfric.model`, :mod:`~lcpfric.loads`,
-:mod:`~lcpfric.systems`) -> scene (:mod:`~lcpfric.scene`) -> stepper (:mod:`~lcpfric.steppers`,
-:mod:`~lcpfric.backends`, :mod:`~lcpfric.batch`) -> periodic driver (:mod:`~lcpfric.periodic`) ->
-analysis (:mod:`~lcpfric.exact`, :mod:`~lcpfric.analytic`, :mod:`~lcpfric.shakedown`,
-:mod:`~lcpfric.sweep`, :mod:`~lcpfric.figures`, :mod:`~lcpfric.paper`, :mod:`~lcpfric.bench`,
-:mod:`~lcpfric.stability`, :mod:`~lcpfric.cli`).
+The data flow is the layout (``docs/architecture.md``):
+
+    model/  ->  scene  ->  steppers/, backends/  ->  periodic  ->  analysis/, paper/, cli/
+    (what the   (one cycle   (one increment:        (cycles to     (maps, shakedown, figures,
+    system is)  on a grid)   explicit, projection,   steady state)  the paper's claims)
+                             convex solvers)
+                 exact, closed_form: the single node's steady state in closed form
+                 methods: the registry of every method name
 
 Quick use::
 
@@ -13,30 +15,75 @@ Quick use::
     >>> node = lcpfric.SingleNode.normalized(P1=0.5, Q1=2.0, phi=0.0)
     >>> round(lcpfric.steady_state(node, method="exact").W_hat, 12)
     1.866666666667
+
+The public names below are imported on first use, so that ``import lcpfric`` (and the command
+line) stays fast.
 """
 
+from __future__ import annotations
+
+import importlib
+import sys
+import types
+
 from . import _legacy
-from .analysis import analytic
-from .errors import (ConvergenceError, ConvergenceWarning, InputError, LcpfricError, SolverError,
-                     SolverNotFound)
-from .exact import exact_W_hat
-from .model import Fourier, Harmonic, Periodic
-from .methods import available_methods, get_stepper
-from .model import ContactSystem, IndependentSprings, SingleNode, W_from_W_hat, W_hat_from_W
-from .periodic import steady_state
-from .results import CycleResult, State, SteadyState
-from .scene import Scene, make_scene
-from .analysis.shakedown import Shakedown, shakedown
-from .model import block_diagonal, chain
+from .errors import (ConvergenceError, ConvergenceWarning, InputError, LcpfricError,
+                     MissingDependency, MissingExtra, SolverError, SolverNotFound,
+                     UndefinedQuantity)
 
 __version__ = "0.1.0"
 
 _legacy.install()
 
-__all__ = [
-    "analytic", "ConvergenceError", "ConvergenceWarning", "InputError", "LcpfricError",
-    "SolverError", "SolverNotFound", "exact_W_hat", "Fourier", "Harmonic", "Periodic",
-    "available_methods", "get_stepper", "ContactSystem", "IndependentSprings", "SingleNode",
-    "W_from_W_hat", "W_hat_from_W", "steady_state", "CycleResult", "State", "SteadyState",
-    "Scene", "make_scene", "Shakedown", "shakedown", "chain", "block_diagonal", "__version__",
-]
+# public name -> the module that defines it
+_LAZY = {
+    "analytic": "lcpfric.analysis.analytic",
+    "exact_W_hat": "lcpfric.exact",
+    "Fourier": "lcpfric.model", "Harmonic": "lcpfric.model", "Periodic": "lcpfric.model",
+    "ContactSystem": "lcpfric.model", "IndependentSprings": "lcpfric.model",
+    "NormalModel": "lcpfric.model", "SingleNode": "lcpfric.model",
+    "W_from_W_hat": "lcpfric.model", "W_hat_from_W": "lcpfric.model",
+    "chain": "lcpfric.model", "block_diagonal": "lcpfric.model",
+    "available_methods": "lcpfric.methods", "get_stepper": "lcpfric.methods",
+    "get_method": "lcpfric.methods",
+    "steady_state": "lcpfric.periodic",
+    "CycleResult": "lcpfric.results", "State": "lcpfric.results",
+    "SteadyState": "lcpfric.results", "StepState": "lcpfric.results",
+    "BatchResult": "lcpfric.results",
+    "Scene": "lcpfric.scene", "make_scene": "lcpfric.scene",
+    "Shakedown": "lcpfric.analysis.shakedown", "shakedown": "lcpfric.analysis.shakedown",
+}
+
+__all__ = ["ConvergenceError", "ConvergenceWarning", "InputError", "LcpfricError",
+           "MissingDependency", "MissingExtra", "SolverError", "SolverNotFound",
+           "UndefinedQuantity", "__version__", *_LAZY]
+
+
+def __getattr__(name: str):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'lcpfric' has no attribute {name!r}")
+    mod = importlib.import_module(module)
+    value = mod if name == "analytic" else getattr(mod, name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))
+
+
+class _Package(types.ModuleType):
+    """The package module: importing a 0.1 module path of the same name as a public function
+    (``from lcpfric.shakedown import ...``) must not replace the function ``lcpfric.shakedown``
+    with the module, which the import system would do when it binds a submodule to its
+    package."""
+
+    def __setattr__(self, name, value):
+        if (isinstance(value, types.ModuleType) and name in _LAZY and name != "analytic"
+                and value.__name__ != f"{__name__}.{name}"):
+            return
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package

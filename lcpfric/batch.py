@@ -16,23 +16,30 @@ length zero, which changes nothing), so step j of every point is taken at once:
     separated point keeps its variable with the linear term 0 (its answer is F = 0), so the
     problem's structure never changes.
 
-Both iterate whole cycles until every point repeats its previous cycle within ``tol`` (relative
-to its range of v, as :func:`lcpfric.steady_state` does); a point's Ŵ is that of its first
-converged cycle, Ŵ = J / Q̂1 (0 at Q̂1 = 0).
+Both iterate whole cycles until every point repeats its previous cycle within ``tol`` (the
+criterion of :func:`lcpfric.steady_state`, :func:`lcpfric.periodic.cycle_change`); a point's Ŵ
+is that of its first converged cycle, Ŵ = J / Q̂1 (0 at Q̂1 = 0). They return Ŵ; their
+``*_steady_states`` twins return a :class:`~lcpfric.results.BatchResult` with the convergence
+of every point.
 """
 
 from __future__ import annotations
 
 import math
+import time
 import warnings
 
 import numpy as np
 
 from . import _checks
 from .errors import ConvergenceError, ConvergenceWarning, InputError, SolverError
-from .scene import PLACEMENTS
+from .periodic import cycle_change
+from .results import BatchResult
+from .scene import PLACEMENTS, increments
+from .steppers.dissipation import node_shares
 
-__all__ = ["projection_W_hat", "batched_W_hat"]
+__all__ = ["projection_W_hat", "batched_W_hat", "projection_steady_states",
+           "batched_steady_states"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -73,8 +80,8 @@ class _Grids:
             o3 = np.where(near, 0, 1)
         else:  # "contact": every step in contact, one increment over the separation
             length = th_s - start
-            kc = np.where(sep, np.ceil(steps * length / np.where(sep, length, 1.0)), steps)
-            kc = np.maximum(1, kc).astype(int)
+            kc = np.where(sep, increments(np.where(sep, steps * length, 1.0)
+                                          / np.where(sep, length, 1.0)), steps)
             s1 = np.where(sep, length / kc, s1)
             n1 = np.where(sep, kc, steps)
             n2 = np.where(sep, kc + 1, steps)
@@ -120,7 +127,7 @@ def _inputs(P1, Q1, phi, steps_per_cycle, placement, tol, max_cycles, on_nonconv
 
 
 def _periodic(grids: _Grids, advance, tol: float, max_cycles: int, on_nonconvergence: str,
-              shape, return_info: bool):
+              shape, method: str, steps: int, start: float) -> BatchResult:
     """Run whole cycles of every point with ``advance(j, Q, N, u, F) -> (u, F)`` until each
     repeats its previous cycle (the criterion of :func:`lcpfric.steady_state`)."""
     npts = grids.P1.size
@@ -131,7 +138,9 @@ def _periodic(grids: _Grids, advance, tol: float, max_cycles: int, on_nonconverg
     cycles = np.zeros(npts, dtype=int)
     change = np.full(npts, np.inf)
     done = np.zeros(npts, dtype=bool)
-    prev_start = None
+    prev_start = prev_W = None
+    qlo, qhi = Q.copy(), Q.copy()
+    nmax = _N.copy()
     for c in range(max_cycles):
         start_u = u.copy()
         lo, hi = u.copy(), u.copy()
@@ -139,18 +148,20 @@ def _periodic(grids: _Grids, advance, tol: float, max_cycles: int, on_nonconverg
         for j in range(1, grids.size):
             _theta, Q, N = grids.at(j)
             u1, F1 = advance(j, Q, N, u, F)
-            # slip_dissipation: each point's trapezoid share, clipped at zero
-            W += np.maximum(-0.5 * (F + F1) * (u1 - u), 0.0)
+            W += node_shares(F, F1, u1 - u)  # each point is one node
             u, F = u1, F1
             np.minimum(lo, u, out=lo)
             np.maximum(hi, u, out=hi)
+            if c == 0:
+                np.minimum(qlo, Q, out=qlo)
+                np.maximum(qhi, Q, out=qhi)
+                np.maximum(nmax, N, out=nmax)
         if prev_start is not None:
             # the clamp is non-expansive, so the largest change of v over the cycle is the
-            # change of its starting value: the driver's criterion, per point
-            diff = np.abs(start_u - prev_start)
-            span = hi - lo
-            with np.errstate(divide="ignore", invalid="ignore"):
-                ch = np.where(span > 0, diff / span, np.where(diff == 0, 0.0, np.inf))
+            # change of its starting value: the driver's criterion, per point (K = f = 1: the
+            # loads' displacement scale is the range of Q, the force scale the largest N)
+            ch = cycle_change(np.abs(start_u - prev_start), hi - lo, W - prev_W, W,
+                              (qhi - qlo, nmax))
             new = ~done & (ch <= tol)
             J[new] = W[new]
             cycles[new] = c + 1
@@ -158,7 +169,7 @@ def _periodic(grids: _Grids, advance, tol: float, max_cycles: int, on_nonconverg
             done |= new
             if done.all():
                 break
-        prev_start = start_u
+        prev_start, prev_W = start_u, W
     if not done.all():
         J[~done] = W[~done]
         cycles[~done] = max_cycles
@@ -171,17 +182,17 @@ def _periodic(grids: _Grids, advance, tol: float, max_cycles: int, on_nonconverg
             warnings.warn(msg, ConvergenceWarning, stacklevel=3)
     Q1 = grids.Q1
     W_hat = np.where(Q1 > 0, J / np.where(Q1 > 0, Q1, 1.0), 0.0).reshape(shape)
-    out = W_hat if W_hat.ndim else float(W_hat)
-    if return_info:
-        return out, {"converged": done.reshape(shape), "cycles": cycles.reshape(shape),
-                     "change": change.reshape(shape), "steps": grids.size - 1}
-    return out
+    return BatchResult(W_hat=W_hat if W_hat.ndim else float(W_hat),
+                       converged=done.reshape(shape), cycles=cycles.reshape(shape),
+                       change=change.reshape(shape), method=method, steps_requested=steps,
+                       steps_used=grids.size - 1, seconds=time.perf_counter() - start)
 
 
-def projection_W_hat(P1, Q1, phi, steps_per_cycle: int = 2000, placement: str = "uniform", *,
-                     tol: float = 1e-10, max_cycles: int = 100,
-                     on_nonconvergence: str = "raise", return_info: bool = False):
-    """Ŵ(P̂1, Q̂1, φ) of many points by the closed-form projection, vectorized over the points.
+def projection_steady_states(P1, Q1, phi, steps_per_cycle: int = 2000,
+                             placement: str = "uniform", *, tol: float = 1e-10,
+                             max_cycles: int = 100,
+                             on_nonconvergence: str = "raise") -> BatchResult:
+    """Steady states of many points by the closed-form projection, vectorized over the points.
 
     Parameters
     ----------
@@ -194,21 +205,13 @@ def projection_W_hat(P1, Q1, phi, steps_per_cycle: int = 2000, placement: str = 
         Step placement (see :mod:`lcpfric.scene`).
     tol, max_cycles, on_nonconvergence
         As in :func:`lcpfric.steady_state`, per point.
-    return_info : bool
-        Also return a dict with ``converged``, ``cycles`` and ``change`` per point.
 
     Returns
     -------
-    ndarray (or float for scalar input)
-        Ŵ per point; with ``return_info``, ``(W_hat, info)``.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> W = projection_W_hat([0.5, 1.5], 2.0, 0.6 * np.pi, 4000)
-    >>> W.shape
-    (2,)
+    BatchResult
+        Ŵ, convergence, cycles and change per point.
     """
+    start = time.perf_counter()
     grids, shape, tol, max_cycles = _inputs(P1, Q1, phi, steps_per_cycle, placement, tol,
                                             max_cycles, on_nonconvergence)
 
@@ -217,18 +220,38 @@ def projection_W_hat(P1, Q1, phi, steps_per_cycle: int = 2000, placement: str = 
         F1 = np.minimum(np.maximum(f_tr, -N), N)  # the clamp, Eq. (3) with K = f = 1
         return u + (F1 - f_tr), F1
 
-    return _periodic(grids, advance, tol, max_cycles, on_nonconvergence, shape, return_info)
+    return _periodic(grids, advance, tol, max_cycles, on_nonconvergence, shape, "projection",
+                     int(steps_per_cycle), start)
 
 
-def batched_W_hat(P1, Q1, phi, method: str = "clarabel", steps_per_cycle: int = 2000,
-                  placement: str = "uniform", *, tol: float = 1e-10, max_cycles: int = 100,
-                  on_nonconvergence: str = "raise", return_info: bool = False, **options):
-    """Ŵ of many points, all advanced by one solver call per step (a block-diagonal problem).
+def projection_W_hat(P1, Q1, phi, steps_per_cycle: int = 2000, placement: str = "uniform", *,
+                     tol: float = 1e-10, max_cycles: int = 100,
+                     on_nonconvergence: str = "raise"):
+    """Ŵ of :func:`projection_steady_states` (ndarray, or float for scalar input).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> W = projection_W_hat([0.5, 1.5], 2.0, 0.6 * np.pi, 4000)
+    >>> W.shape
+    (2,)
+    """
+    return projection_steady_states(P1, Q1, phi, steps_per_cycle, placement, tol=tol,
+                                    max_cycles=max_cycles,
+                                    on_nonconvergence=on_nonconvergence).W_hat
+
+
+def batched_steady_states(P1, Q1, phi, method: str = "clarabel", steps_per_cycle: int = 2000,
+                          placement: str = "uniform", *, tol: float = 1e-10,
+                          max_cycles: int = 100, on_nonconvergence: str = "raise",
+                          **options) -> BatchResult:
+    """Steady states of many points, all advanced by one solver call per step (a
+    block-diagonal problem (P)).
 
     Parameters
     ----------
-    P1, Q1, phi, steps_per_cycle, placement, tol, max_cycles, on_nonconvergence, return_info
-        As in :func:`projection_W_hat`.
+    P1, Q1, phi, steps_per_cycle, placement, tol, max_cycles, on_nonconvergence
+        As in :func:`projection_steady_states`.
     method : str
         A convex backend: ``"clarabel"`` or ``"osqp"`` (any name of
         :func:`lcpfric.available_methods` backed by :mod:`lcpfric.backends` works).
@@ -237,28 +260,27 @@ def batched_W_hat(P1, Q1, phi, method: str = "clarabel", steps_per_cycle: int = 
 
     Returns
     -------
-    ndarray (or float)
-        As :func:`projection_W_hat`.
+    BatchResult
     """
     import scipy.sparse as sp
 
-    from .backends._problem import ConvexStepper, IncrementProblem, refine_box, residuals
+    from .backends import ConvexStepper, IncrementProblem, accept
     from .methods import get_stepper
 
+    start = time.perf_counter()
     grids, shape, tol, max_cycles = _inputs(P1, Q1, phi, steps_per_cycle, placement, tol,
                                             max_cycles, on_nonconvergence)
     stepper = get_stepper(method, **options)
     if not isinstance(stepper, ConvexStepper):
-        raise InputError("method", f"batched_W_hat needs a convex-solver backend such as "
-                                   f"'clarabel' or 'osqp', got {method!r}; for the closed "
-                                   f"form use projection_W_hat")
+        raise InputError("method", f"batched_steady_states needs a convex-solver backend such "
+                                   f"as 'clarabel' or 'osqp', got {method!r}; for the closed "
+                                   f"form use projection_steady_states")
     npts = grids.P1.size
     idx = np.arange(npts)
     prob = IncrementProblem(idx, idx, 1, sp.identity(npts, format="csc"), None, diagonal=True,
                             full=True)
-    prob.handle = stepper.guarded(stepper.build, prob)
+    prob.handle = stepper.guarded(stepper.build, prob, stepper.settings_for(1))
     fs = max(1.0 + float(np.max(grids.P1, initial=0.0)), float(np.max(grids.Q1, initial=0.0)))
-    delta = stepper.active_tol * fs
     label = f"batched {stepper.label}"
 
     def advance(j, Q, N, u, F):
@@ -270,17 +292,14 @@ def batched_W_hat(P1, Q1, phi, method: str = "clarabel", steps_per_cycle: int = 
             raise SolverError(f"{label}: step {j} ended with solver status {status!s} "
                               f"({stepper.status_category(status)})", backend=stepper.label,
                               status=str(status))
-        F1 = np.array(x, dtype=float)
-        refined = refine_box(prob, F1, q, b, delta, fs, 1.0) if stepper.refine else None
-        stick = None
-        if refined is not None and max(refined[2].values()) <= stepper.check_tol:
-            F1, stick = refined[0], refined[1]
-        else:
-            res = residuals(F1, F1 + q, b, 1, fs, 1.0)
-            if not max(res.values()) <= stepper.check_tol:
-                raise SolverError(f"{label}: step {j}: the solver reported {status!s} but its "
-                                  f"answer fails lcpfric's residual check {res}",
-                                  backend=stepper.label, status=str(status), residuals=res)
+        F1, stick, res, _kind = accept(prob, np.array(x, dtype=float), q, b,
+                                       refine=stepper.refine, active_tol=stepper.active_tol,
+                                       check_tol=stepper.check_tol, fscale=fs, cscale=1.0)
+        if F1 is None:
+            raise SolverError(f"{label}: step {j}: the solver reported {status!s} but its "
+                              f"answer fails lcpfric's residual check {res}",
+                              backend=stepper.label, status=str(status), residuals=res)
+        F1 = F1.copy()
         F1[~contact] = 0.0
         u1 = F1 - Q
         if stick is not None:  # a refined stick point keeps its displacement exactly
@@ -288,4 +307,14 @@ def batched_W_hat(P1, Q1, phi, method: str = "clarabel", steps_per_cycle: int = 
             u1[stick] = u[stick]
         return u1, F1
 
-    return _periodic(grids, advance, tol, max_cycles, on_nonconvergence, shape, return_info)
+    return _periodic(grids, advance, tol, max_cycles, on_nonconvergence, shape,
+                     f"batched {stepper.label}", int(steps_per_cycle), start)
+
+
+def batched_W_hat(P1, Q1, phi, method: str = "clarabel", steps_per_cycle: int = 2000,
+                  placement: str = "uniform", *, tol: float = 1e-10, max_cycles: int = 100,
+                  on_nonconvergence: str = "raise", **options):
+    """Ŵ of :func:`batched_steady_states` (ndarray, or float for scalar input)."""
+    return batched_steady_states(P1, Q1, phi, method, steps_per_cycle, placement, tol=tol,
+                                 max_cycles=max_cycles, on_nonconvergence=on_nonconvergence,
+                                 **options).W_hat

@@ -13,8 +13,11 @@ __all__ = [
     "InputError",
     "SolverError",
     "SolverNotFound",
+    "MissingDependency",
+    "MissingExtra",
     "ConvergenceError",
     "ConvergenceWarning",
+    "UndefinedQuantity",
 ]
 
 
@@ -65,24 +68,57 @@ class SolverError(LcpfricError, RuntimeError):
                                         self.residuals))
 
 
-class SolverNotFound(LcpfricError, ImportError):
-    """A method needs an optional dependency that is not installed.
+class MissingDependency(LcpfricError, ImportError):
+    """Something the user asked for needs an optional package that is not installed: a
+    method (:class:`SolverNotFound`) or a feature such as sweeps or figures
+    (:class:`MissingExtra`). The message names what to install."""
 
-    The message names the extra to install, e.g. ``pip install "lcpfric[clarabel]"``.
+
+class MissingExtra(MissingDependency):
+    """A feature (sweeps, figures, progress bars) needs an optional package that is missing.
+
+    Attributes
+    ----------
+    feature : str
+        What the user asked for (``"Sweeps"``, ``"Figures"``).
+    extra : str
+        The extra that installs it: ``pip install "lcpfric[<extra>]"``.
     """
 
-    def __init__(self, method: str, extra: str, installed: list[str] | None = None):
+    def __init__(self, feature: str, extra: str, module: str = ""):
+        self.feature = feature
+        self.extra = extra
+        super().__init__(f"{feature} need the optional package {module or extra!r}, which is "
+                         f'not installed; install it with: pip install "lcpfric[{extra}]"')
+        self.name = module or None
+
+    def __reduce__(self):  # keep the arguments when a worker process sends it back
+        return (type(self), (self.feature, self.extra, self.name or ""))
+
+
+class SolverNotFound(MissingDependency):
+    """A method needs an optional dependency that is not installed.
+
+    The message names what to install: the extra (``pip install "lcpfric[clarabel]"``) or, for
+    one solver of a ``:<solver>`` method, its own package (``pip install ecos``).
+    """
+
+    def __init__(self, method: str, extra: str | None, installed: list[str] | None = None,
+                 package: str | None = None):
         self.method = method
         self.extra = extra
         self.installed = installed
+        self.package = package
+        how = f"pip install {package}" if package else f'pip install "lcpfric[{extra}]"'
         msg = (f"method {method!r} needs an optional dependency that is not installed; "
-               f'install it with: pip install "lcpfric[{extra}]"')
+               f"install it with: {how}")
         if installed is not None:
             msg += f" (methods available now: {', '.join(installed)})"
         super().__init__(msg)
 
     def __reduce__(self):
-        return (type(self), (self.method, self.extra, self.installed))
+        return (_rebuild_not_found, (type(self), self.method, self.extra, self.installed,
+                                     self.package))
 
 
 class ConvergenceError(LcpfricError, RuntimeError):
@@ -97,6 +133,22 @@ class ConvergenceError(LcpfricError, RuntimeError):
     def __init__(self, message: str, result=None):
         self.result = result
         super().__init__(message)
+
+
+class UndefinedQuantity(LcpfricError, AttributeError):
+    """A result was asked for a quantity it does not define (Ŵ of a general system)."""
+
+    def __init__(self, quantity: str, message: str):
+        self.quantity = quantity
+        self.detail = message
+        super().__init__(f"{quantity}: {message}")
+
+    def __reduce__(self):
+        return (type(self), (self.quantity, self.detail))
+
+
+def _rebuild_not_found(cls, method, extra, installed, package):
+    return cls(method, extra, installed, package=package)
 
 
 def _rebuild_solver_error(cls, message, backend, status, residuals):

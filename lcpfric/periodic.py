@@ -1,31 +1,79 @@
-"""The periodic steady-state driver: cycles until v(t) repeats.
+"""The periodic steady-state driver: cycles until the cycle repeats.
 
-:func:`steady_state` runs whole cycles of a scene with a stepper until the tangential
-displacement over a cycle repeats the previous cycle's within ``tol`` (relative to the cycle's
-range of v), or until ``max_cycles``. Non-convergence is reported (``converged=False``, and an
-error or a warning by ``on_nonconvergence``), never returned as converged.
-
-For a single node with harmonic loads, ``method="exact"`` returns the closed-form steady state
-(:mod:`lcpfric.exact`) with no cycles at all.
+:func:`steady_state` asks the registry (:mod:`lcpfric.methods`) for the method. A closed-form
+method returns the steady state directly. A time stepper is run whole cycles at a time on a
+scene (:mod:`lcpfric.scene`) until the tangential displacement over a cycle repeats the previous
+cycle's (:func:`cycle_change`, the one convergence criterion, shared with :mod:`lcpfric.batch`),
+or until ``max_cycles``. Non-convergence is reported (``converged=False``, and an error or a
+warning by ``on_nonconvergence``), never returned as converged.
 """
 
 from __future__ import annotations
 
+import difflib
 import time
 import warnings
 from dataclasses import replace
 
 import numpy as np
 
-from . import _checks
+from . import _checks, memory
 from .errors import ConvergenceError, ConvergenceWarning, InputError
-from .methods import get_stepper
+from .methods import CLOSED_FORM, get_stepper
 from .model import ContactSystem, SingleNode
-from .results import SteadyState
+from .results import CycleResult, State, SteadyState
 from .scene import Scene, make_scene
 
-__all__ = ["steady_state"]
+__all__ = ["steady_state", "cycle_change", "load_scales", "DRIVER_OPTIONS"]
 
+#: The driver's own keyword options (everything else goes to the method).
+DRIVER_OPTIONS = ("steps_per_cycle", "tol", "max_cycles", "on_nonconvergence", "placement", "u0")
+
+
+def cycle_change(du, v_span, dW, W, load_span):
+    """The convergence measure of a cycle (the one criterion, shared with :mod:`lcpfric.batch`).
+
+    ``max(du / s_v, |dW| / s_W)`` with the scales
+
+    * ``s_v = max(v_span, load_span)``: the cycle's range of the displacements, or the loads'
+      displacement scale (the range of the tangential loads times the compliance), whichever is
+      larger. It does not vanish when the system shakes down or slips very little, so such a
+      steady state is confirmed like any other;
+    * ``s_W = max(|W|, s_u · s_F)``, the same for the dissipation, with ``s_u`` the loads'
+      displacement scale and ``s_F`` the largest friction limit f N: the dissipating forces
+      never exceed it (the tangential load itself may be far larger).
+
+    Parameters
+    ----------
+    du : float or ndarray
+        ``max |v_c - v_{c-1}|`` over the grid (per point of a batch).
+    v_span : float or ndarray
+        The cycle's range of v.
+    dW, W : float or ndarray
+        ``W_c - W_{c-1}`` and ``W_c``.
+    load_span : tuple (displacement, force) of floats or ndarrays
+        The loads' scales: the range of Q times the compliance, and the largest friction
+        limit f N.
+    """
+    u_scale, f_scale = (np.asarray(x, dtype=float) for x in load_span)
+    s_v = np.maximum(np.asarray(v_span, dtype=float), u_scale)
+    s_W = np.maximum(np.abs(np.asarray(W, dtype=float)), u_scale * f_scale)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a = np.where(s_v > 0, np.abs(du) / np.where(s_v > 0, s_v, 1.0),
+                     np.where(np.asarray(du) == 0, 0.0, np.inf))
+        b = np.where(s_W > 0, np.abs(dW) / np.where(s_W > 0, s_W, 1.0),
+                     np.where(np.asarray(dW) == 0, 0.0, np.inf))
+    out = np.maximum(a, b)
+    return out if out.ndim else float(out)
+
+
+def load_scales(scene, compliance) -> tuple[float, float]:
+    """The loads' displacement and force scales of a scene: ``(c r, b)`` with r the largest
+    range of a tangential load over the cycle, c the largest diagonal compliance and b the
+    largest friction limit f N."""
+    r = float(np.max(np.ptp(scene.Q, axis=0), initial=0.0))
+    b = float(np.max(scene.N * scene.system.friction, initial=0.0))
+    return compliance * r, b
 
 
 def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
@@ -38,14 +86,20 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     model : SingleNode, ContactSystem or Scene
         What to solve. A Scene fixes the grid (then ``steps_per_cycle`` and ``placement`` are
         ignored).
-    method : str or Stepper
-        ``"exact"``, ``"explicit"``, ``"projection"``, ``"clarabel"``, ``"osqp"``,
-        ``"qpsolvers:<solver>"``, ``"cvxpy:<SOLVER>"`` (see :mod:`lcpfric.methods`).
+    method : str or method instance
+        A registry name (:func:`lcpfric.available_methods`): ``"exact"``, ``"explicit"``,
+        ``"projection"``, ``"clarabel"``, ``"osqp"``, ``"qpsolvers:<solver>"``,
+        ``"cvxpy:<SOLVER>"``.
     steps_per_cycle : int
-        Increments per cycle (the known separation instants are added). For ``"exact"`` it only
-        sets the resolution of the returned time series.
+        Increments per cycle requested (the known separation instants are added: see
+        ``steps_used`` of the result). For a closed-form method it only sets the number of
+        samples of the returned time series.
     tol : float
-        Convergence test: ``max |v_c - v_{c-1}| <= tol * range(v_c)`` over the grid.
+        Convergence test: the change of v over the cycle, relative to the larger of its range
+        and the loads' displacement scale, and the change of W relative to the larger of W and
+        the loads' energy scale, both at most ``tol`` (:func:`cycle_change`). A shakedown (no
+        node slips over the steady cycle, W = 0) is confirmed like any other steady state, and
+        the message says so.
     max_cycles : int
         Cap on the cycles run.
     on_nonconvergence : {"raise", "warn", "ignore"}
@@ -57,7 +111,8 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     u0 : array_like, optional
         Initial tangential displacement (default zero).
     **options
-        Passed to the stepper (solver tolerances and settings).
+        The method's own options (solver tolerances and settings). An option that neither the
+        driver nor the method takes raises :class:`InputError` naming the valid ones.
 
     Returns
     -------
@@ -66,10 +121,14 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     start = time.perf_counter()
     tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
                                                                 on_nonconvergence)
-    if isinstance(method, str) and method.strip().lower() == "exact":
-        if options:
-            raise InputError("method", f"'exact' takes no solver options, got {sorted(options)}")
-        return _exact(model, _checks.positive_int("steps_per_cycle", steps_per_cycle, 4), start)
+    solver = _method(method, options)
+    if not isinstance(model, Scene):
+        steps = _checks.positive_int("steps_per_cycle", steps_per_cycle, 4)
+        size = model.m if isinstance(model, ContactSystem) else 1
+        memory.check(memory.steady_state_bytes(steps, getattr(solver, "label", ""), size),
+                     "steps_per_cycle", f"a steady state with {steps} steps per cycle")
+    if solver.kind == CLOSED_FORM:
+        return solver.steady_state(model, steps_per_cycle)
     if isinstance(model, Scene):
         scene = model
     elif isinstance(model, (SingleNode, ContactSystem)):
@@ -77,40 +136,124 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     else:
         raise InputError("model", "expected a SingleNode, ContactSystem or Scene, got "
                                   f"{type(model).__name__}")
-    stepper = get_stepper(method, **options)
-    stepper.check(scene.system)
+    solver.check(scene.system)
+    if u0 is not None:
+        u0 = _checks.finite_array("u0", u0)
+        if u0.size != scene.system.m:
+            raise InputError("u0", f"needs {scene.system.m} displacements (n·d), got {u0.size}")
     work, scale = _unit_scaled(scene)
-    state = stepper.init(work, None if u0 is None else np.asarray(u0, dtype=float) / scale)
+    state = solver.init(work, None if u0 is None else u0 / scale)
+    loads = load_scales(work, _compliance_scale(scene.system))
     W_cycles = []
-    prev = None
+    prev, prev_W = None, 0.0
     change = np.inf
-    cyc = None
+    starts = [state.u]
+    extrapolations = 0
     for _ in range(max_cycles):
-        state, cyc = stepper.cycle(work, state)
-        if scale != 1.0:
-            cyc.u = cyc.u * scale
-            cyc.F = cyc.F * scale
-            cyc.W = cyc.W * scale * scale
-        W_cycles.append(cyc.W)
+        state, cyc = solver.cycle(work, state)
+        W_cycles.append(cyc.W * scale * scale)
         if prev is not None:
-            span = float(np.max(np.ptp(cyc.u, axis=0)))
-            diff = float(np.max(np.abs(cyc.u - prev)))
-            change = diff / span if span > 0 else (0.0 if diff == 0 else np.inf)
+            change = cycle_change(np.max(np.abs(cyc.u - prev)), np.max(np.ptp(cyc.u, axis=0)),
+                                  (cyc.W - prev_W), cyc.W, loads)
             if change <= tol:
                 break
-        prev = cyc.u
-    converged = change <= tol
-    result = _assemble(scene, stepper, cyc, np.asarray(W_cycles), converged, change,
-                       time.perf_counter() - start)
+        prev, prev_W = cyc.u, cyc.W
+        starts.append(state.u)
+        jump = _extrapolate(starts, work)
+        if jump is not None:
+            state = replace(state, u=jump[0], F=jump[1])
+            starts = [jump[0]]
+            extrapolations += 1
+    shakedown = _shakedown(cyc)
+    if scale != 1.0:
+        cyc = CycleResult(cyc.t, cyc.u * scale, cyc.F * scale, cyc.state, cyc.W * scale * scale,
+                          cyc.stats)
+    converged = bool(change <= tol)
+    result = _assemble(scene, solver, cyc, np.asarray(W_cycles), converged, change,
+                       _requested(model, steps_per_cycle), time.perf_counter() - start)
+    if extrapolations:
+        result = replace(result, solver_stats={**result.solver_stats,
+                                               "extrapolations": extrapolations})
+    if converged and shakedown:
+        result = replace(result, message="converged: shakedown (no node slips over the steady "
+                                         "cycle)")
     if not converged:
-        msg = (f"no periodic steady state after {len(W_cycles)} cycles (relative change of v "
-               f"{change:.3g} > tol {tol:g}); raise max_cycles or loosen tol")
-        result.message = msg
+        msg = (f"no periodic steady state after {len(W_cycles)} cycles (relative change of the "
+               f"cycle {change:.3g} > tol {tol:g}); raise max_cycles or loosen tol")
+        result = replace(result, message=msg)
         if on_nonconvergence == "raise":
             raise ConvergenceError(msg, result)
         if on_nonconvergence == "warn":
             warnings.warn(msg, ConvergenceWarning, stacklevel=2)
     return result
+
+
+def _extrapolate(starts: list, scene: Scene):
+    """Jump to the fixed point of a slowly contracting cycle map, or None.
+
+    The cycle maps the state at the cycle's start to the next cycle's start; near the steady
+    state, with the stick/slip pattern settled, it is affine, and a slow approach (a weakly
+    grounded system drifting back, ratio ρ close to 1 per cycle) is dominated by one mode. When
+    the last three differences ``d`` shrink at one steady ratio ρ in [0.3, 0.999], the start is
+    moved to ``s + ρ/(1 - ρ) d`` (Aitken's extrapolation), its force put back inside the friction
+    cone (``F = Π(Q + K u)``, ``u = K⁻¹ (F - Q)``). Nothing is taken from it but a starting
+    point: convergence is still confirmed by two whole cycles that repeat.
+    """
+    if len(starts) < 4:
+        return None
+    d = [np.linalg.norm(starts[i + 1] - starts[i]) for i in range(len(starts) - 4, len(starts) - 1)]
+    if d[0] == 0 or d[1] == 0:
+        return None
+    r1, r2 = d[1] / d[0], d[2] / d[1]
+    if not (0.3 <= r2 <= 0.999 and abs(r2 - r1) <= 0.05 * r2):
+        return None
+    system = scene.system
+    u = starts[-1] + r2 / (1.0 - r2) * (starts[-1] - starts[-2])
+    Q0, bound = scene.Q[0], scene.N[0] * system.friction
+    F = Q0 + system.stiffness @ u
+    if system.dims == 1:
+        Fp = np.clip(F, -bound, bound)
+    else:
+        F2 = F.reshape(-1, 2)
+        norm = np.hypot(F2[:, 0], F2[:, 1])
+        shrink = np.where(norm > bound, bound / np.where(norm > 0, norm, 1.0), 1.0)
+        Fp = (F2 * shrink[:, None]).ravel()
+    if np.any(Fp != F):
+        u = u + system.compliance_matrix() @ (Fp - F)
+    return u, Fp
+
+
+def _compliance_scale(system) -> float:
+    """The largest diagonal compliance (C = K⁻¹; 1/k for a diagonal K)."""
+    if system.is_diagonal():
+        return float(1.0 / np.min(np.diag(system.dense_stiffness())))
+    return float(np.max(np.diag(system.compliance_matrix())))
+
+
+def _shakedown(cyc: CycleResult) -> bool:
+    """A shakedown: no node recorded slipping over the cycle and no dissipation at all."""
+    return cyc.W == 0.0 and not np.any((cyc.state == State.FORWARD)
+                                       | (cyc.state == State.BACKWARD))
+
+
+def _method(method, options: dict):
+    """The registry's instance for ``method``; an unknown option names the driver's and the
+    method's valid ones."""
+    try:
+        return get_stepper(method, **options)
+    except InputError as exc:
+        if exc.parameter not in options:
+            raise
+        close = difflib.get_close_matches(exc.parameter, DRIVER_OPTIONS, n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise InputError(exc.parameter, f"{exc.detail}{hint}; the driver's options: "
+                                        f"{', '.join(DRIVER_OPTIONS)}") from None
+
+
+def _requested(model, steps_per_cycle) -> int:
+    if isinstance(model, Scene):
+        return model.steps_requested
+    return _checks.positive_int("steps_per_cycle", steps_per_cycle, 4)
 
 
 def _unit_scaled(scene: Scene) -> tuple[Scene, float]:
@@ -132,67 +275,21 @@ def _unit_scaled(scene: Scene) -> tuple[Scene, float]:
                    _cache={"contact": scene.contact}), scale  # contact is scale-free
 
 
-def _assemble(scene, stepper, cyc, W_cycles, converged, change, seconds) -> SteadyState:
+def _assemble(scene, solver, cyc, W_cycles, converged, change, requested,
+              seconds) -> SteadyState:
     model = scene.model
-    name = stepper.name if not getattr(stepper, "label", None) else stepper.label
+    common = dict(cycles=len(W_cycles), converged=converged, method=solver.label,
+                  steps_requested=requested, steps_used=scene.steps, t=scene.t,
+                  state=cyc.state if model is None else cyc.state[:, 0], seconds=seconds,
+                  change=change, message="converged" if converged else "",
+                  solver_stats=cyc.stats)
     if model is None:
-        return SteadyState(W_hat=None, W=float(W_cycles[-1]), W_per_cycle=W_cycles,
-                           cycles=len(W_cycles), converged=converged, method=name,
-                           steps_per_cycle=scene.steps, t=scene.t, v=cyc.u, F=cyc.F, N=scene.N,
-                           state=cyc.state, seconds=seconds, change=change,
-                           message="converged" if converged else "",
-                           solver_stats=cyc.stats)
+        return SteadyState(W=float(W_cycles[-1]), W_cycles=W_cycles, v=cyc.u, F=cyc.F,
+                           N=scene.N, **common)
+    # a single node is advanced in the units f P0 (force), f P0/k11 (displacement): J = Q̂1 Ŵ
     q1 = model.Q1_hat
     W_hat_cycles = W_cycles / q1 if q1 > 0 else np.zeros_like(W_cycles)
-    W_hat = float(W_hat_cycles[-1])
-    u, F, N = cyc.u[:, 0], cyc.F[:, 0], scene.N[:, 0]
-    t, v, F, N = _dimensional(model, scene.t, u, F, N)
-    return SteadyState(W_hat=W_hat, W=float(model.W(W_hat)) if model.dimensional else None,
-                       W_per_cycle=W_hat_cycles, cycles=len(W_cycles), converged=converged,
-                       method=name, steps_per_cycle=scene.steps, t=t, v=v, F=F, N=N,
-                       state=cyc.state[:, 0], seconds=seconds, change=change,
-                       message="converged" if converged else "", solver_stats=cyc.stats)
-
-
-def _dimensional(model: SingleNode, t, u, F, N):
-    """Map the normalized series (u in f P0/k11, F in f P0, N in P0) to the model's units:
-    dimensional (v, F, N) for a dimensional model; (v̂, F̂, N̂) of Eq. (6) for a normalized one."""
-    if model.dimensional:
-        v = (model.force_unit * u - model.Q0) / model.k11
-        return t, v, model.force_unit * F, model.P0 * N
-    q1 = model.Q1_hat
-    return t, (u / q1 if q1 > 0 else u), F, N
-
-
-def _exact(model, steps: int, start: float) -> SteadyState:
-    from .exact import exact_cycle
-
-    if isinstance(model, Scene):
-        model = model.model
-    if not isinstance(model, (SingleNode, ContactSystem)):
-        raise InputError("model", "expected a SingleNode, ContactSystem or Scene, got "
-                                  f"{type(model).__name__}")
-    if not isinstance(model, SingleNode):
-        raise InputError("method", "'exact' solves the single node (SingleNode); for a general "
-                                   "system use 'explicit', 'projection' or a solver backend")
-    if not model.is_harmonic:
-        raise InputError("method", "'exact' needs harmonic loads P0 + P1 sin(ωt), "
-                                   "Q0 + Q1 sin(ωt + φ); for other periodic loads use "
-                                   "'explicit' or 'projection'")
-    P1, Q1, phi = model.normalized_parameters()
-    cyc = exact_cycle(P1, Q1, phi)
-    T = model.period
-    psi_p = model.normal_load.phase
-    t = np.linspace(0.0, T, steps + 1)
-    theta = model.omega * t + psi_p
-    u = cyc.w(theta)
-    Qn = Q1 * np.sin(theta + phi)
-    Nn = np.maximum(1.0 + P1 * np.sin(theta), 0.0)
-    F = Qn + u
-    t, v, F, N = _dimensional(model, t, u, F, Nn)
-    W_hat = cyc.W_hat
-    return SteadyState(W_hat=W_hat, W=float(model.W(W_hat)) if model.dimensional else None,
-                       W_per_cycle=np.array([W_hat]), cycles=1, converged=True, method="exact",
-                       steps_per_cycle=steps, t=t, v=v, F=F, N=N, state=cyc.state(theta),
-                       seconds=time.perf_counter() - start, change=0.0,
-                       message="exact steady state (closed form, no cycles iterated)")
+    v, F, N = model.series(cyc.u[:, 0], cyc.F[:, 0], scene.N[:, 0])
+    return SteadyState(W=float(model.W(W_hat_cycles[-1])),
+                       W_cycles=np.atleast_1d(model.W(W_hat_cycles)), v=v, F=F, N=N,
+                       normalization=model.normalization(), W_hat_cycles=W_hat_cycles, **common)

@@ -1,34 +1,75 @@
-"""Result types, one per level: a cycle (:class:`CycleResult`) and a steady state
-(:class:`SteadyState`). Sweeps return an ``xarray.Dataset`` (see :mod:`lcpfric.sweep`)."""
+"""Result types, one per level: a step (:class:`StepState`), a cycle (:class:`CycleResult`), a
+steady state (:class:`SteadyState`) and a batch of single-node steady states
+(:class:`BatchResult`). Sweeps return an ``xarray.Dataset`` (see :mod:`lcpfric.analysis.sweep`).
+
+Every result is immutable: the driver builds new ones instead of changing a stepper's.
+"""
 
 from __future__ import annotations
 
 import json
 from dataclasses import dataclass, field
+from enum import IntEnum
+from typing import Any
 
 import numpy as np
 
-__all__ = ["CycleResult", "SteadyState", "State"]
+from .errors import UndefinedQuantity
+
+__all__ = ["State", "StepState", "CycleResult", "SteadyState", "BatchResult", "Normalization"]
 
 
-class State:
-    """Codes of the states of Eq. (3) in the ``state`` time series."""
+class State(IntEnum):
+    """The states of a node (paper, Eq. 3), as stored in every ``state`` time series (int8)."""
 
     STICK = 0
-    FORWARD = 1   # forward slip, dv/dt > 0, F = -f N
-    BACKWARD = 2  # backward slip, dv/dt < 0, F = +f N
-    SEPARATION = 3
+    FORWARD = 1     # forward slip, du/dt > 0, F = -f N
+    BACKWARD = 2    # backward slip, du/dt < 0, F = +f N
+    SEPARATION = 3  # N = 0, F = 0
 
-    names = ("stick", "forward slip", "backward slip", "separation")
+    @property
+    def label(self) -> str:
+        """The state in words (``"forward slip"``)."""
+        return _LABELS[self]
 
 
-@dataclass
+_LABELS = {State.STICK: "stick", State.FORWARD: "forward slip",
+           State.BACKWARD: "backward slip", State.SEPARATION: "separation"}
+
+
+@dataclass(frozen=True)
+class StepState:
+    """The state at one grid instant, passed into and returned by ``Stepper.step``.
+
+    Attributes
+    ----------
+    u : (m,) ndarray
+        Tangential displacements.
+    F : (m,) ndarray
+        Friction forces, ``Q + K u``.
+    state : (n,) ndarray of int8
+        Per node, a :class:`State` code (over the increment that ended here).
+    dW : float
+        Dissipation of the increment that ended here.
+    data : Any
+        What the stepper carries from ``init`` (its matrices, solver objects, the scene's plan)
+        and its statistics. Never shared between two states that a stepper may change.
+    """
+
+    u: np.ndarray
+    F: np.ndarray
+    state: np.ndarray
+    dW: float = 0.0
+    data: Any = field(default=None)
+
+
+@dataclass(frozen=True)
 class CycleResult:
     """One cycle on the scene's grid, in the units the stepper works in.
 
-    ``u`` and ``F`` have shape (N+1, m); ``state`` (N+1, n). ``W`` is ``-∮ F · du`` (trapezoidal
-    in F over each increment, which is exact for the piecewise-linear histories the steppers
-    produce between events).
+    ``u`` and ``F`` have shape (N+1, m); ``state`` (N+1, n). ``W`` is ``-∮ F · du``
+    (:func:`lcpfric.steppers.dissipation.increment_dissipation` summed over the increments, or
+    the exact integral between a stepper's events).
     """
 
     t: np.ndarray
@@ -39,46 +80,69 @@ class CycleResult:
     stats: dict = field(default_factory=dict)
 
 
-@dataclass
+@dataclass(frozen=True)
+class Normalization:
+    """The single node's units of Eq. (6): ``Ŵ = W / W``, ``v̂ = v / v``, ``F̂ = F / F``,
+    ``N̂ = N / N`` with W = f P0 Q1 / k11, v = Q1 / k11, F = f P0, N = P0."""
+
+    W: float
+    v: float
+    F: float
+    N: float
+
+
+@dataclass(frozen=True)
 class SteadyState:
     """The periodic steady state found by :func:`lcpfric.steady_state`.
 
+    Every field means the same for every input. Quantities are in the model's own units: for a
+    dimensional :class:`~lcpfric.model.SingleNode` or any :class:`~lcpfric.model.ContactSystem`,
+    the units of its stiffness and loads; for ``SingleNode.normalized(...)`` the units in which
+    f P0 = 1 and k11 = 1 (then ``W = Q̂1 Ŵ``). The normalized quantities of Eq. (6) (``W_hat``,
+    ``v_hat``) exist for a single node only; asking a general system for them raises
+    :class:`~lcpfric.errors.UndefinedQuantity`.
+
     Attributes
     ----------
-    W_hat : float or None
-        Dimensionless dissipation per cycle Ŵ (Eq. 7) of a single node; None for a general system.
-    W : float or None
-        Dimensional dissipation per cycle (Eq. 5) where the scene is dimensional, else None.
-    W_per_cycle : ndarray
-        The dissipation of every cycle run (Ŵ for a single node, else W), in order.
+    W : float
+        Dissipation per cycle ``-∮ F dv`` (Eq. 5) of the last cycle.
+    W_cycles : ndarray
+        W of every cycle run, in order (the last is ``W``).
     cycles : int
-        Cycles run.
+        Cycles run (1 for the closed form, which computes one cycle of the periodic orbit).
     converged : bool
-        Whether v(t) over the last cycle repeated the previous cycle's within ``tol``.
+        Whether the last cycle repeated the previous one within ``tol`` (see
+        :mod:`lcpfric.periodic`); always True for the closed form.
     method : str
         Registry name of the method.
-    steps_per_cycle : int
-        Increments per cycle actually used (including inserted transition instants).
+    steps_requested : int
+        The steps per cycle asked for (for the closed form: the number of samples of the
+        returned time series, which does not affect W).
+    steps_used : int
+        Increments per cycle actually taken (the known separation and re-contact instants are
+        added to the requested grid); 0 for the closed form, which takes no time steps.
     t, v, F, N, state : ndarray
-        The last cycle's time series (dimensional where the scene is; for a single node v, F, N
-        are 1-D; for a general system v and F are (steps+1, m), N and state (steps+1, n)).
+        The last cycle's time series (for a single node v, F, N and state are 1-D; for a
+        general system v and F are (len(t), m), N and state (len(t), n)).
     seconds : float
         Wall time of the computation.
     change : float
-        The last cycle-to-cycle change of v relative to its range (what ``tol`` is compared to).
+        The convergence measure of the last cycle (what ``tol`` is compared to).
     message : str
         What happened, in words.
     solver_stats : dict
-        Backend statistics (iterations, refinements, statuses seen), where there are any.
+        Backend statistics (solves, refinements, events), where there are any.
+    normalization : Normalization or None
+        The units of Eq. (6) for a single node; None for a general system.
     """
 
-    W_hat: float | None
-    W: float | None
-    W_per_cycle: np.ndarray
+    W: float
+    W_cycles: np.ndarray
     cycles: int
     converged: bool
     method: str
-    steps_per_cycle: int
+    steps_requested: int
+    steps_used: int
     t: np.ndarray
     v: np.ndarray
     F: np.ndarray
@@ -88,6 +152,31 @@ class SteadyState:
     change: float = 0.0
     message: str = ""
     solver_stats: dict = field(default_factory=dict)
+    normalization: Normalization | None = None
+    W_hat_cycles: np.ndarray | None = None
+
+    def _norm(self, name: str) -> Normalization:
+        if self.normalization is None:
+            raise UndefinedQuantity(name, "is defined for a single node (SingleNode, Eq. 6) "
+                                          "only; a general system has W, v, F and N")
+        return self.normalization
+
+    @property
+    def W_hat(self) -> float:
+        """Ŵ = k11 W / (f P0 Q1) (Eq. 6; 0 where Q1 = 0). Single node only."""
+        self._norm("W_hat")
+        return float(self.W_hat_cycles[-1])
+
+    @property
+    def v_hat(self) -> np.ndarray:
+        """v̂ = k11 v / Q1 (Eq. 6). Single node only."""
+        unit = self._norm("v_hat").v
+        return self.v / unit if unit > 0 else np.zeros_like(self.v)
+
+    @property
+    def steps_per_cycle(self) -> int:
+        """Increments per cycle actually taken (``steps_used``)."""
+        return self.steps_used
 
     @property
     def success(self) -> bool:
@@ -95,22 +184,48 @@ class SteadyState:
 
     def summary(self) -> dict:
         """The scalar results as a JSON-serializable dict."""
-        return {
-            "W_hat": self.W_hat,
-            "W": self.W,
-            "method": self.method,
-            "steps_per_cycle": self.steps_per_cycle,
-            "cycles": self.cycles,
-            "converged": self.converged,
-            "change": self.change,
-            "seconds": self.seconds,
-            "message": self.message,
-        }
+        out = {"W": self.W}
+        if self.normalization is not None:
+            out["W_hat"] = self.W_hat
+        out.update(method=self.method, steps_requested=self.steps_requested,
+                   steps_used=self.steps_used, cycles=self.cycles, converged=self.converged,
+                   change=self.change, seconds=self.seconds, message=self.message)
+        return out
 
     def to_json(self) -> str:
         return json.dumps(self.summary())
 
     def __repr__(self) -> str:
-        head = f"W_hat={self.W_hat!r}" if self.W_hat is not None else f"W={self.W!r}"
-        return (f"SteadyState({head}, method={self.method!r}, steps_per_cycle="
-                f"{self.steps_per_cycle}, cycles={self.cycles}, converged={self.converged})")
+        head = f"W_hat={self.W_hat!r}, " if self.normalization is not None else ""
+        return (f"SteadyState({head}W={self.W!r}, method={self.method!r}, steps_used="
+                f"{self.steps_used}, cycles={self.cycles}, converged={self.converged})")
+
+
+@dataclass(frozen=True)
+class BatchResult:
+    """Steady states of many single-node points advanced together (:mod:`lcpfric.batch`).
+
+    Attributes
+    ----------
+    W_hat : ndarray (or float for scalar input)
+        Ŵ per point.
+    converged : ndarray of bool
+        Per point, whether its cycle repeated within ``tol``.
+    cycles : ndarray of int
+        Per point, the cycle at which it converged (``max_cycles`` where it did not).
+    change : ndarray
+        Per point, the last convergence measure.
+    method : str
+    steps_requested, steps_used : int
+        As in :class:`SteadyState` (``steps_used`` is the largest over the points).
+    seconds : float
+    """
+
+    W_hat: Any
+    converged: np.ndarray
+    cycles: np.ndarray
+    change: np.ndarray
+    method: str
+    steps_requested: int
+    steps_used: int
+    seconds: float = 0.0

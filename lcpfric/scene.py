@@ -21,7 +21,6 @@ Placement of the remaining steps:
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -30,7 +29,7 @@ from . import _checks
 from .errors import InputError
 from .model import ContactSystem, SingleNode
 
-__all__ = ["Scene", "make_scene"]
+__all__ = ["Scene", "make_scene", "increments"]
 
 PLACEMENTS = ("contact", "uniform")
 
@@ -55,6 +54,8 @@ class Scene:
         The separation / re-contact instants placed on the grid.
     placement : str
         How the steps were placed (see module docstring).
+    steps_requested : int
+        The steps per cycle asked for (``steps`` is what the grid has, transitions added).
     """
 
     system: ContactSystem
@@ -64,6 +65,7 @@ class Scene:
     N: np.ndarray
     transitions: np.ndarray
     placement: str
+    steps_requested: int = 0
     _cache: dict = field(default_factory=dict, repr=False)
 
     @property
@@ -91,10 +93,10 @@ def _start_time(system: ContactSystem) -> float:
     tr = system.normal.transitions(0.0, T)
     if tr.size == 0 or system.n != 1:
         return 0.0
-    P = system.normal.loads[0]
     eps = 1e-9 * T
     for s in tr:
-        if P(s + eps) > 0 and P(s - eps) <= 0:
+        after, before = system.normal.reactions(np.array([s + eps, s - eps]))[:, 0]
+        if after > 0 and before <= 0:
             return float(s)
     return 0.0
 
@@ -143,10 +145,19 @@ def make_scene(system_or_model, steps_per_cycle: int = 1000, *, placement: str =
     # roots are machine-precise, and the cycle's end (start + period) may be a root whose
     # evaluation leaves ~1e-13; treated as contact, that would turn a separated increment into a
     # contact one. The threshold is a few ulps of each node's load scale.
-    scale = np.max(np.abs(np.stack([np.broadcast_to(p(grid), grid.shape)
-                                    for p in system.normal.loads], axis=-1)), axis=0)
+    scale = np.max(system.normal.scale(grid), axis=0)
     N[N <= 64 * np.finfo(float).eps * scale] = 0.0
-    return Scene(system, model, grid, Q, N, transitions, placement)
+    return Scene(system, model, grid, Q, N, transitions, placement, steps)
+
+
+def increments(x):
+    """``ceil(x)`` (at least 1) for a share ``x = steps · L / total`` of the steps, ignoring the
+    round-off of the ratio: 400.00000000000006 is 400 increments, not 401, whatever the period
+    (otherwise the grid, and a time stepper's W, would depend on ω through round-off). Works on
+    arrays too (:mod:`lcpfric.batch` builds the same grids)."""
+    x = np.asarray(x, dtype=float)
+    k = np.maximum(1, np.ceil(x * (1.0 - 64 * np.finfo(float).eps))).astype(int)
+    return k if k.ndim else int(k)
 
 
 def _contact_grid(system: ContactSystem, start: float, end: float, transitions: np.ndarray,
@@ -160,7 +171,7 @@ def _contact_grid(system: ContactSystem, start: float, end: float, transitions: 
     total = active.sum()
     pieces = []
     for a, b, L, on in zip(edges[:-1], edges[1:], active, any_contact):
-        k = max(1, int(math.ceil(steps * L / total))) if on and total > 0 else 1
+        k = increments(steps * L / total) if on and total > 0 else 1
         pieces.append(np.linspace(a, b, k + 1)[:-1])
     pieces.append([end])
     return np.concatenate(pieces)

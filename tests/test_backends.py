@@ -4,7 +4,7 @@ failure paths (the typed error with the backend's own status) and their input ch
 import numpy as np
 import pytest
 
-from lcpfric import (InputError, SingleNode, SolverError, SolverNotFound, available_methods,
+from lcpfric import (InputError, UndefinedQuantity, SingleNode, SolverError, SolverNotFound, available_methods,
                      get_stepper, make_scene, steady_state)
 from lcpfric.exact import exact_W_hat
 from lcpfric.scene import Scene
@@ -65,7 +65,9 @@ def test_single_node_through_the_general_system_is_identical():
     node = SingleNode.normalized(*CASES["separation"])
     a = steady_state(node, "clarabel", 500)
     b = steady_state(make_scene(node.system(), 500), "clarabel")
-    assert b.W_hat is None and b.W == pytest.approx(a.W_hat * node.Q1_hat, rel=1e-15)
+    with pytest.raises(UndefinedQuantity, match="W_hat"):
+        b.W_hat  # a general system has no Eq. (6) normalization
+    assert b.W == pytest.approx(a.W_hat * node.Q1_hat, rel=1e-15) == pytest.approx(a.W, rel=1e-15)
 
 
 @pytest.mark.parametrize("method", params(FAST))
@@ -109,7 +111,7 @@ def inconsistent_scene():
     N = scene.N.copy()
     N[10] = -0.5
     return Scene(scene.system, scene.model, scene.t, scene.Q, N, scene.transitions,
-                 scene.placement, {"contact": np.ones_like(N, dtype=bool)})
+                 scene.placement, _cache={"contact": np.ones_like(N, dtype=bool)})
 
 
 @pytest.mark.parametrize("method, status", [("clarabel", "PrimalInfeasible"),
@@ -170,10 +172,21 @@ def test_bad_options_are_input_errors(method, options, match):
         steady_state(node, method, 20, **options)
 
 
-def test_unknown_qpsolvers_solver_is_not_found():
+def test_unknown_qpsolvers_solver_lists_the_installed_ones():
     need("qpsolvers:proxqp")
-    with pytest.raises(SolverNotFound, match="qpsolvers:nosuchsolver"):
+    with pytest.raises(InputError, match="nosuchsolver.*installed: .*proxqp"):
         get_stepper("qpsolvers:nosuchsolver")
+
+
+def test_a_missing_solver_package_names_the_package():
+    """cvxpy:ECOS without ecos: `pip install ecos` helps, not the cvxpy extra."""
+    from lcpfric.methods import get_method
+
+    entry, _ = get_method("cvxpy:ECOS")
+    if "ECOS" in entry.installed_solvers():
+        pytest.skip("ecos is installed here")
+    with pytest.raises(SolverNotFound, match="pip install ecos"):
+        get_stepper("cvxpy:ECOS")
 
 
 @pytest.mark.parametrize("method", ["osqp", "qpsolvers:proxqp", "cvxpy:OSQP"])
@@ -185,9 +198,12 @@ def test_qp_backends_refuse_the_d2_cone(method):
 
 
 def test_registry_lists_the_installed_backends():
+    import importlib.util
+
     names = available_methods()
     for method in BACKENDS:
-        module = method.split(":")[0]
         if method in names:
             assert get_stepper(method).label == method
-        assert module in {n.split(":")[0] for n in names} or module not in ("clarabel", "osqp")
+    # a backend is listed exactly when its package is installed
+    for name, package in (("clarabel", "clarabel"), ("osqp", "osqp")):
+        assert (name in names) == (importlib.util.find_spec(package) is not None)

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from lcpfric import ConvergenceError, InputError, SingleNode, steady_state
-from lcpfric.batch import batched_W_hat, projection_W_hat
+from lcpfric.batch import batched_W_hat, projection_steady_states, projection_W_hat
 from lcpfric.exact import exact_W_hat
 
 from backend_table import need
@@ -29,13 +29,13 @@ def one_by_one(method, steps, placement):
 
 @pytest.mark.parametrize("placement", ["uniform", "contact"])
 def test_projection_batch_equals_single_node_projection(placement):
-    W, info = projection_W_hat(P1, Q1, PHI, 600, placement, return_info=True)
+    res = projection_steady_states(P1, Q1, PHI, 600, placement)
     ref = one_by_one("projection", 600, placement)
-    np.testing.assert_allclose(W, ref, rtol=0, atol=1e-13)
-    assert info["converged"].all()
+    np.testing.assert_allclose(res.W_hat, ref, rtol=0, atol=1e-13)
+    assert res.converged.all() and res.steps_requested == 600 and res.steps_used >= 600
     cycles = [steady_state(SingleNode.normalized(p, q, f), "projection", 600,
                            placement=placement).cycles for p, q, f in zip(P1, Q1, PHI)]
-    np.testing.assert_array_equal(info["cycles"], cycles)
+    np.testing.assert_array_equal(res.cycles, cycles)
 
 
 @pytest.mark.parametrize("method", ["clarabel", "osqp"])
@@ -82,11 +82,12 @@ def test_bad_input(kwargs, match):
 def test_nonconvergence_is_reported():
     with pytest.raises(ConvergenceError, match="no periodic steady state"):
         projection_W_hat([0.5, 1.5], 2.0, 0.3, 100, max_cycles=1)
-    W, info = projection_W_hat([0.5, 1.5], 2.0, 0.3, 100, max_cycles=1,
-                               on_nonconvergence="ignore", return_info=True)
-    assert not info["converged"].any() and np.all(np.isfinite(W))
+    info = projection_steady_states([0.5, 1.5], 2.0, 0.3, 100, max_cycles=1,
+                                    on_nonconvergence="ignore")
+    assert not info.converged.any() and np.all(np.isfinite(info.W_hat))
+    assert np.all(info.cycles == 1) and info.method == "projection"
 
 
 def test_batched_needs_a_solver_backend():
-    with pytest.raises(InputError, match="projection_W_hat"):
+    with pytest.raises(InputError, match="projection_steady_states"):
         batched_W_hat(0.5, 2.0, 0.0, "projection", 50)

@@ -82,7 +82,7 @@ def test_dimensional_and_normalized_agree_Q0_k22_irrelevant(method):
     norm = SingleNode.normalized(P1 / P0, Q1 / (f * P0), phi)
     rb = steady_state(base, method, 2000)
     rn = steady_state(norm, method, 2000)
-    assert rn.W is None and rb.W is not None
+    assert rn.W == pytest.approx(rn.W_hat * norm.Q1_hat, rel=1e-15)  # units f P0 = k11 = 1
     assert rb.W_hat == pytest.approx(rn.W_hat, rel=1e-12)
     assert rb.W == pytest.approx(f * P0 * Q1 * rn.W_hat / k11, rel=1e-12)
     assert base.W_hat(rb.W) == pytest.approx(rb.W_hat, rel=1e-12)
@@ -117,14 +117,15 @@ def test_nonconvergence_is_reported_never_hidden():
     r = steady_state(node, "projection", 500, max_cycles=1, on_nonconvergence="ignore")
     assert not r.converged and r.cycles == 1
     r = steady_state(node, "projection", 500)
-    assert r.converged and len(r.W_per_cycle) == r.cycles
+    assert r.converged and len(r.W_cycles) == len(r.W_hat_cycles) == r.cycles
+    assert r.W_cycles[-1] == r.W
 
 
 def test_driver_reports_every_cycle_and_starts_anywhere():
     node = SingleNode.normalized(0.5, 2.0, 0.6 * np.pi)
     r = steady_state(node, "explicit", 1000, u0=[5.0])
     assert r.converged and r.cycles >= 2
-    assert r.W_per_cycle[-1] == pytest.approx(r.W_hat)
+    assert r.W_hat_cycles[-1] == r.W_hat
     assert r.W_hat == pytest.approx(steady_state(node, "explicit", 1000).W_hat, rel=1e-10)
 
 

@@ -56,6 +56,7 @@ def test_chain_methods_agree(n, steps, separation):
         assert (ref.state == 3).any() and (res["explicit"].state == 3).any()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("separation", [False, True], ids=["contact", "separation"])
 def test_chain_convex_and_explicit_converge_together(separation):
     need("osqp")
@@ -70,6 +71,7 @@ def test_chain_convex_and_explicit_converge_together(separation):
         assert abs(W[m][1] - W[m][2]) < abs(W[m][0] - W[m][1]) / 4
 
 
+@pytest.mark.slow
 def test_block_diagonal_reproduces_the_sum_of_single_nodes():
     cases = [CASES[c] for c in sorted(CASES)]
     nodes = [SingleNode.normalized(*c) for c in cases]
@@ -100,6 +102,7 @@ def test_block_diagonal_equals_its_nodes_on_the_same_grid():
     assert r.W == pytest.approx(sum(parts), rel=1e-12)
 
 
+@pytest.mark.slow
 def test_explicit_multinode_second_order_with_separation():
     system = make_chain(4, True)
     steps = [100, 200, 400, 800]
@@ -109,6 +112,7 @@ def test_explicit_multinode_second_order_with_separation():
     assert fitted_order(steps, errors) > 1.5, errors
 
 
+@pytest.mark.slow
 def test_d2_chain_conic_backends_agree():
     need("clarabel")
     system = chain(3, k_coupling=0.5, dims=2, P1=[0.5, 1.5, 0.8],

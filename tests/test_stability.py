@@ -40,15 +40,10 @@ ALLOWED_ERRORS = {
     ("ratio:P1=0.5 Q1=5e+19 phi=1", "osqp"),
 }
 
-# Wrong numbers found by the extreme-ratio cases and not fixed here (the stepper is another
-# change's file). Strict xfails: when the stepper is fixed they pass, fail as XPASS, and the
-# entry is removed.
-KNOWN_WRONG = {
-    ("ratio:P1=0.5 Q1=5e+14 phi=1", "explicit"):
-        "explicit stepper returns Ŵ = 4.57 for 4 at Q̂1/P̂1 = 1e15 (the same at 16x steps)",
-    ("ratio:P1=0.5 Q1=5e+19 phi=1", "explicit"):
-        "explicit stepper returns Ŵ = 6.8e4 for 4 at Q̂1/P̂1 = 1e20",
-}
+# Wrong numbers a method is known to give, as strict xfails (a fix makes them XPASS, and the
+# entry is removed). None left: the explicit stepper gave Ŵ = 4.57 and 6.8e4 for 4 at
+# Q̂1/P̂1 = 1e15 and 1e20 until it kept slipping nodes exactly on their limits.
+KNOWN_WRONG: dict = {}
 
 
 def _check(scenario, method, row):

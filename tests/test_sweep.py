@@ -16,17 +16,29 @@ pytest.importorskip("xarray")
 from lcpfric.analytic import jang_barber  # noqa: E402
 from lcpfric.errors import InputError  # noqa: E402
 from lcpfric.exact import exact_W_hat  # noqa: E402
-from lcpfric.analysis.sweep import (VECTORIZED, parse_grid, parse_phi_list,  # noqa: E402
-                           register_vectorized, sweep)
+from lcpfric.analysis.sweep import parse_grid, parse_phi_list, sweep  # noqa: E402
+from lcpfric.methods import CLOSED_FORM, Method, register, unregister  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 AXIS = np.linspace(0.0, 4.0, 9)          # includes 0, 0.5, 1 (the régime borders) and 1.5
 PHASES = np.array([0.0, 0.3, 0.6, 1.0, 2.0]) * math.pi / 2
 
 
-# The killed subprocess below runs "slow-exact" (exact with a pause per chunk, so that it can be
-# killed mid-sweep); here the name is exact without the pause, so the restart is quick.
-register_vectorized("slow-exact", exact_W_hat)
+
+def grid_method(name, func):
+    """A registry entry with a grid form (closed form, so sweeps run it whole-chunk)."""
+    return Method(name, CLOSED_FORM, "test method", "lcpfric.closed_form:ExactSolver",
+                  grid=func, seconds_per_point=1.2e-6)
+
+
+@pytest.fixture
+def slow_exact():
+    """The killed subprocess below runs "slow-exact" (exact with a pause per chunk, so that it
+    can be killed mid-sweep); here the name is exact without the pause, so the restart is
+    quick. Registered for the test only."""
+    register(grid_method("slow-exact", exact_W_hat))
+    yield
+    unregister("slow-exact")
 
 
 def test_dataset_layout_and_attrs():
@@ -84,12 +96,12 @@ def test_vectorized_registry_dispatch():
         calls.append(P1.size)
         return np.ones_like(P1)
 
-    VECTORIZED["fake"] = fake
+    register(grid_method("fake", fake))
     try:
         ds = sweep([0.0, 1.0], [0.0, 1.0, 2.0], [0.0], method="fake", chunk_size=4,
                    progress=False)
     finally:
-        del VECTORIZED["fake"]
+        unregister("fake")
     assert calls == [4, 2]  # whole chunks, never point by point
     np.testing.assert_array_equal(ds["W_hat"].sel(Q1=0.0), 0.0)  # the Q̂1 = 0 limit is enforced
     np.testing.assert_array_equal(ds["W_hat"].sel(Q1=[1.0, 2.0]), 1.0)
@@ -208,7 +220,7 @@ def test_store_rejects_another_sweep_and_recovers_from_bad_chunks(tmp_path):
     assert not list(store.glob(".*.tmp"))
 
 
-def test_resume_after_killed_process(tmp_path):
+def test_resume_after_killed_process(tmp_path, slow_exact):
     """A sweep process killed with SIGKILL mid-run: the restart computes only what is missing."""
     P = np.linspace(0.0, 4.0, 9)
     store = tmp_path / "store"
@@ -217,11 +229,13 @@ def test_resume_after_killed_process(tmp_path):
         import numpy as np
         sys.path.insert(0, {str(ROOT)!r})
         from lcpfric.exact import exact_W_hat
-        from lcpfric.analysis.sweep import register_vectorized, sweep
+        from lcpfric.analysis.sweep import sweep
+        from lcpfric.methods import CLOSED_FORM, Method, register
         def slow(P1, Q1, phi):
             time.sleep(0.05)
             return exact_W_hat(P1, Q1, phi)
-        register_vectorized("slow-exact", slow)
+        register(Method("slow-exact", CLOSED_FORM, "test", "lcpfric.closed_form:ExactSolver",
+                        grid=slow, seconds_per_point=1.2e-6))
         P = np.linspace(0.0, 4.0, 9)
         sweep(P, P, {PHASES.tolist()!r}, method="slow-exact", chunk_size=9, store={str(store)!r},
               processes=1, progress=False)

@@ -9,9 +9,7 @@ of repeats, measured in the same run for all methods. Writes ``compare.csv``, ``
 
 from __future__ import annotations
 
-import argparse
 import csv
-import json
 import math
 import os
 import statistics
@@ -20,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["CASES", "Case", "run_comparison", "convergence_order", "register_cli"]
+__all__ = ["CASES", "Case", "run_comparison", "convergence_order"]
 
 
 @dataclass(frozen=True)
@@ -82,6 +80,13 @@ FULL_STEPS = (50, 100, 200, 500, 1000, 2000, 5000, 10000, 20000, 50000, 100000)
 QUICK_STEPS = (50, 200, 1000, 5000, 20000)
 
 
+def _closed_form(method: str) -> bool:
+    """Whether the registry lists ``method`` as a closed form (timed once, no step counts)."""
+    from ..methods import CLOSED_FORM, get_method
+
+    return get_method(method)[0].kind == CLOSED_FORM
+
+
 def default_methods() -> list[str]:
     from ..methods import available_methods
 
@@ -113,24 +118,25 @@ def run_comparison(cases=CASES, methods=None, steps=FULL_STEPS, *, budget: float
         ref = case.exact()
         model = case.model()
         for method in methods:
-            run_steps = (0,) if method == "exact" else steps
+            closed = _closed_form(method)
+            run_steps = (0,) if closed else steps
             last, prev_n = 0.0, 1
             for n in run_steps:
-                if method != "exact" and last * n / max(prev_n, 1) > budget:
+                if not closed and last * n / max(prev_n, 1) > budget:
                     rows.append(dict(case=case.name, method=method, steps_per_cycle=n,
                                      rel_error="", seconds="", cycles="", steps="",
                                      W="", exact=ref, note="skipped: over time budget"))
                     continue
                 try:
-                    if method == "exact":
+                    if closed:
                         # what computes Ŵ exactly: lcpfric.exact_W_hat (steady_state(...,
                         # "exact") adds a time series of the cycle, ~0.3 ms at 2000 points)
                         val, sec = _time(case.exact, 200)
                         res = None
                     else:
-                        kw = {} if method == "exact" else dict(placement=placement)
-                        res, sec = _time(lambda: steady_state(model, method, n or 2000, **kw),
-                                         repeats if method == "exact" or last < 2.0 else 1)
+                        res, sec = _time(lambda: steady_state(model, method, n or 2000,
+                                                              placement=placement),
+                                         repeats if last < 2.0 else 1)
                         val = case.value(res)
                 except LcpfricError as exc:
                     rows.append(dict(case=case.name, method=method, steps_per_cycle=n,
@@ -142,7 +148,7 @@ def run_comparison(cases=CASES, methods=None, steps=FULL_STEPS, *, budget: float
                 rows.append(dict(case=case.name, method=method, steps_per_cycle=n,
                                  rel_error=err, seconds=sec,
                                  cycles=1 if res is None else res.cycles,
-                                 steps=0 if res is None else res.steps_per_cycle,
+                                 steps=0 if res is None else res.steps_used,
                                  W=val, exact=ref, note=""))
                 log(f"{case.name:15s} {method:22s} {n:7d}  err {err:9.2e}  {sec:9.4f} s")
                 last, prev_n = sec, max(n, 1)
@@ -180,6 +186,7 @@ def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
         w.writeheader()
         w.writerows(rows)
     methods = list(dict.fromkeys(r["method"] for r in rows))
+    closed = {m for m in methods if _closed_form(m)}
     headline = {"orders": {}, "time_to_1e-6": {}, "exact": {}}
     lines = [f"Reproduce: `{command}`" if command else "", "",
              "## Time to reach a relative error of 1e-6 (s; steps per cycle)", "",
@@ -188,8 +195,8 @@ def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
     for m in methods:
         cells = []
         for c in cases:
-            t = time_to_reach(rows, c.name, m, 1e-6 if m != "exact" else 1e-10)
-            cells.append("-" if t is None else (f"{t[0]:.2e}" + ("" if m == "exact"
+            t = time_to_reach(rows, c.name, m, 1e-10 if m in closed else 1e-6)
+            cells.append("-" if t is None else (f"{t[0]:.2e}" + ("" if m in closed
                                                                   else f" ({t[1]})")))
             headline["time_to_1e-6"].setdefault(m, {})[c.name] = None if t is None else t[0]
         lines.append(f"| {m} | " + " | ".join(cells) + " |")
@@ -212,7 +219,7 @@ def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
               "| method | " + " | ".join(c.name for c in cases) + " |",
               "|---|" + "---|" * len(cases)]
     for m in methods:
-        if m == "exact":
+        if m in closed:
             continue
         cells = []
         for c in cases:
@@ -223,7 +230,7 @@ def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
     lines += ["", "## Relative error of Ŵ (W for multi-node) against the exact solution", ""]
     for c in cases:
         sub = [r for r in rows if r["case"] == c.name]
-        steps = sorted({r["steps_per_cycle"] for r in sub if r["method"] != "exact"})
+        steps = sorted({r["steps_per_cycle"] for r in sub if r["method"] not in closed})
         lines += [f"### {c.label()}", "", "| method | " + " | ".join(str(s) for s in steps)
                   + " |", "|---|" + "---|" * len(steps)]
         for m in methods:
@@ -232,7 +239,7 @@ def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
                 hit = [r for r in sub if r["method"] == m and r["steps_per_cycle"] == s]
                 cells.append(f"{hit[0]['rel_error']:.1e}" if hit and hit[0]["rel_error"] != ""
                              else "")
-            if m == "exact":
+            if m in closed:
                 hit = [r for r in sub if r["method"] == m]
                 cells = [f"{hit[0]['rel_error']:.1e}" if hit and hit[0]["rel_error"] != ""
                          else ""] + [""] * (len(steps) - 1)
@@ -243,18 +250,22 @@ def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
         lines.append("")
     with open(os.path.join(out_dir, "compare.md"), "w") as fh:
         fh.write("\n".join(lines))
-    _plot(rows, cases, methods, os.path.join(out_dir, "compare.png"))
+    files = ["compare.csv", "compare.md"]
+    if _plot(rows, cases, methods, closed, os.path.join(out_dir, "compare.png")):
+        files.append("compare.png")
+    headline["files"] = files
     return headline
 
 
-def _plot(rows, cases, methods, path):
+def _plot(rows, cases, methods, closed, path) -> bool:
+    """Draw compare.png; False (and nothing written) without matplotlib."""
     try:
         import matplotlib
 
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
-        return
+        return False
     ncol = 4
     nrow = math.ceil(len(cases) / ncol)
     fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.6 * nrow), squeeze=False)
@@ -266,7 +277,7 @@ def _plot(rows, cases, methods, path):
             if not pts:
                 continue
             x, y = zip(*pts)
-            style = (dict(marker="*", ms=12, ls="none") if m == "exact" else
+            style = (dict(marker="*", ms=12, ls="none") if m in closed else
                      dict(marker=".", ls="--" if ":" in m else "-"))
             ax.loglog(x, y, label=m, color=colors[i % len(colors)], **style)
         ax.axhline(1e-6, color="0.6", lw=0.8, ls="--")
@@ -281,6 +292,7 @@ def _plot(rows, cases, methods, path):
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
+    return True
 
 
 def read_rows(path: str) -> list[dict]:
@@ -294,78 +306,3 @@ def read_rows(path: str) -> list[dict]:
                 r[key] = float(r[key]) if r[key] != "" else ""
             rows.append(r)
     return rows
-
-
-def main(argv=None) -> int:
-    p = argparse.ArgumentParser(prog="lcpfric bench", description=__doc__.splitlines()[0])
-    _add_options(p)
-    return _run(p.parse_args(argv))
-
-
-def _add_options(p):
-    p.add_argument("--quick", action="store_true", help="reduced set, under 3 minutes")
-    p.add_argument("--out", default="bench-out", help="output directory")
-    p.add_argument("--methods", default=None, help="comma-separated methods (default: all "
-                                                   "installed)")
-    p.add_argument("--cases", default=None, help="comma-separated case names")
-    p.add_argument("--budget", type=float, default=None, help="seconds per run before a "
-                                                              "method stops refining")
-    p.add_argument("--steps", default=None, help="comma-separated steps per cycle (default: "
-                                                 "50 to 1e5, or the --quick set)")
-    p.add_argument("--placement", default="contact", choices=("contact", "uniform"))
-    p.add_argument("--json", action="store_true", help="print the headline numbers as JSON last")
-
-
-def _run(args) -> int:
-    from ..errors import InputError
-
-    cases = CASES
-    if args.cases:
-        names = [s.strip() for s in args.cases.split(",")]
-        unknown = set(names) - {c.name for c in CASES}
-        if unknown:
-            raise InputError("--cases", f"unknown {sorted(unknown)}; choose from "
-                                        f"{[c.name for c in CASES]}")
-        cases = tuple(c for c in CASES if c.name in names)
-    methods = [s.strip() for s in args.methods.split(",")] if args.methods else None
-    if methods:
-        from ..methods import get_stepper
-
-        for m in methods:
-            if m != "exact":
-                get_stepper(m)  # raises InputError / SolverNotFound for a bad name
-    steps = QUICK_STEPS if args.quick else FULL_STEPS
-    if args.steps:
-        try:
-            steps = tuple(int(x) for x in args.steps.split(","))
-        except ValueError:
-            raise InputError("--steps", f"expected comma-separated integers, got {args.steps!r}")
-        if min(steps) < 4:
-            raise InputError("--steps", "every entry must be >= 4")
-    budget = args.budget if args.budget is not None else (1.0 if args.quick else 20.0)
-    if methods is None and args.quick:
-        methods = [m for m in default_methods()
-                   if not m.startswith(("qpsolvers:", "cvxpy:"))
-                   or m in ("qpsolvers:proxqp", "cvxpy:CLARABEL", "cvxpy:OSQP")]
-    t0 = time.perf_counter()
-    rows = run_comparison(cases, methods, steps, budget=budget,
-                          repeats=1 if args.quick else 3, placement=args.placement)
-    cmd = "python benchmarks/compare_backends.py" + (" --quick" if args.quick else "") + \
-        (f" --cases {args.cases}" if args.cases else "") + \
-        (f" --methods {args.methods}" if args.methods else "") + \
-        (f" --steps {args.steps}" if args.steps else "") + \
-        (f" --budget {args.budget:g}" if args.budget is not None else "") + f" --out {args.out}" + (f" --placement {args.placement}" if args.placement != "contact"
-                                else "")
-    headline = write_outputs(rows, args.out, cases, cmd)
-    headline["seconds"] = time.perf_counter() - t0
-    print(f"wrote {args.out}/compare.csv, compare.md, compare.png in "
-          f"{headline['seconds']:.0f} s")
-    if args.json:
-        print(json.dumps(headline))
-    return 0
-
-
-def register_cli(subparsers):
-    p = subparsers.add_parser("bench", help="error against run time for every method")
-    _add_options(p)
-    p.set_defaults(func=_run)

@@ -10,6 +10,7 @@ chunks not yet started are cancelled and the exception propagates: the finished 
 from __future__ import annotations
 
 import os
+import re
 import signal
 import warnings
 from typing import Callable
@@ -18,6 +19,9 @@ from .._optional import require
 from ..errors import InputError
 
 __all__ = ["run_serial", "run_processes", "run_dask", "default_workers"]
+
+#: a scheduler address: [tcp://|tls://|inproc://]host:port
+_ADDRESS = re.compile(r"^(?:(?:tcp|tls|ucx)://)?\[?[A-Za-z0-9_.:-]+\]?:\d{1,5}$|^inproc://\S+$")
 
 
 def default_workers() -> int:
@@ -92,14 +96,14 @@ def connect(scheduler):
     Client = require("dask.distributed", "dist", "Dask distributed sweeps").Client
     if isinstance(scheduler, Client):
         return scheduler, False
-    if not isinstance(scheduler, str) or not scheduler.strip():
+    if not isinstance(scheduler, str) or not _ADDRESS.match(scheduler.strip()):
         raise InputError("scheduler", "must be a dask.distributed.Client or a scheduler address "
                                       f"such as tcp://10.0.0.5:8786, got {scheduler!r}")
     try:
         return Client(scheduler.strip(), timeout="20s"), True
-    except (OSError, TimeoutError) as exc:
+    except Exception as exc:  # OSError, TimeoutError, and whatever a non-Dask peer provokes
         raise InputError("scheduler", f"cannot connect to the Dask scheduler at {scheduler!r}: "
-                                      f"{exc}") from exc
+                                      f"{type(exc).__name__}: {exc}") from exc
 
 
 def run_dask(tasks: dict, compute: Callable, on_result: Callable, scheduler) -> str:

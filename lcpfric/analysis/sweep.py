@@ -5,9 +5,10 @@ with coordinates ``phi`` (radians), ``P1``, ``Q1`` and the variable ``W_hat``.
 
 How the work is done
 --------------------
-* **Vectorized.** A method registered in :data:`VECTORIZED` evaluates a whole chunk of points in
-  one call (``exact`` is a few numpy passes over all points: 112 211 points in ~0.1 s). Any other
-  method name goes point by point through :func:`lcpfric.steady_state` (slow; for checking).
+* **Vectorized.** A method whose registry entry has a grid form (:mod:`lcpfric.methods`)
+  evaluates a whole chunk of points in one call (``exact`` is a few numpy passes over all points:
+  112 211 points in ~0.1 s; ``projection`` is batched over the points). Any other method goes
+  point by point through :func:`lcpfric.steady_state` (slow; for checking).
 * **Chunks.** The grid is cut into chunks of ``chunk_size`` points (flat, C order over
   ``(phi, P1, Q1)``). A chunk is the unit of parallel work, of progress and of saving. The
   default size depends only on the grid and the method, so a sweep resumes on any machine.
@@ -31,71 +32,37 @@ import math
 import os
 import sys
 import time
-from contextlib import contextmanager
 from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
-from .. import _checks
+from .. import _checks, memory
 from .chunkstore import ChunkStore, fingerprint, temp_path
 from .._optional import require
+from ..methods import CLOSED_FORM, get_stepper, grid_function
 from .runners import default_workers, run_dask, run_processes, run_serial
 from ..errors import InputError, LcpfricError
 
-__all__ = ["sweep", "VECTORIZED", "register_vectorized", "per_point_W_hat", "parse_grid",
-           "parse_phi_list", "write_dataset", "netcdf_engine", "register_cli", "map_command",
-           "option_names"]
+__all__ = ["sweep", "per_point_W_hat", "parse_grid", "parse_phi_list", "write_dataset",
+           "netcdf_engine"]
 
 DIMS = ("phi", "P1", "Q1")
 
-#: Methods that evaluate a whole chunk in one call: ``func(P1, Q1, phi, **options) -> W_hat``
-#: on flat arrays of equal length. Names not listed here run point by point via steady_state.
-VECTORIZED: dict[str, Callable] = {}
-
-#: Estimated seconds per grid point, used to size chunks and to decide whether a process pool
-#: pays. Other methods cost about ``steps_per_cycle`` times a per-step cost: batched (vectorized)
-#: steppers much less than per-point ones.
-_SECONDS_PER_POINT = {"exact": 1.2e-6}
-_PER_POINT_STEP_SECONDS = 3e-6  # explicit stepper: ~3 cycles of 2000 steps in ~6 ms
-_BATCHED_STEP_SECONDS = 3e-7    # batch.projection_W_hat: 10^4 points x 1000 steps in ~3 s
-_DEFAULT_STEPS = 2000           # steady_state's default
+# Sizing of the chunks (the methods' own cost estimates are in the registry, lcpfric.methods)
+_DEFAULT_STEPS = 2000    # steady_state's default
 _CHUNK_SECONDS = 2.0     # a chunk this long is worth saving on its own, and short enough to lose
 _PARALLEL_SECONDS = 3.0  # starting worker processes costs ~0.1-0.3 s; below this, stay serial
 _MIN_CHUNKS = 64         # when parallel work pays: enough chunks to balance many workers
 _MIN_BATCH = 4096        # points per chunk of a batched stepper (its per-step overhead is fixed)
 
 
-def register_vectorized(name: str, func: Callable, seconds_per_point: float | None = None):
-    """Register ``func(P1, Q1, phi, **options) -> W_hat`` (flat arrays) as sweep method ``name``.
-
-    ``func`` must be importable by name (defined at module level) to run in worker processes.
-    """
-    VECTORIZED[name] = func
-    if seconds_per_point is not None:
-        _SECONDS_PER_POINT[name] = float(seconds_per_point)
-
-
-def _exact(P1, Q1, phi):
-    from ..exact import exact_W_hat
-
-    return exact_W_hat(P1, Q1, phi)
-
-
-register_vectorized("exact", _exact)
-
-
-def _vectorized(method: str) -> Callable | None:
-    """The vectorized function of ``method``, loading the batched projection when it exists."""
-    if method == "projection" and method not in VECTORIZED:
-        try:
-            from ..batch import projection_W_hat
-        except ModuleNotFoundError as exc:  # not written yet: point by point
-            if exc.name != f"{__package__}.batch":
-                raise
-            return None
-        register_vectorized("projection", projection_W_hat)
-    return VECTORIZED.get(method)
+def _cost(entry, batched: bool, steps: int) -> float:
+    """Estimated seconds per grid point of ``entry`` (a registry :class:`Method`)."""
+    if entry.seconds_per_point is not None:
+        return entry.seconds_per_point
+    per_step = entry.seconds_per_point_step or 3e-6
+    return per_step * steps
 
 
 def per_point_W_hat(P1, Q1, phi, *, method: str, **options):
@@ -167,11 +134,12 @@ def parse_phi_list(text: str) -> np.ndarray:
     return parse_grid(text, "phi", angle=True)
 
 
-def _options(method: str, steps_per_cycle) -> dict:
-    if method == "exact":
+def _options(entry, steps_per_cycle) -> dict:
+    if entry.kind == CLOSED_FORM:
         if steps_per_cycle is not None:
-            raise InputError("steps_per_cycle", "is not used by method 'exact' (it has no time "
-                                                "steps); leave it unset or choose another method")
+            raise InputError("steps_per_cycle", f"is not used by method {entry.name!r} (it has "
+                                                f"no time steps); leave it unset or choose "
+                                                f"another method")
         return {}
     if steps_per_cycle is None:
         return {}
@@ -179,16 +147,17 @@ def _options(method: str, steps_per_cycle) -> dict:
                                                     minimum=4)}
 
 
-def _check_method(method) -> str:
+def _check_method(method):
+    """``(name, function, entry)``: the method's grid function (None: point by point) and its
+    registry entry; an unknown name or a missing extra fails here, not in a worker."""
     if not isinstance(method, str) or not method.strip():
         raise InputError("method", f"must be a method name such as 'exact' or 'projection', "
                                    f"got {method!r}")
     method = method.strip()
-    if _vectorized(method) is None:
-        from ..methods import get_stepper
-
-        get_stepper(method)  # unknown name or missing extra: fail here, not in a worker
-    return method
+    func, entry = grid_function(method)
+    if func is None:
+        get_stepper(method)
+    return method, func, entry
 
 
 def _chunking(n: int, chunk_size, cost: float, batched: bool) -> list[tuple[int, int]]:
@@ -206,6 +175,24 @@ def _chunking(n: int, chunk_size, cost: float, batched: bool) -> list[tuple[int,
 
 
 # -- output ----------------------------------------------------------------------------------------
+def _output(out) -> Path:
+    """Check the NetCDF output path before any work: a ``.nc`` file (not a directory) in an
+    existing directory."""
+    if not isinstance(out, (str, os.PathLike)) or not str(out).strip():
+        raise InputError("out", f"must be a file path ending in .nc, got {out!r}")
+    out = Path(out)
+    if out.suffix == ".zarr":
+        raise InputError("out", "Zarr output is not supported; write NetCDF (e.g. map.nc)")
+    if out.suffix != ".nc":
+        raise InputError("out", f"must end in .nc (the map is written as NetCDF-4), got "
+                                f"{str(out)!r}")
+    if out.is_dir():
+        raise InputError("out", f"{str(out)!r} is a directory; give a file path ending in .nc")
+    if not out.parent.is_dir():
+        raise InputError("out", f"the directory {str(out.parent)!r} does not exist")
+    return out
+
+
 def _xarray():
     return require("xarray", "dist", "Sweeps (xarray datasets)")
 
@@ -303,9 +290,9 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
     phi : array_like
         Phases φ in radians (1-D, or a scalar).
     method : str
-        ``"exact"`` (default: exact to round-off and the fastest), any method registered with
-        :func:`register_vectorized`, or any :func:`lcpfric.steady_state` method (run point by
-        point, for checking the steppers).
+        ``"exact"`` (default: exact to round-off and the fastest), or any
+        :func:`lcpfric.steady_state` method: vectorized over the points where its registry
+        entry has a grid form (``projection``), else point by point (for checking).
     steps_per_cycle : int, optional
         Steps per cycle of a time-stepping method (not used by ``exact``).
     chunk_size : int, optional
@@ -348,25 +335,24 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
     P1 = _axis("P1", P1, nonneg=True)
     Q1 = _axis("Q1", Q1, nonneg=True)
     phi = _axis("phi", phi, nonneg=False)
-    method = _check_method(method)
-    options = _options(method, steps_per_cycle)
+    method, func, entry = _check_method(method)
+    options = _options(entry, steps_per_cycle)
     if processes is not None:
         processes = _checks.positive_int("processes", processes)
-    out = None if out is None else Path(out)
-    if out is not None and not out.parent.is_dir():
-        raise InputError("out", f"the directory {str(out.parent)!r} does not exist")
-    if out is not None and out.suffix == ".zarr":
-        raise InputError("out", "Zarr output is not supported; write NetCDF (e.g. map.nc)")
+    out = None if out is None else _output(out)
     _xarray()  # fail before any work if the dist extra is missing
     t0 = time.perf_counter()
 
     n = phi.size * P1.size * Q1.size
     steps = options.get("steps_per_cycle", _DEFAULT_STEPS)
-    batched = method != "exact" and _vectorized(method) is not None
-    per_step = _BATCHED_STEP_SECONDS if batched else _PER_POINT_STEP_SECONDS
-    cost = _SECONDS_PER_POINT.get(method, per_step * steps)
+    batched = func is not None and entry.kind != CLOSED_FORM
+    cost = _cost(entry, batched, steps)
     workers = processes or default_workers()
     chunks = _chunking(n, chunk_size, cost, batched)
+    largest = max(b - a for a, b in chunks)
+    memory.check(memory.map_bytes(n, P1.size + Q1.size + phi.size, method, steps, largest,
+                                  1 if scheduler is not None else workers),
+                 "P1", f"a map of {n} points ({phi.size} x {P1.size} x {Q1.size})")
     digest = hashlib.sha256(b"".join(a.tobytes() for a in (phi, P1, Q1))).hexdigest()[:16]
     description = {"dims": list(DIMS), "shape": [phi.size, P1.size, Q1.size],
                    "coords_sha256": digest, "method": method,
@@ -394,7 +380,6 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
 
     values = np.empty(n)
     tasks = {}
-    func = _vectorized(method)
     if func is None:
         func, options = per_point_W_hat, {"method": method, **options}
     for index, (a, b) in enumerate(chunks):
@@ -433,93 +418,3 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
         if chunk_store is not None and store == out.with_name(out.name + ".parts"):
             chunk_store.remove()  # everything is in ``out`` now
     return ds
-
-
-# -- command line ----------------------------------------------------------------------------------
-def register_cli(subparsers) -> None:
-    """Add ``lcpfric map`` to an argparse ``subparsers`` object."""
-    p = subparsers.add_parser(
-        "map", help="compute a dissipation map W_hat(phi, P1, Q1) and write it to NetCDF",
-        description="Compute W_hat on the grid phi x P1 x Q1 and write it to NetCDF. Finished "
-                    "chunks are saved next to the output (<out>.parts) and an interrupted run "
-                    "resumes when the same command is run again.")
-    p.add_argument("--P1", required=True, metavar="START:STOP:NUM",
-                   help="normal amplitudes P1/P0: START:STOP:NUM or a comma-separated list")
-    p.add_argument("--Q1", required=True, metavar="START:STOP:NUM",
-                   help="tangential amplitudes Q1/(f P0): START:STOP:NUM or a list")
-    p.add_argument("--phi", required=True, metavar="LIST",
-                   help="phases: comma-separated radians or multiples of pi (0,0.6pi,pi/2), "
-                        "or START:STOP:NUM (0:pi:11)")
-    p.add_argument("--out", required=True, metavar="FILE.nc", help="output NetCDF file")
-    p.add_argument("--method", default="exact", help="method (default: exact)")
-    p.add_argument("--steps", type=int, default=None, metavar="N",
-                   help="steps per cycle for time-stepping methods")
-    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                   help="Dask scheduler address (tcp://host:8786); default: local processes")
-    p.add_argument("--processes", type=int, default=None, metavar="N",
-                   help="local worker processes (default: all cores when it pays)")
-    p.add_argument("--chunk-size", type=int, default=None, metavar="N",
-                   help="grid points per saved chunk")
-    p.add_argument("--restart", action="store_true",
-                   help="discard the saved chunks of an earlier run and start again")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.add_argument("--json", action="store_true", help="print the summary as JSON")
-    p.set_defaults(func=map_command)
-
-
-@contextmanager
-def option_names(names: dict):
-    """Re-raise an :class:`InputError` about a parameter under its command-line option name."""
-    try:
-        yield
-    except InputError as exc:
-        if exc.parameter in names:
-            message = str(exc).split(": ", 1)[1]
-            raise InputError(names[exc.parameter], message) from None
-        raise
-
-
-_MAP_OPTIONS = {"steps_per_cycle": "--steps", "chunk_size": "--chunk-size", "out": "--out",
-                "processes": "--processes", "scheduler": "--scheduler", "method": "--method",
-                "store": "--out", "phi": "--phi"}
-
-
-def map_command(args) -> int:
-    """Handler of ``lcpfric map``."""
-    P1 = parse_grid(args.P1, "--P1")
-    Q1 = parse_grid(args.Q1, "--Q1")
-    phi = parse_grid(args.phi, "--phi", angle=True)
-    out = Path(args.out)
-    try:
-        with option_names(_MAP_OPTIONS):
-            ds = sweep(P1, Q1, phi, method=args.method, steps_per_cycle=args.steps,
-                       chunk_size=args.chunk_size, out=out, resume=not args.restart,
-                       scheduler=args.scheduler, processes=args.processes,
-                       progress=not args.no_progress)
-    except KeyboardInterrupt:
-        parts = out.with_name(out.name + ".parts")
-        saved = len(list(parts.glob("chunk-*.npy"))) if parts.is_dir() else 0
-        print(f"interrupted: {saved} finished chunks are saved in {parts}; run the same "
-              "command again to resume", file=sys.stderr)
-        return 130
-    W = ds.W_hat
-    where = W.argmax(...)
-    summary = {
-        "out": str(out), "method": ds.attrs["method"],
-        "shape": {d: int(ds.sizes[d]) for d in DIMS}, "points": int(W.size),
-        "seconds": round(float(ds.attrs["seconds"]), 4), "executor": ds.attrs["executor"],
-        "chunks_computed": int(ds.attrs["chunks_computed"]),
-        "chunks_reused": int(ds.attrs["chunks_reused"]),
-        "W_hat_max": float(W.max()),
-        "at": {d: float(ds[d][where[d]]) for d in DIMS},
-    }
-    if args.json:
-        print(json.dumps(summary))
-    else:
-        at = ", ".join(f"{d}={v:.4g}" for d, v in summary["at"].items())
-        print(f"wrote {out}: W_hat on {W.size} points (phi x P1 x Q1 = "
-              f"{' x '.join(str(v) for v in summary['shape'].values())}) by {summary['method']} "
-              f"in {summary['seconds']:.3g} s [{summary['executor']}; "
-              f"{summary['chunks_reused']} of {ds.attrs['chunks']} "
-              f"chunks reused]; max W_hat = {summary['W_hat_max']:.6g} at {at}")
-    return 0

@@ -1,6 +1,6 @@
 """Clarabel through its direct API (``method="clarabel"``; d = 1 and d = 2).
 
-Each contact set's problem (P) (see :mod:`lcpfric.backends._problem`) is built once, when the
+Each contact set's problem (P) (see :mod:`lcpfric.backends.problem`) is built once, when the
 scene is initialised: ``P = C_AA`` (upper triangle), and the cone as Clarabel's ``A x + s = b,
 s ∈ K`` with
 
@@ -18,8 +18,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError, SolverError
-from ._problem import (INACCURATE, INFEASIBLE, MAX_ITER, NUMERICAL, SOLVED, TIME_LIMIT, UNKNOWN,
-                       ConvexStepper, IncrementProblem, triu_csc)
+from .base import ConvexStepper
+from .problem import IncrementProblem, triu_csc
+from .status import INACCURATE, INFEASIBLE, MAX_ITER, NUMERICAL, SOLVED, TIME_LIMIT, UNKNOWN
 
 __all__ = ["ClarabelStepper", "STATUS_MAP"]
 
@@ -45,7 +46,7 @@ class ClarabelStepper(ConvexStepper):
 
     ``**settings`` are attributes of ``clarabel.DefaultSettings`` (``max_iter``,
     ``tol_gap_abs``, ...) and override lcpfric's tight defaults; ``refine``, ``check_tol`` and
-    ``active_tol`` are those of :class:`~lcpfric.backends._problem.ConvexStepper`.
+    ``active_tol`` are those of :class:`~lcpfric.backends.ConvexStepper`.
     """
 
     name = "clarabel"
@@ -73,7 +74,7 @@ class ClarabelStepper(ConvexStepper):
         settings.presolve_enable = False
         return settings
 
-    def build(self, prob: IncrementProblem):
+    def build(self, prob: IncrementProblem, settings: dict):
         import scipy.sparse as sp
 
         cl = self._clarabel

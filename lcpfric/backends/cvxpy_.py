@@ -1,6 +1,6 @@
 """cvxpy: one DPP-parametrized problem per contact set (``method="cvxpy:<SOLVER>"``).
 
-Problem (P) of each contact set (see :mod:`lcpfric.backends._problem`) is written once with the
+Problem (P) of each contact set (see :mod:`lcpfric.backends.problem`) is written once with the
 step's data as cvxpy ``Parameter`` objects,
 
     minimize ½ Fᵀ C_AA F + qᵀ F   subject to   |F_i| <= b_i  (d = 1)  or  ||F_i|| <= b_i  (d = 2),
@@ -16,8 +16,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError, SolverError, SolverNotFound
-from ._problem import (INACCURATE, INFEASIBLE, MAX_ITER, NUMERICAL, SOLVED, UNKNOWN, ConvexStepper,
-                       IncrementProblem, quiet)
+from .base import ConvexStepper, quiet
+from .problem import IncrementProblem
+from .status import INACCURATE, INFEASIBLE, MAX_ITER, NUMERICAL, SOLVED, UNKNOWN
 
 __all__ = ["CvxpyStepper", "installed_solvers", "STATUS_MAP"]
 
@@ -55,7 +56,7 @@ class CvxpyStepper(ConvexStepper):
     solver : str, optional
         A cvxpy solver name among :func:`installed_solvers` (default CLARABEL).
     refine, check_tol, active_tol
-        See :class:`~lcpfric.backends._problem.ConvexStepper`.
+        See :class:`~lcpfric.backends.ConvexStepper`.
     **settings
         Passed to ``Problem.solve`` (the solver's own settings), overriding lcpfric's tight
         defaults for that solver.
@@ -72,17 +73,14 @@ class CvxpyStepper(ConvexStepper):
             raise InputError("method", f"cvxpy solver {solver!r} is not offered for this "
                                        f"problem; choose from {', '.join(SOLVERS)}")
         if solver not in installed_solvers():
-            from ..methods import available_methods
-
-            raise SolverNotFound(f"cvxpy:{solver}", "cvxpy", available_methods())
-        self.settings_key = solver.lower()
+            raise SolverNotFound(f"cvxpy:{solver}", "cvxpy", package=solver.lower())
         super().__init__(**options)
         self.solver = solver
+        self.settings_key = solver.lower()
         self.can_soc = SOLVERS[solver]
-        self.label = f"cvxpy:{solver}"
         self._cp = cp
 
-    def build(self, prob: IncrementProblem):
+    def build(self, prob: IncrementProblem, settings: dict):
         cp = self._cp
         a = prob.size
         F = cp.Variable(a)
@@ -97,7 +95,7 @@ class CvxpyStepper(ConvexStepper):
         if not problem.is_dcp(dpp=True):  # pragma: no cover - a guard on the formulation
             raise SolverError("cvxpy: problem (P) is not DPP", backend=self.label,
                               status="not_dpp")
-        return problem, F, lin, bnd, self.settings_for(prob.dims)
+        return problem, F, lin, bnd, settings
 
     def bounds(self, prob: IncrementProblem, b: np.ndarray):
         return b

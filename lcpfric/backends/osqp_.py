@@ -1,6 +1,6 @@
 """OSQP, set up once and updated each step (``method="osqp"``; d = 1 only).
 
-Problem (P) of each contact set (see :mod:`lcpfric.backends._problem`) is handed to OSQP as
+Problem (P) of each contact set (see :mod:`lcpfric.backends.problem`) is handed to OSQP as
 ``min ½ Fᵀ C_AA F + qᵀ F`` subject to ``-fN <= I F <= fN``; each step calls
 ``OSQP.update(q=..., l=..., u=...)`` and ``solve()``, warm-started from the previous answer of the
 same contact set (OSQP's ``warm_starting``, on by default). OSQP expresses only boxes and
@@ -15,8 +15,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ._problem import (INACCURATE, INFEASIBLE, MAX_ITER, NUMERICAL, SOLVED, TIME_LIMIT, UNKNOWN,
-                       ConvexStepper, IncrementProblem, triu_csc)
+from .base import ConvexStepper
+from .problem import IncrementProblem, triu_csc
+from .status import INACCURATE, INFEASIBLE, MAX_ITER, NUMERICAL, SOLVED, TIME_LIMIT, UNKNOWN
 
 __all__ = ["OSQPStepper", "STATUS_MAP"]
 
@@ -41,7 +42,7 @@ class OSQPStepper(ConvexStepper):
 
     ``**settings`` are OSQP's own (``eps_abs``, ``max_iter``, ``rho``, ...) and override
     lcpfric's tight defaults; ``refine``, ``check_tol`` and ``active_tol`` are those of
-    :class:`~lcpfric.backends._problem.ConvexStepper`.
+    :class:`~lcpfric.backends.ConvexStepper`.
     """
 
     name = "osqp"
@@ -55,14 +56,14 @@ class OSQPStepper(ConvexStepper):
         self._osqp = osqp
         self._solved = osqp.SolverStatus.OSQP_SOLVED
 
-    def build(self, prob: IncrementProblem):
+    def build(self, prob: IncrementProblem, settings: dict):
         import scipy.sparse as sp
 
         a = prob.size
         solver = self._osqp.OSQP()
         try:
             solver.setup(triu_csc(prob.P), prob.q.copy(), sp.identity(a, format="csc"),
-                         -np.ones(a), np.ones(a), **self.settings)
+                         -np.ones(a), np.ones(a), **settings)
         except ValueError as exc:
             if "Unrecognized settings" in str(exc):
                 raise InputError("settings", f"OSQP does not know {exc}") from None

@@ -4,16 +4,17 @@ qpsolvers has no persistent problem object: each step builds a ``qpsolvers.Probl
 contact set's ``P = C_AA`` (prepared once, sparse or dense as the solver prefers), the step's
 ``q`` and the box ``lb = -fN``, ``ub = fN``, and calls ``solve_problem``, warm-started from the
 set's previous answer where the solver takes initial values. Success is judged by lcpfric's
-residual check (see :mod:`lcpfric.backends._problem`), not by ``Solution.found`` alone.
+residual check (see :mod:`lcpfric.backends.problem`), not by ``Solution.found`` alone.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError, SolverNotFound
-from ._problem import (INACCURATE, INFEASIBLE, MAX_ITER, NUMERICAL, SOLVED, TIME_LIMIT, UNKNOWN,
-                       ConvexStepper, IncrementProblem, quiet)
+from ..errors import InputError
+from .base import ConvexStepper, quiet
+from .problem import IncrementProblem
+from .status import INACCURATE, INFEASIBLE, MAX_ITER, NUMERICAL, SOLVED, TIME_LIMIT, UNKNOWN
 
 __all__ = ["QpsolversStepper", "installed_solvers"]
 
@@ -43,7 +44,7 @@ class QpsolversStepper(ConvexStepper):
     solver : str
         A name in ``qpsolvers.available_solvers`` (``"proxqp"``, ``"osqp"``, ...).
     refine, check_tol, active_tol
-        See :class:`~lcpfric.backends._problem.ConvexStepper`.
+        See :class:`~lcpfric.backends.ConvexStepper`.
     **settings
         Passed to ``qpsolvers.solve_problem`` (the solver's own settings), overriding
         lcpfric's tight defaults for that solver.
@@ -60,26 +61,24 @@ class QpsolversStepper(ConvexStepper):
                                        f"installed: {', '.join(installed_solvers())}")
         solver = solver.strip().lower()
         if solver not in qpsolvers.available_solvers:
-            from ..methods import available_methods
-
-            raise SolverNotFound(f"qpsolvers:{solver}", "qpsolvers", available_methods())
-        self.settings_key = solver
+            raise InputError("method", f"qpsolvers has no usable solver {solver!r} here; "
+                                       f"installed: {', '.join(installed_solvers())}")
         super().__init__(**options)
-        self.solver = solver
-        self.label = f"qpsolvers:{solver}"
+        self.solver = self.settings_key = solver
         self._qpsolvers = qpsolvers
         # C_AA is dense: a solver that takes dense matrices gets them as they are
         self._sparse = solver not in qpsolvers.dense_solvers
         self._warm = solver not in _NO_WARM_START
         # qpsolvers takes verbose as its own argument, not as a solver setting
-        self._verbose = bool(self.settings.pop("verbose", False))
+        self._verbose = bool(self.user_settings.pop("verbose", False))
 
-    def build(self, prob: IncrementProblem):
+    def build(self, prob: IncrementProblem, settings: dict):
         import scipy.sparse as sp
 
         P = sp.csc_matrix(prob.P) if self._sparse else (
             prob.P.toarray() if sp.issparse(prob.P) else np.asarray(prob.P))
-        return {"P": P, "x": None}
+        settings = {k: v for k, v in settings.items() if k != "verbose"}
+        return {"P": P, "x": None, "settings": settings}
 
     def solve(self, prob: IncrementProblem, q: np.ndarray, bdata):
         handle = prob.handle
@@ -87,7 +86,7 @@ class QpsolversStepper(ConvexStepper):
         problem = qp.Problem(handle["P"], q.copy(), lb=bdata[0], ub=bdata[1])
         sol = quiet(qp.solve_problem, problem, solver=self.solver,
                     initvals=handle["x"] if self._warm else None, verbose=self._verbose,
-                    **self.settings)
+                    **handle["settings"])
         ok = bool(sol.found) and sol.x is not None
         if ok:
             handle["x"] = sol.x

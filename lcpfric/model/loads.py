@@ -19,7 +19,6 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from scipy.optimize import brentq
 
 from .. import _checks
 from ..errors import InputError
@@ -81,6 +80,8 @@ class Load:
         t = np.linspace(t0, t1, n + 1)
         x = self(t)
         roots = []
+        from scipy.optimize import brentq  # here: importing lcpfric stays free of scipy
+
         for k in np.nonzero(np.signbit(x[:-1]) != np.signbit(x[1:]))[0]:
             a, b = t[k], t[k + 1]
             if x[k] == 0.0:

@@ -225,6 +225,19 @@ class SingleNode:
         """f P0 / k11: the unit in which the solvers advance the tangential displacement."""
         return self.f * self.P0 / self.k11
 
+    def normalization(self):
+        """The units of Eq. (6) (:class:`~lcpfric.results.Normalization`): W = f P0 Q1 / k11,
+        v = Q1 / k11, F = f P0, N = P0."""
+        from ..results import Normalization
+
+        return Normalization(W=self.force_unit * self.Q1 / self.k11, v=self.Q1 / self.k11,
+                             F=self.force_unit, N=self.P0)
+
+    def series(self, u, F, N):
+        """The model's time series (v, F, N) from the solvers' normalized ones (u in f P0/k11,
+        F in f P0, N in P0): v = (f P0 u - Q0) / k11, F = f P0 F, N = P0 N."""
+        return ((self.force_unit * u - self.Q0) / self.k11, self.force_unit * F, self.P0 * N)
+
     def system(self) -> ContactSystem:
         """The node as a general :class:`ContactSystem` in normalized units (K = 1, f = 1).
 

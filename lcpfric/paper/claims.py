@@ -11,7 +11,7 @@ located by a grid search refined with bounded scalar minimization (``xatol`` 1e-
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -19,7 +19,7 @@ from .. import _checks
 from ..exact import SEPARATION, exact_cycle, exact_W_hat
 
 __all__ = ["Claim", "paper_claims", "claims_markdown", "peak_phase", "separation_fraction",
-           "sqrt_law", "register_cli", "claims_command"]
+           "sqrt_law"]
 
 PI = math.pi
 
@@ -285,26 +285,3 @@ def _jsonable(x):
     if isinstance(x, (np.floating, np.integer)):
         return x.item()
     return x
-
-
-def register_cli(subparsers) -> None:
-    """Add ``lcpfric paper-claims`` to an argparse ``subparsers`` object."""
-    p = subparsers.add_parser("paper-claims", help="recompute the paper's quantitative claims",
-                              description="Recompute every checkable number of the paper and "
-                                          "print a markdown table (or JSON).")
-    p.add_argument("--quick", action="store_true", help="coarser grids (well under a second)")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=claims_command)
-
-
-def claims_command(args) -> int:
-    """Handler of ``lcpfric paper-claims``."""
-    import json
-
-    claims = paper_claims(quick=args.quick)
-    if args.json:
-        print(json.dumps([_jsonable(asdict(c)) for c in claims], indent=1,
-                         ensure_ascii=False))
-    else:
-        print(claims_markdown(claims))
-    return 0

@@ -1,253 +1,46 @@
-"""The paper's figures, drawn from data lcpfric computes (PNG and PDF).
+"""The paper's figures, drawn from data lcpfric computes (PNG and PDF), sized for print.
 
-* Fig. 3 (:func:`figure_maps`): Ŵ(P̂1, Q̂1) at φ = 0, with the line P̂1 = 1;
-* Fig. 4 (:func:`figure_maps`): Ŵ(P̂1, Q̂1) for φ = kπ/10, k = 1..10 (k = 10 repeats φ = 0);
+* Fig. 3 (:func:`figure_maps`): Ŵ(P̂1, Q̂1) at φ = 0, with the line P̂1 = 1 (one column wide);
+* Fig. 4 (:func:`figure_maps`): Ŵ(P̂1, Q̂1) for φ = kπ/10, k = 1..10 (k = 10 repeats φ = 0; one
+  page wide, one colour scale with bands finer at small Ŵ);
 * Fig. 5 (:func:`figure_phase`): Ŵ against φ for P̂1 = 0.5 and several Q̂1;
 * Fig. 6 (:func:`figure_phase`): Ŵ against φ for P̂1 = Q̂1 = 5;
 * Fig. 7 (:func:`figure_phase`): Ŵ against φ for P̂1 = 1.5 and several Q̂1;
-* Fig. 9 (:func:`figure_motor`): the motor of Section 3.3, W against speed for several f.
+* Fig. 9 (:func:`figure_motor`): the motor of Section 3.3, W against speed for several f
+  (logarithmic axes, so that the onset of slip and of separation show).
 
 Every map carries the exact shakedown boundary (the zero contour of
 :func:`~lcpfric.shakedown.shakedown_margin`, computed on a finer grid than the map). Figures are
 built as :class:`matplotlib.figure.Figure` objects without pyplot, so nothing here touches the
-user's matplotlib backend; files are written with the Agg renderer.
+user's matplotlib backend or global settings; files are written with the Agg renderer.
+
+Print rules (checked by the tests): every figure is at most :data:`PAGE_WIDTH` (7.2 in) wide, or
+:data:`COLUMN_WIDTH` (3.5 in) for the one-column Figs. 3, 5-7 and 9; no text is smaller than
+:data:`MIN_FONT_SIZE` (7 pt) at that size; curves differ in line style and marker as well as
+colour (greyscale prints); every mark has a legend entry. The returned figures save PDF and PS
+with TrueType (Type 42) fonts and raster formats at :data:`DPI` (300) dots per inch, whatever the
+caller's rcParams, because their ``savefig`` applies these settings locally.
 """
 
 from __future__ import annotations
 
-import json
-import math
 import time
 from pathlib import Path
 
-import numpy as np
-
-from .. import _checks
-from .._optional import require
 from ..errors import InputError
+from ..plotting import COLUMN_WIDTH, DPI, MIN_FONT_SIZE, PAGE_WIDTH  # noqa: F401
+from ..plotting import figure as _figure  # noqa: F401
+from ..plotting import save as _save
+from .curves import FIG5_Q1, FIG7_Q1, MOTOR, MOTOR_FRICTION, figure_motor, figure_phase
+from .maps import FIG4_PHASES, figure_maps, map_data
 
 __all__ = ["map_data", "figure_maps", "figure_phase", "figure_motor", "write_figures",
-           "FIG5_Q1", "FIG7_Q1", "MOTOR", "MOTOR_FRICTION", "register_cli", "figures_command"]
-
-PI = math.pi
-FIG4_PHASES = tuple(k * PI / 10 for k in range(1, 11))
-FIG5_Q1 = (1.0, 1.25, 1.5, 2.0, 3.0, 5.0, 10.0)
-FIG7_Q1 = (0.25, 0.5, 1.0, 2.0, 5.0, 10.0, 30.0)
-#: The motor drawn in Fig. 9 (SI units): a 20 kg rotor 0.5 mm out of balance, 2 kN bolt preload,
-#: joint stiffness 5e8 N/m (natural frequency sqrt(k11/M) = 5000 rad/s, well above the speeds).
-MOTOR = {"M": 20.0, "delta": 0.5e-3, "P0": 2000.0, "k11": 5e8}
-MOTOR_FRICTION = (0.1, 0.2, 0.3, 0.5, 0.8)
-_CMAP = "viridis"
-_BOUNDARY = {"colors": "#e8402a", "linewidths": 1.6}
-
-
-def _figure(**kwargs):
-    require("matplotlib", "plot", "Figures")
-    from matplotlib.figure import Figure
-
-    return Figure(**kwargs)
-
-
-def _phi_label(phi: float) -> str:
-    k = phi / PI
-    if abs(k) < 1e-12:
-        return "φ = 0"
-    return "φ = π" if abs(k - 1) < 1e-12 else f"φ = {k:.3g}π"
-
-
-def map_data(grid: int = 101, extent: float = 10.0, phases=None, **sweep_options):
-    """The maps of Figs. 3 and 4: Ŵ on ``grid x grid`` points of [0, extent]² at
-    ``phases`` (default φ = kπ/10, k = 0..10), as an ``xarray.Dataset`` from
-    :func:`lcpfric.sweep.sweep`."""
-    from ..analysis.sweep import sweep
-
-    grid = _checks.positive_int("grid", grid, minimum=3)
-    extent = _checks.positive("extent", extent)
-    axis = np.linspace(0.0, extent, grid)
-    phases = (0.0, *FIG4_PHASES) if phases is None else phases
-    sweep_options.setdefault("progress", False)
-    return sweep(axis, axis, phases, **sweep_options)
-
-
-def _draw_map(ax, W2d, P1, Q1, phi, levels, boundary_points: int = 401):
-    from ..analysis.shakedown import shakedown_margin
-
-    filled = ax.contourf(P1, Q1, W2d.T, levels=levels, cmap=_CMAP)
-    lines = ax.contour(P1, Q1, W2d.T, levels=levels[::2][1:], colors="white", linewidths=0.5,
-                       alpha=0.7)
-    ax.clabel(lines, fmt="%.3g", fontsize=6)
-    p = np.linspace(P1.min(), P1.max(), boundary_points)
-    q = np.linspace(Q1.min(), Q1.max(), boundary_points)
-    margin = shakedown_margin(p[:, None], q[None, :], phi)
-    if margin.min() < 0 < margin.max():
-        ax.contour(p, q, margin.T, levels=[0.0], **_BOUNDARY)
-    if P1.min() < 1.0 < P1.max():
-        ax.axvline(1.0, color="black", linestyle="--", linewidth=1.0)
-    ax.set_xlim(P1.min(), P1.max())
-    ax.set_ylim(Q1.min(), Q1.max())
-    ax.set_title(_phi_label(phi), fontsize=10)
-    return filled
-
-
-def figure_maps(ds, phases=(0.0,), ncols: int = 5, title: str | None = None):
-    """Contour maps of ``ds.W_hat`` at the phases nearest to ``phases``, on one colour scale.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A dataset from :func:`lcpfric.sweep.sweep` (coordinates ``phi``, ``P1``, ``Q1``).
-    phases : sequence of float
-        Phases to draw (radians), one panel each.
-    ncols : int
-        Panels per row.
-    title : str, optional
-        Figure title.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    from matplotlib.lines import Line2D
-    from matplotlib.ticker import MaxNLocator
-
-    phases = [float(p) for p in np.atleast_1d(phases)]
-    ncols = min(_checks.positive_int("ncols", ncols), len(phases))
-    nrows = math.ceil(len(phases) / ncols)
-    single = len(phases) == 1
-    fig = _figure(figsize=(6.4, 5.2) if single else (3.1 * ncols + 1.2, 3.0 * nrows + 0.9),
-                  layout="constrained")
-    axes = np.atleast_1d(fig.subplots(nrows, ncols, sharex=True, sharey=True, squeeze=False))
-    P1, Q1 = ds["P1"].values, ds["Q1"].values
-    panels = [ds["W_hat"].sel(phi=p, method="nearest") for p in phases]
-    top = max(float(w.max()) for w in panels)
-    levels = MaxNLocator(nbins=16).tick_values(0.0, top if top > 0 else 1.0)
-    filled = None
-    for ax, w in zip(axes.flat, panels):
-        filled = _draw_map(ax, w.transpose("P1", "Q1").values, P1, Q1, float(w["phi"]), levels)
-    for ax in axes.flat[len(panels):]:
-        ax.set_visible(False)
-    for ax in axes[-1, :]:
-        ax.set_xlabel(r"$\hat P_1$")
-    for ax in axes[:, 0]:
-        ax.set_ylabel(r"$\hat Q_1$")
-    fig.colorbar(filled, ax=axes, label=r"$\hat W = k_{11} W / (f P_0 Q_1)$", shrink=0.9)
-    handles = [Line2D([], [], color=_BOUNDARY["colors"], lw=1.6, label="shakedown boundary"),
-               Line2D([], [], color="black", ls="--", lw=1.0, label=r"$\hat P_1 = 1$")]
-    if single:
-        axes[0, 0].legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.85)
-    else:
-        fig.legend(handles=handles, loc="outside lower center", ncols=2, fontsize=9)
-    if title:
-        fig.suptitle(title)
-    return fig
-
-
-def _phase_data(P1: float, Q1s, points: int):
-    from ..analysis.sweep import sweep
-
-    phi = np.linspace(0.0, PI, _checks.positive_int("points", points, minimum=3))
-    return sweep([P1], list(Q1s), phi, progress=False)["W_hat"].sel(P1=P1)
-
-
-def figure_phase(P1: float, Q1s, points: int = 361, title: str | None = None,
-                 mark_peaks: bool = True):
-    """Ŵ against φ in [0, π] for one P̂1 and several Q̂1 (Figs. 5-7), maxima marked.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    from .claims import peak_phase
-
-    P1 = _checks.nonnegative("P1", P1)
-    data = _phase_data(P1, Q1s, points)
-    fig = _figure(figsize=(7.2, 4.4), layout="constrained")
-    ax = fig.subplots()
-    x = data["phi"].values / PI
-    for q in data["Q1"].values:
-        line, = ax.plot(x, data.sel(Q1=q).values, lw=1.5, label=rf"$\hat Q_1 = {q:g}$")
-        if mark_peaks:
-            best, top = peak_phase(P1, float(q))
-            if top > 0:
-                ax.plot(best / PI, top, "o", ms=4, color=line.get_color())
-                if len(data["Q1"]) == 1:
-                    ax.annotate(f"maximum at φ = {best / PI:.4f}π\n" + rf"$\hat W$ = {top:.4f}",
-                                (best / PI, top), textcoords="offset points", xytext=(12, -30),
-                                fontsize=9, arrowprops={"arrowstyle": "-", "lw": 0.6})
-    ax.axvline(0.5, color="grey", lw=0.8, ls=":")
-    ax.set_xlim(0, 1)
-    ax.set_ylim(bottom=0)
-    ax.set_xlabel(r"$\varphi / \pi$")
-    ax.set_ylabel(r"$\hat W$")
-    ax.grid(alpha=0.3)
-    if len(data["Q1"]) > 1:
-        ax.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
-    ax.set_title(title or rf"$\hat P_1 = {P1:g}$")
-    return fig
-
-
-def figure_motor(M: float = MOTOR["M"], delta: float = MOTOR["delta"], P0: float = MOTOR["P0"],
-                 k11: float = MOTOR["k11"], friction=MOTOR_FRICTION, speeds=None,
-                 points: int = 400):
-    """Fig. 9: energy dissipated per revolution against rotational speed, several f.
-
-    Parameters
-    ----------
-    M, delta, P0, k11 : float
-        Rotor mass [kg], out-of-balance offset [m], bolt preload [N], joint tangential stiffness
-        [N/m] (see :class:`lcpfric.motor.Motor`).
-    friction : sequence of float
-        Coefficients of friction, one curve each.
-    speeds : array_like, optional
-        Rotational speeds Ω [rad/s]; default 0 to 2.5 times the separation speed.
-    points : int
-        Number of speeds when ``speeds`` is not given.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    from .motor import Motor
-
-    motor = Motor(M=M, delta=delta, P0=P0, k11=k11)
-    unit = motor.separation_speed()
-    if speeds is None:
-        speeds = np.linspace(0.0, 2.5 * unit, _checks.positive_int("points", points, 3))
-    speeds = _checks.finite_array("speeds", speeds, nonneg=True)
-    fig = _figure(figsize=(6.4, 4.6), layout="constrained")
-    ax = fig.subplots()
-    for f in friction:
-        line, = ax.plot(speeds, 1e3 * motor.dissipation(speeds, f), lw=1.5, label=f"f = {f:g}")
-        ax.plot(motor.shakedown_speed(f), 0.0, "|", ms=10, mew=1.5, color=line.get_color(),
-                clip_on=False)
-    ax.plot([], [], "|", ms=10, mew=1.5, color="black", label="shakedown limit\n(W = 0 below)")
-    ax.axvline(unit, color="grey", ls="--", lw=0.9)
-    ax.text(unit, ax.get_ylim()[1] * 0.97, " separation\n begins", va="top", fontsize=8,
-            color="grey")
-    ax.set_xlim(speeds.min(), speeds.max())
-    ax.set_ylim(bottom=0)
-    ax.set_xlabel(r"rotational speed $\Omega$ [rad/s]")
-    ax.set_ylabel(r"dissipation per revolution $W$ [mJ]")
-    top = ax.secondary_xaxis("top", functions=(lambda w: w / unit, lambda s: s * unit))
-    top.set_xlabel(r"$\Omega \sqrt{M\delta / P_0}$")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="upper left")
-    ax.set_title(rf"motor: $M$ = {M:g} kg, $\delta$ = {1e3 * delta:g} mm, $P_0$ = {P0:g} N, "
-                 rf"$k_{{11}}$ = {k11:.3g} N/m, $\varphi = \pi/2$", fontsize=9)
-    return fig
-
-
-def _save(fig, out_dir: Path, name: str, formats) -> list[Path]:
-    paths = []
-    for fmt in formats:
-        path = out_dir / f"{name}.{fmt}"
-        fig.savefig(path, dpi=150)
-        paths.append(path)
-    return paths
+           "FIG4_PHASES", "FIG5_Q1", "FIG7_Q1", "MOTOR", "MOTOR_FRICTION", "COLUMN_WIDTH",
+           "PAGE_WIDTH", "MIN_FONT_SIZE", "DPI"]
 
 
 def write_figures(out_dir, grid: int = 101, points: int = 361, formats=("png", "pdf"),
-                  data=None, **sweep_options) -> list[Path]:
+                  data=None, progress=None, **sweep_options) -> list[Path]:
     """Compute and write Figs. 3-7 and 9 into ``out_dir``.
 
     Parameters
@@ -259,9 +52,13 @@ def write_figures(out_dir, grid: int = 101, points: int = 361, formats=("png", "
     points : int
         Phases per curve in Figs. 5-7, and speeds in Fig. 9.
     formats : sequence of str
-        File formats, among ``"png"``, ``"pdf"``, ``"svg"``.
+        File formats, among ``"png"``, ``"pdf"``, ``"svg"`` (PNG at 300 dpi; PDF with TrueType
+        fonts).
     data : xarray.Dataset, optional
         Precomputed maps (from :func:`map_data`); computed when not given.
+    progress : callable, optional
+        Called with a one-line message when the maps are computed and as each figure is written
+        (e.g. ``lambda m: print(m, file=sys.stderr)``); default: silent.
     **sweep_options
         Passed to :func:`lcpfric.sweep.sweep` for the maps (``scheduler``, ``processes``...).
 
@@ -274,11 +71,24 @@ def write_figures(out_dir, grid: int = 101, points: int = 361, formats=("png", "
     bad = [f for f in formats if f not in ("png", "pdf", "svg")]
     if bad or not formats:
         raise InputError("formats", f"choose among png, pdf, svg; got {', '.join(formats)}")
+    if progress is not None and not callable(progress):
+        raise InputError("progress", f"must be callable or None, got {progress!r}")
+    if not isinstance(out_dir, (str, Path)) or not str(out_dir).strip():
+        raise InputError("out", f"must be a directory path, got {out_dir!r}")
     out_dir = Path(out_dir)
     if out_dir.exists() and not out_dir.is_dir():
         raise InputError("out", f"{out_dir} exists and is not a directory")
-    out_dir.mkdir(parents=True, exist_ok=True)
-    ds = map_data(grid, **sweep_options) if data is None else data
+    if not out_dir.parent.is_dir():  # the rule of every output: the parent must exist
+        raise InputError("out", f"the directory {str(out_dir.parent)!r} does not exist")
+    out_dir.mkdir(exist_ok=True)
+    say = progress if progress is not None else (lambda message: None)
+    if data is None:
+        t0 = time.perf_counter()
+        ds = map_data(grid, **sweep_options)
+        say(f"maps: Ŵ on {grid}x{grid} points x {ds.sizes['phi']} phases "
+            f"({time.perf_counter() - t0:.1f} s)")
+    else:
+        ds = data
     figures = {
         "fig3_map_phi0": lambda: figure_maps(ds, [0.0]),
         "fig4_maps": lambda: figure_maps(ds, FIG4_PHASES, ncols=5),
@@ -291,43 +101,12 @@ def write_figures(out_dir, grid: int = 101, points: int = 361, formats=("png", "
         "fig9_motor": lambda: figure_motor(points=points),
     }
     written = []
-    for name, make in figures.items():
-        written += _save(make(), out_dir, name, formats)
+    for k, (name, make) in enumerate(figures.items(), 1):
+        t0 = time.perf_counter()
+        fig = make()
+        paths = _save(fig, out_dir, name, formats)
+        written += paths
+        width, height = fig.get_size_inches()
+        say(f"[{k}/{len(figures)}] {name}: {', '.join(p.suffix[1:] for p in paths)}, "
+            f"{width:.2f} x {height:.2f} in ({time.perf_counter() - t0:.1f} s)")
     return written
-
-
-# -- command line ----------------------------------------------------------------------------------
-def register_cli(subparsers) -> None:
-    """Add ``lcpfric figures`` to an argparse ``subparsers`` object."""
-    p = subparsers.add_parser(
-        "figures", help="compute and draw the paper's Figs. 3-7 and 9 (PNG and PDF)",
-        description="Compute the data of the paper's figures with the exact solution and write "
-                    "them as PNG and PDF files.")
-    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    p.add_argument("--grid", type=int, default=101, metavar="N",
-                   help="points per axis of the maps (default 101, as in the paper)")
-    p.add_argument("--points", type=int, default=361, metavar="N",
-                   help="points per curve (default 361)")
-    p.add_argument("--format", default="png,pdf", metavar="LIST",
-                   help="comma-separated file formats among png, pdf, svg (default png,pdf)")
-    p.add_argument("--json", action="store_true", help="print the files written as JSON")
-    p.set_defaults(func=figures_command)
-
-
-def figures_command(args) -> int:
-    """Handler of ``lcpfric figures``."""
-    t0 = time.perf_counter()
-    from ..analysis.sweep import option_names
-
-    formats = [f.strip().lower() for f in args.format.split(",") if f.strip()]
-    with option_names({"formats": "--format", "out": "--out", "grid": "--grid",
-                       "points": "--points"}):
-        paths = write_figures(args.out, grid=args.grid, points=args.points, formats=formats)
-    seconds = time.perf_counter() - t0
-    if args.json:
-        print(json.dumps({"out": str(args.out), "files": [str(p) for p in paths],
-                          "seconds": seconds}))
-    else:
-        print(f"wrote {len(paths)} files to {args.out} in {seconds:.2f} s: "
-              + ", ".join(p.name for p in paths))
-    return 0

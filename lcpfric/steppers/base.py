@@ -1,66 +1,71 @@
 """The stepper contract.
 
-Whoever adds a method implements a subclass of :class:`Stepper`:
+Whoever adds a time-stepping method implements a subclass of :class:`Stepper`:
 
-1. ``name``: the registry name users type (``"explicit"``, ``"clarabel"``, ...).
+1. ``name``: the registry name users type (``"explicit"``, ``"clarabel"``, ...), and
+   ``kind = "time-stepper"``.
 2. ``check(system)``: raise :class:`~lcpfric.errors.InputError` when the method cannot treat the
    system (a cone it cannot express, a stiffness it has no closed form for), naming the methods
    that can. Never approximate silently.
-3. ``init(scene, u0)``: build everything that depends only on the scene (solver problems,
-   factorizations) and return the initial :class:`StepState` at ``scene.t[0]``.
-4. ``step(scene, k, state)``: return the state at ``scene.t[k+1]`` from the state at
-   ``scene.t[k]``. The state is passed in and out explicitly; a stepper keeps no hidden state
-   between calls other than what ``init`` built. ``dW`` is the dissipation ``-∫ F · du`` of the
-   increment (:func:`slip_dissipation` for a stepper that knows only the increment's ends), and
-   ``F = Q(t_{k+1}) + K u`` must hold.
+3. ``init(scene, u0)``: build everything that depends on the scene (solver problems,
+   factorizations) and return the initial :class:`~lcpfric.results.StepState` at
+   ``scene.t[0]``, with all of it in ``state.data``. The stepper object itself keeps nothing
+   about a scene: one instance serves any number of scenes.
+4. ``step(scene, k, state)``: return a new state at ``scene.t[k+1]`` from the state at
+   ``scene.t[k]``, without changing the state passed in. ``dW`` is the dissipation
+   ``-∫ F · du`` of the increment (:mod:`~lcpfric.steppers.dissipation` for a stepper that
+   knows only the increment's ends), and ``F = Q(t_{k+1}) + K u`` must hold.
 5. ``cycle(scene, state)`` (optional): run ``step`` for k = 0..N-1 and collect the cycle. The
-   default loops over ``step``; a stepper may override it with a faster loop of the same meaning.
+   default loops over ``step``; a stepper may override it with a faster loop of the same meaning
+   (tested equal to the step-by-step loop).
+6. ``stats(state)``: the statistics to report (solves, events), from the state.
 
-The periodic driver (:mod:`lcpfric.periodic`) owns the loop over cycles.
+The periodic driver (:mod:`lcpfric.periodic`) owns the loop over cycles. Options a stepper
+accepts are the keyword arguments of its constructor; an unknown one raises
+:class:`~lcpfric.errors.InputError` naming the valid ones (:func:`check_options`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Any
+import inspect
 
 import numpy as np
 
-from ..results import CycleResult
+from ..errors import InputError
+from ..results import CycleResult, State, StepState
 
-__all__ = ["Stepper", "StepState"]
+__all__ = ["Stepper", "StepState", "TIME_STEPPER", "check_options"]
+
+TIME_STEPPER = "time-stepper"
 
 
-@dataclass
-class StepState:
-    """The state at one grid instant.
-
-    Attributes
-    ----------
-    u : (m,) ndarray
-        Tangential displacements.
-    F : (m,) ndarray
-        Friction forces, ``Q + K u``.
-    state : (n,) ndarray of int8
-        Per node: 0 stick, 1 forward slip, 2 backward slip, 3 separation (over the increment
-        that ended here).
-    dW : float
-        Dissipation of the increment that ended here.
-    data : Any
-        Stepper-specific data carried between steps (warm starts, statistics).
-    """
-
-    u: np.ndarray
-    F: np.ndarray
-    state: np.ndarray
-    dW: float = 0.0
-    data: Any = field(default=None)
+def check_options(cls, options: dict, what: str) -> None:
+    """Raise InputError for keyword options that ``cls``'s constructor does not take (unless it
+    takes ``**settings``, passed on to a solver that checks them itself)."""
+    params = inspect.signature(cls.__init__).parameters
+    if any(p.kind is p.VAR_KEYWORD for p in params.values()):
+        return
+    valid = sorted(n for n, p in params.items()
+                   if n != "self" and p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD))
+    unknown = sorted(set(options) - set(valid))
+    if unknown:
+        raise InputError(unknown[0], f"is not an option of {what}; valid options: "
+                                     f"{', '.join(valid) if valid else 'none'}")
 
 
 class Stepper:
     """Base class of time-stepping methods (see the module docstring for the contract)."""
 
     name: str = ""
+    kind: str = TIME_STEPPER
+
+    def __init__(self):
+        pass
+
+    @property
+    def label(self) -> str:
+        """The name to report (``"qpsolvers:proxqp"``, where a solver is chosen)."""
+        return self.name
 
     def check(self, system) -> None:
         """Raise InputError if this stepper cannot treat ``system``."""
@@ -68,8 +73,9 @@ class Stepper:
     def init(self, scene, u0=None) -> StepState:
         system = scene.system
         u = np.zeros(system.m) if u0 is None else np.array(u0, dtype=float).reshape(system.m)
-        F = scene.Q[0] + _matvec(system.stiffness, u)
-        return StepState(u=u, F=F, state=np.zeros(system.n, dtype=np.int8))
+        F = scene.Q[0] + system.stiffness @ u
+        state = np.where(scene.N[0] > 0.0, State.STICK, State.SEPARATION).astype(np.int8)
+        return StepState(u=u, F=F, state=state)
 
     def step(self, scene, k: int, state: StepState) -> StepState:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -91,22 +97,3 @@ class Stepper:
     def stats(self, state: StepState) -> dict:
         """Backend statistics for the result (iterations, refinements, ...)."""
         return {}
-
-
-def _matvec(K, u):
-    return K @ u
-
-
-def slip_dissipation(F0, F1, du, dims: int = 1) -> float:
-    """Dissipation of an increment known by its ends: ``Σ_i max(0, -½(F_i,k + F_i,k+1)·Δu_i)``.
-
-    The trapezoidal rule for ``-∫ F · du`` (second order; it weighs a slip that ends an increment
-    at separation by the small stick force it started from, which a rule in ``f N |Δu|`` would
-    not), with each node's share clipped at zero: a node's dissipation is never negative, and
-    only at a slip reversal inside an increment can the trapezoid dip below zero, by its own
-    discretization error.
-    """
-    share = -0.5 * (F0 + F1) * du
-    if dims != 1:
-        share = np.reshape(share, (-1, dims)).sum(axis=1)
-    return float(np.sum(np.maximum(share, 0.0)))

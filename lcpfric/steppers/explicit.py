@@ -26,11 +26,15 @@ histories.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from ..errors import InputError, SolverError
-from ..results import CycleResult, State
-from .base import Stepper, StepState
+from ..results import CycleResult, State, StepState
+from .base import Stepper
+from .dissipation import increment_dissipation, scalar_share
+from .lcp import solve_lcp
 
 __all__ = ["ExplicitStepper", "solve_lcp"]
 
@@ -38,33 +42,6 @@ STICK, FORWARD, BACKWARD, SEPARATION = (State.STICK, State.FORWARD, State.BACKWA
                                         State.SEPARATION)
 _REL = 1e-12  # relative tolerance for "on the friction limit" and for a margin's rate
 _EPS8 = 8 * np.finfo(float).eps  # an event closer than this (relative) to τ happens at τ
-
-
-def solve_lcp(M: np.ndarray, q: np.ndarray, basis=None, max_pivots: int | None = None):
-    """Solve ``z >= 0, w = M z + q >= 0, z·w = 0`` for a P-matrix M by Murty's least-index
-    principal pivoting. ``basis`` (bool array) is a warm start: the indices expected with z > 0.
-
-    Returns
-    -------
-    z : ndarray
-    """
-    n = q.size
-    B = np.zeros(n, dtype=bool) if basis is None else np.array(basis, dtype=bool)
-    max_pivots = max_pivots or 50 * (n + 1) ** 2
-    scale = max(1.0, float(np.max(np.abs(q))) if n else 1.0)
-    for _ in range(max_pivots):
-        z = np.zeros(n)
-        if B.any():
-            z[B] = np.linalg.solve(M[np.ix_(B, B)], -q[B])
-        w = q + M @ z
-        tol = 1e-12 * scale
-        bad = (B & (z < -tol)) | (~B & (w < -tol))
-        if not bad.any():
-            return np.maximum(z, 0.0)
-        i = int(np.argmax(bad))
-        B[i] = ~B[i]
-    raise SolverError("explicit stepper: the slip-rate LCP did not settle (is K positive "
-                      "definite?)", backend="explicit", status="lcp_max_pivots")
 
 
 class ExplicitStepper(Stepper):
@@ -81,9 +58,8 @@ class ExplicitStepper(Stepper):
     def init(self, scene, u0=None) -> StepState:
         self.check(scene.system)
         state = super().init(scene, u0)
-        K = scene.system.dense_stiffness()
-        state.data = {"K": K, "substeps": 0, "events": 0}
-        return state
+        data = {"K": scene.system.dense_stiffness(), "substeps": 0, "events": 0}
+        return replace(state, data=data)
 
     # ------------------------------------------------------------------------------------------
     def step(self, scene, k, state):
@@ -102,11 +78,12 @@ class ExplicitStepper(Stepper):
         slipping_b = state.state == BACKWARD
         n = f.size
         touch_lo = touch_hi = np.zeros(n, dtype=bool)
+        substeps = n_events = 0
         for _ in range(4 * n + 16):
             Nt = Na + tau * dN
             Qt = Qa + tau * dQ
-            F0 = Qt + K @ u
             bound = f * Nt
+            F0 = _on_limits(Qt + K @ u, bound, slipping & ~sep, slipping_b & ~sep)
             du, node_state = self._rates(K, f, F0, bound, dQ, dN, sep, slipping, slipping_b,
                                          touch_lo, touch_hi)
             dF = dQ + K @ du
@@ -127,21 +104,24 @@ class ExplicitStepper(Stepper):
                 continue
             touch_lo = touch_hi = np.zeros(n, dtype=bool)
             u_new = u + (t_end - tau) * du
-            F1 = Qa + t_end * dQ + K @ u_new
-            W -= 0.5 * float(np.dot(F0 + F1, u_new - u))
-            data["substeps"] += 1
+            F1 = _on_limits(Qa + t_end * dQ + K @ u_new, f * (Na + t_end * dN),
+                            node_state == FORWARD, node_state == BACKWARD)
+            W += increment_dissipation(F0, F1, u_new - u)
+            substeps += 1
             u = u_new
             slipping = node_state == FORWARD
             slipping_b = node_state == BACKWARD
             if t_end >= 1.0:
                 break
             tau = t_end
-            data["events"] += 1
+            n_events += 1
         else:
             raise SolverError(f"explicit stepper: more than {4 * n + 16} state changes in "
                               f"increment {k}; the loads may be inconsistent", backend="explicit",
                               status="too_many_events")
-        F = Qb + K @ u
+        F = F1
+        data = {"K": K, "substeps": data["substeps"] + substeps,
+                "events": data["events"] + n_events}
         return StepState(u, F, node_state, W, data)
 
     @staticmethod
@@ -217,6 +197,14 @@ class ExplicitStepper(Stepper):
         return {"substeps": state.data["substeps"], "events": state.data["events"]}
 
 
+def _on_limits(F, bound, forward, backward):
+    """``F`` with the slipping nodes put exactly on their limits (-f N forward, +f N backward):
+    ``Q + K u`` carries the round-off of Q, which is all of f N when |Q| >> f N."""
+    if forward.any() or backward.any():
+        F = np.where(forward, -bound, np.where(backward, bound, F))
+    return F
+
+
 def _single_node_cycle(scene, state):
     """The same algorithm for one node in scalar arithmetic (one LCP of size 1 is a sign test)."""
     k = float(state.data["K"][0, 0])
@@ -231,16 +219,19 @@ def _single_node_cycle(scene, state):
     U[0], Fs[0], S[0] = u, float(state.F[0]), int(state.state[0])
     W = 0.0
     events = 0
+    st = S[0]
     for j in range(n):
         Qa, Qb, ba, bb = Q[j], Q[j + 1], B[j], B[j + 1]
         if ba + bb <= 0.0:  # separated over the whole increment: F = 0
             u = -Qb / k
             U[j + 1], Fs[j + 1], S[j + 1] = u, 0.0, SEPARATION
+            st = SEPARATION
             continue
         dQ, db = Qb - Qa, bb - ba
         tau = 0.0
-        F0 = Qa + k * u
-        st = STICK
+        # a node that was slipping is on its limit (exactly: Q + k u would carry the round-off
+        # of Q, which is all of f N when |Q| >> f N)
+        F0 = -ba if st == FORWARD else (ba if st == BACKWARD else Qa + k * u)
         while True:
             bt = ba + tau * db
             tol = _REL * (bt + abs(F0))
@@ -263,19 +254,22 @@ def _single_node_cycle(scene, state):
                 else:
                     t_end = min(t_end, t_hi, t_lo)
             u1 = u + (t_end - tau) * du
-            F1 = Qa + t_end * dQ + k * u1
-            W -= 0.5 * (F0 + F1) * (u1 - u)
+            if st == STICK:
+                F1 = Qa + t_end * dQ + k * u1
+            else:  # slipping: on the limit
+                F1 = (ba + t_end * db) * (-1.0 if st == FORWARD else 1.0)
+            W += scalar_share(F0, F1, u1 - u)
             u, F0 = u1, F1
             if t_end >= 1.0:
                 break
             tau = t_end
             events += 1
-        U[j + 1], Fs[j + 1], S[j + 1] = u, Qb + k * u, st
+        U[j + 1], Fs[j + 1], S[j + 1] = u, F0, st
     Ua = np.array(U)[:, None]
     Fa = np.array(Fs)[:, None]
     Sa = np.array(S, dtype=np.int8)[:, None]
-    state.data["substeps"] += n + events
-    state.data["events"] += events
-    end = StepState(Ua[-1].copy(), Fa[-1].copy(), Sa[-1].copy(), 0.0, state.data)
-    return end, CycleResult(scene.t, Ua, Fa, Sa, W, {"substeps": state.data["substeps"],
-                                                     "events": state.data["events"]})
+    data = {"K": state.data["K"], "substeps": state.data["substeps"] + n + events,
+            "events": state.data["events"] + events}
+    end = StepState(Ua[-1].copy(), Fa[-1].copy(), Sa[-1].copy(), 0.0, data)
+    return end, CycleResult(scene.t, Ua, Fa, Sa, W, {"substeps": data["substeps"],
+                                                     "events": data["events"]})

@@ -10,13 +10,19 @@ names the backends that can.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from ..errors import InputError
-from ..results import CycleResult
-from .base import Stepper, StepState, slip_dissipation
+from ..results import CycleResult, State, StepState
+from .base import Stepper
+from .dissipation import increment_dissipation, scalar_share
 
 __all__ = ["ProjectionStepper"]
+
+STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
+                                        int(State.BACKWARD), int(State.SEPARATION))
 
 
 class ProjectionStepper(Stepper):
@@ -39,8 +45,7 @@ class ProjectionStepper(Stepper):
     def init(self, scene, u0=None) -> StepState:
         self.check(scene.system)
         state = super().init(scene, u0)
-        state.data = np.diag(scene.system.dense_stiffness()).copy()
-        return state
+        return replace(state, data=np.diag(scene.system.dense_stiffness()).copy())
 
     def step(self, scene, k, state):
         system = scene.system
@@ -49,16 +54,17 @@ class ProjectionStepper(Stepper):
         bound = system.friction * scene.N[k + 1]
         if system.dims == 1:
             F = np.clip(f_tr, -bound, bound)
-            slip = np.where(F > f_tr, 1, np.where(F < f_tr, 2, 0))
+            slip = np.where(F > f_tr, State.FORWARD, np.where(F < f_tr, State.BACKWARD,
+                                                              State.STICK))
         else:
             ft = f_tr.reshape(-1, 2)
             norm = np.linalg.norm(ft, axis=1)
             scale = np.where(norm > bound, bound / np.where(norm > 0, norm, 1.0), 1.0)
             F = (ft * scale[:, None]).ravel()
-            slip = np.where(scale < 1.0, 1, 0)
+            slip = np.where(scale < 1.0, State.FORWARD, State.STICK)  # slip, any direction
         u = state.u + (F - f_tr) / kdiag
-        node_state = np.where(scene.N[k + 1] <= 0.0, 3, slip).astype(np.int8)
-        dW = slip_dissipation(state.F, F, u - state.u, system.dims)
+        node_state = np.where(scene.N[k + 1] <= 0.0, State.SEPARATION, slip).astype(np.int8)
+        dW = increment_dissipation(state.F, F, u - state.u, system.dims)
         return StepState(u, F, node_state, dW, kdiag)
 
     def cycle(self, scene, state):
@@ -81,15 +87,15 @@ class ProjectionStepper(Stepper):
             ftr = Q[j] + k * u
             b = B[j]
             if ftr > b:
-                Fn, s = b, 2
+                Fn, s = b, BACKWARD
             elif ftr < -b:
-                Fn, s = -b, 1
+                Fn, s = -b, FORWARD
             else:
-                Fn, s = ftr, 0
+                Fn, s = ftr, STICK
             un = u + (Fn - ftr) / k
-            W += max(-0.5 * (F + Fn) * (un - u), 0.0)  # slip_dissipation in scalars
+            W += scalar_share(F, Fn, un - u)
             u, F = un, Fn
-            U[j], Fs[j], S[j] = u, F, (3 if b <= 0.0 else s)
+            U[j], Fs[j], S[j] = u, F, (SEPARATION if b <= 0.0 else s)
         Ua = np.array(U)[:, None]
         Fa = np.array(Fs)[:, None]
         Sa = np.array(S, dtype=np.int8)[:, None]

@@ -1,0 +1,385 @@
+"""The public base of the convex-solver backends: :class:`ConvexStepper`.
+
+A backend solves problem (P) (:mod:`~lcpfric.backends.problem`) at every increment with its
+solver; this class does everything else: the scene's plan (one problem per contact set), the
+independent checks of every answer (:mod:`~lcpfric.backends.checks`), the active-set refinement
+(:mod:`~lcpfric.backends.refine`), the node states and the dissipation. Everything that depends
+on a scene lives in the state (:class:`ConvexData`), so one backend instance serves any number
+of scenes.
+
+Writing a backend (see also ``docs/architecture.md``): subclass :class:`ConvexStepper`, set
+``name``, ``can_soc`` and ``STATUS_MAP`` (its statuses onto :mod:`~lcpfric.backends.status`),
+optionally ``settings_key`` (its entry in :data:`~lcpfric.backends.settings.TIGHT_SETTINGS`),
+and implement ``build``, ``solve`` and, if its bounds are not a box ``(-b, b)``, ``bounds``.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .._checks import positive
+from ..errors import InputError, SolverError
+from ..results import CycleResult, State, StepState
+from ..steppers.base import Stepper
+from ..steppers.dissipation import increment_dissipation, scalar_share
+from .checks import accept, scalar_residuals, scalar_worst, worst
+from .problem import IncrementProblem, ScenePlan
+from .settings import CONIC_METHODS, settings_for
+from .status import UNKNOWN, advice
+
+__all__ = ["ConvexStepper", "ConvexData", "quiet"]
+
+
+@dataclass(frozen=True)
+class ConvexData:
+    """What a convex backend carries in ``StepState.data``.
+
+    Attributes
+    ----------
+    plan : ScenePlan
+        The scene's plan, with one solver object per contact set (``prob.handle``).
+    bdata : list
+        Per grid instant, the bounds in the backend's own form (``bounds(prob, b)``).
+    stats : dict
+        ``solves``, ``refined``, ``unrefined`` and ``max_residual`` so far (a new dict in
+        every state).
+    """
+
+    plan: ScenePlan
+    bdata: list
+    stats: dict
+
+
+def _boolean(name: str, value) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(name, f"must be True or False, got {value!r}")
+    return bool(value)
+
+
+class ConvexStepper(Stepper):
+    """A stepper that solves problem (P) with a convex solver at every increment.
+
+    A backend subclass sets ``name`` (registry name), ``can_soc`` (whether it expresses the d = 2
+    cone), ``STATUS_MAP`` and, where it differs from the name, ``settings_key`` (its entry in
+    :data:`~lcpfric.backends.settings.TIGHT_SETTINGS`), and implements:
+
+    ``build(prob, settings)``
+        Build the solver object for an :class:`IncrementProblem` (called once per contact set,
+        with the settings for its d) and return it; it is stored as ``prob.handle``.
+    ``bounds(prob, b)``
+        Turn the limits ``b`` (one per node of the set) into whatever the backend's update
+        takes (called once per grid instant, in ``init``). Default: the box ``(-b, b)``.
+    ``solve(prob, q, bdata) -> (x, status, ok)``
+        Update the linear term and the bounds, solve, and return the forces, the backend's own
+        status and whether that status means solved.
+
+    Parameters
+    ----------
+    refine : bool
+        Refine the solver's answers on their active set (see :mod:`~lcpfric.backends.refine`).
+    check_tol : float
+        Largest residual accepted (relative to the problem scale).
+    active_tol : float
+        δ / s_F of the active-set identification.
+    **settings
+        Solver settings, overriding lcpfric's tight defaults.
+    """
+
+    name = ""
+    can_soc = False
+    STATUS_MAP: dict[str, str] = {}
+    settings_key = ""  # key into TIGHT_SETTINGS (default: the name)
+    solver: str | None = None  # the solver of a ':<solver>' backend
+
+    def __init__(self, *, refine: bool = True, check_tol: float = 1e-6,
+                 active_tol: float = 1e-6, **settings):
+        self.refine = _boolean("refine", refine)
+        self.check_tol = positive("check_tol", check_tol)
+        self.active_tol = positive("active_tol", active_tol)
+        self.user_settings = dict(settings)
+
+    @property
+    def label(self) -> str:
+        return f"{self.name}:{self.solver}" if self.solver else self.name
+
+    def settings_for(self, dims: int) -> dict:
+        """The solver settings for problems with d = ``dims``: lcpfric's tight defaults, then
+        the user's."""
+        return settings_for(self.settings_key or self.name, dims, self.user_settings)
+
+    @property
+    def settings(self) -> dict:
+        """The settings for d = 1 problems."""
+        return self.settings_for(1)
+
+    # -- the backend interface (see the class docstring) ------------------------------------
+    def build(self, prob: IncrementProblem, settings: dict):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def bounds(self, prob: IncrementProblem, b: np.ndarray):
+        """The box ``(l, u) = (-b, b)`` of d = 1 (QP backends); conic backends override it."""
+        return -b, b.copy()
+
+    def solve(self, prob: IncrementProblem, q: np.ndarray, bdata):  # pragma: no cover
+        raise NotImplementedError
+
+    def status_category(self, status) -> str:
+        """lcpfric's status (SOLVED, MAX_ITER, ...) for the backend's own ``status``."""
+        return self.STATUS_MAP.get(str(status), UNKNOWN)
+
+    # -- the stepper contract ----------------------------------------------------------------
+    def check(self, system) -> None:
+        if system.dims == 2 and not self.can_soc:
+            raise InputError("method", f"{self.label!r} solves QPs only and cannot express the "
+                                       f"d = 2 friction cone (a disc per node); use "
+                                       f"{CONIC_METHODS}")
+
+    def init(self, scene, u0=None) -> StepState:
+        self.check(scene.system)
+        plan = ScenePlan(scene)
+        for prob in plan.problems:
+            if prob is not None:
+                prob.handle = self.guarded(self.build, prob, self.settings_for(prob.dims))
+        bdata = [self.bounds(p, b) if p is not None else None
+                 for p, b in zip(plan.step_problem, plan.node_bounds)]
+        stats = {"solves": 0, "refined": 0, "unrefined": 0, "max_residual": 0.0}
+        return replace(super().init(scene, u0), data=ConvexData(plan, bdata, stats))
+
+    def guarded(self, fn, *args):
+        """Call a backend function, re-raising the backend's own exceptions as SolverError."""
+        try:
+            return fn(*args)
+        except (SolverError, InputError):
+            raise
+        except Exception as exc:  # the backend's own error types vary
+            raise SolverError(f"{self.label}: the solver failed: {type(exc).__name__}: {exc}",
+                              backend=self.label, status=type(exc).__name__) from exc
+
+    def step(self, scene, k, state):
+        data = state.data
+        stats = dict(data.stats)
+        u1, F1 = self._increment(data, scene, k, state.u, stats)
+        rows = np.array([k + 1])
+        self._check_equilibrium(data.plan, scene, rows, u1[None, :], F1[None, :])
+        du = u1 - state.u
+        s = self._states(data.plan, rows, du[None, :])[0]
+        return StepState(u1, F1, s, increment_dissipation(state.F, F1, du, data.plan.dims),
+                         replace(data, stats=stats))
+
+    def cycle(self, scene, state):
+        data = state.data
+        plan = data.plan
+        if plan.m == 1:
+            return self._cycle_scalar(scene, state)
+        steps = scene.steps
+        U = np.empty((steps + 1, plan.m))
+        Fs = np.empty_like(U)
+        U[0], Fs[0] = state.u, state.F
+        u = state.u
+        stats = dict(data.stats)
+        increment = self._increment
+        for k in range(steps):
+            u, F = increment(data, scene, k, u, stats)
+            U[k + 1] = u
+            Fs[k + 1] = F
+        # what needs no solver is done for the whole cycle at once: the equilibrium check of
+        # every increment, the node states and the dissipation
+        rows = np.arange(1, steps + 1)
+        self._check_equilibrium(plan, scene, rows, U[1:], Fs[1:])
+        dU = np.diff(U, axis=0)
+        S = np.empty((steps + 1, plan.n), dtype=np.int8)
+        S[0] = state.state
+        S[1:] = self._states(plan, rows, dU)
+        W = increment_dissipation(Fs[:-1], Fs[1:], dU, plan.dims)
+        end = StepState(U[-1].copy(), Fs[-1].copy(), S[-1].copy(), 0.0,
+                        replace(data, stats=stats))
+        return end, CycleResult(scene.t, U, Fs, S, W, self.stats(end))
+
+    def stats(self, state) -> dict:
+        return dict(state.data.stats)
+
+    # -- one increment, any size --------------------------------------------------------------
+    def _increment(self, data: ConvexData, scene, k, u, stats):
+        """Solve, refine and check increment k; return ``(u, F)`` at t_{k+1}."""
+        plan = data.plan
+        j = k + 1
+        prob = plan.step_problem[j]
+        if prob is None:  # everything separated: F = 0, u = -C Q
+            return -plan.CQ[j], np.zeros(plan.m)
+        q = prob.q
+        np.subtract(plan.neg_CQ[j], u if prob.full else u[prob.dofs], out=q)
+        x, status, ok = self.guarded(self.solve, prob, q, data.bdata[j])
+        stats["solves"] += 1
+        if not ok:
+            self._fail(scene, k, status, None)
+        FA, stick, res, kind = accept(prob, np.array(x, dtype=float), q, plan.node_bounds[j],
+                                      refine=self.refine, active_tol=self.active_tol,
+                                      check_tol=self.check_tol, fscale=plan.force_scale,
+                                      cscale=plan.compliance_scale)
+        if FA is None:
+            self._fail(scene, k, status, res)
+        stats[kind] += 1
+        stats["max_residual"] = max(stats["max_residual"], worst(res))
+        u1 = prob.Cf @ FA
+        u1 -= plan.CQ[j]
+        if stick is not None:  # a refined stick node keeps its displacement exactly
+            st = prob.dofs[stick]
+            u1[st] = u[st]
+        if prob.full:
+            return u1, FA
+        F1 = np.zeros(plan.m)
+        F1[prob.dofs] = FA
+        return u1, F1
+
+    def _check_equilibrium(self, plan, scene, rows, U, Fs):
+        """``max |Q + K u - F| / s_F`` of the increments ending at ``rows``; raise on the first
+        over ``check_tol``."""
+        R = U @ plan.K  # K symmetric
+        R += plan.Q[rows]
+        R -= Fs
+        eq = np.abs(R).max(axis=1) / plan.force_scale
+        bad = np.flatnonzero(~(eq <= self.check_tol))
+        if bad.size:
+            i = bad[0]
+            self._fail(scene, int(rows[i]) - 1, "solved", {"equilibrium": float(eq[i])})
+
+    def _states(self, plan, rows, dU):
+        """Node states over the increments ending at ``rows``, from their slips ``dU``."""
+        eps = self.check_tol * plan.compliance_scale * plan.force_scale
+        if plan.dims == 1:
+            S = (dU > eps).view(np.int8)  # State.FORWARD is 1
+            S[dU < -eps] = State.BACKWARD
+        else:
+            S = (np.hypot(dU[:, 0::2], dU[:, 1::2]) > eps).view(np.int8)
+        S[~plan.contact[rows]] = State.SEPARATION
+        return S
+
+    def _fail(self, scene, k, status, res):
+        """Raise the SolverError of step k (status not solved, or residuals over tolerance)."""
+        t0, t1 = scene.t[k], scene.t[k + 1]
+        where = f"{self.label}: increment {k} (t = {t0:.6g} -> {t1:.6g})"
+        if res is None:
+            mapped = self.status_category(status)
+            msg = (f"{where} ended with solver status {status!s} ({mapped}): "
+                   f"{advice(mapped)}")
+        else:
+            bad = max(res, key=lambda r: math.inf if res[r] != res[r] else res[r])
+            msg = (f"{where}: the solver reported {status!s} but its answer fails lcpfric's "
+                   f"residual check ({bad} {res[bad]:.3g} > check_tol {self.check_tol:g}); "
+                   f"tighten the solver's tolerances"
+                   + ("" if self.refine else " or pass refine=True"))
+            if any(v != v for v in res.values()):
+                msg += " (the answer contains NaN: check the loads for NaN or inf)"
+        raise SolverError(msg, backend=self.label, status=str(status), residuals=res)
+
+    # -- one node, d = 1: the same step in float arithmetic -----------------------------------
+    def _cycle_scalar(self, scene, state):
+        """The cycle of a one-unknown scene (the paper's node) in Python floats: the per-step
+        overhead around the solver call is a few float operations, not numpy calls. The same
+        algorithm as ``step`` (tested equal): refinement on the box, the residual check in its
+        scalar form, the stick node keeping its displacement exactly."""
+        data = state.data
+        plan = data.plan
+        steps = scene.steps
+        k11 = float(plan.K[0, 0])
+        c = float(plan.C[0, 0])
+        Q = plan.Q[:, 0].tolist()
+        CQ = plan.CQ[:, 0].tolist()
+        B = plan.bound[:, 0].tolist()
+        probs = plan.step_problem
+        bdata = data.bdata
+        solve, guarded = self.solve, self.guarded
+        fs = plan.force_scale
+        tol = self.check_tol
+        delta = self.active_tol * fs
+        refine = self.refine
+        stats = dict(data.stats)
+        res_scale = (fs, c * fs * fs)
+        eps = tol * c * fs
+        U = [0.0] * (steps + 1)
+        Fs = [0.0] * (steps + 1)
+        S = [0] * (steps + 1)
+        u, F = float(state.u[0]), float(state.F[0])
+        U[0], Fs[0], S[0] = u, F, int(state.state[0])
+        W = 0.0
+        nsolve = nref = 0
+        worst_seen = stats["max_residual"]
+        for j in range(1, steps + 1):
+            prob = probs[j]
+            if prob is None:
+                F1, u1, st = 0.0, -CQ[j], State.SEPARATION
+            else:
+                b = B[j]
+                qb = prob.q
+                qv = -(CQ[j] + u)
+                qb[0] = qv
+                x, status, ok = guarded(solve, prob, qb, bdata[j])
+                nsolve += 1
+                if not ok:
+                    self._fail(scene, j - 1, status, None)
+                Fx = float(x[0])
+                bad = math.inf
+                stuck = False
+                if refine:
+                    # identify (on the limit with the solver's sign, or stick), then correct:
+                    # a limit node whose slip has the wrong sign sticks, a stick node over
+                    # its limit goes to the limit
+                    ftr = -qv / c
+                    on_limit = abs(Fx) >= b - delta
+                    if on_limit:
+                        F1 = b if Fx >= 0.0 else -b
+                        on_limit = F1 * ftr >= b * b
+                    if not on_limit:
+                        if -b <= ftr <= b:
+                            F1, stuck = ftr, True
+                        else:
+                            F1 = b if ftr > 0 else -b
+                    bad = scalar_worst(F1, c * F1 + qv, b, c, res_scale)
+                    if bad <= tol:
+                        nref += 1
+                if not bad <= tol:
+                    stuck = False
+                    F1 = Fx
+                    bad = scalar_worst(F1, c * F1 + qv, b, c, res_scale)
+                    if not bad <= tol:
+                        g = c * F1 + qv
+                        self._fail(scene, j - 1, status, scalar_residuals(F1, g, b, c,
+                                                                          res_scale))
+                if bad > worst_seen:
+                    worst_seen = bad
+                # a refined stick node keeps its displacement exactly
+                u1 = u if stuck else c * F1 - CQ[j]
+                eq = abs(Q[j] + k11 * u1 - F1) / fs
+                if not eq <= tol:
+                    res = scalar_residuals(F1, c * F1 + qv, b, c, res_scale)
+                    res["equilibrium"] = eq
+                    self._fail(scene, j - 1, status, res)
+                du = u1 - u
+                st = (State.FORWARD if du > eps else
+                      (State.BACKWARD if du < -eps else State.STICK))
+                if b <= 0.0:
+                    st = State.SEPARATION
+            W += scalar_share(F, F1, u1 - u)
+            u, F = u1, F1
+            U[j], Fs[j], S[j] = u, F, st
+        stats["solves"] += nsolve
+        stats["refined"] += nref
+        stats["unrefined"] += nsolve - nref
+        stats["max_residual"] = worst_seen
+        Ua = np.array(U)[:, None]
+        Fa = np.array(Fs)[:, None]
+        Sa = np.array(S, dtype=np.int8)[:, None]
+        end = StepState(Ua[-1].copy(), Fa[-1].copy(), Sa[-1].copy(), 0.0,
+                        replace(data, stats=stats))
+        return end, CycleResult(scene.t, Ua, Fa, Sa, W, self.stats(end))
+
+
+def quiet(fn, *args, **kwargs):
+    """Call ``fn`` with the backend's warnings silenced (lcpfric raises its own errors)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return fn(*args, **kwargs)

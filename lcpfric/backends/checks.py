@@ -1,0 +1,132 @@
+"""Checking every answer: the residuals of a candidate solution of problem (P), and the
+acceptance of a solver's answer (refined on its active set, or as it is).
+
+Checking every answer
+---------------------
+A solver's status flag is not trusted alone (OSQP, for one, can report success on a poor answer).
+After every step lcpfric computes, from the returned forces only, with the slip
+``Δu_A = P F_A + q`` (the gradient of (P)), relative to the scene's force scale ``s_F`` and
+compliance scale ``c = max C_ii``:
+
+``cone``            ``max_i (||F_i|| - f_i N_i)_+ / s_F``: primal feasibility;
+``complementarity`` ``max_i (F_i·Δu_i + f_i N_i ||Δu_i||) / (c s_F²)``: >= 0 always, and 0 iff
+                    the slip opposes the force and vanishes below the limit;
+``stationarity``    ``max_i ||F_i - Π_i(F_i - Δu_i / c)|| / s_F``, the natural-map residual of
+                    (P) (Π_i the projection on node i's interval or disc): zero iff F solves (P);
+``equilibrium``     ``max |Q + K u - F| / s_F`` with ``u = C (F - Q)``, which catches a
+                    compliance that is not K⁻¹.
+
+A step whose status is not "solved", or whose largest residual exceeds ``check_tol``, raises
+:class:`~lcpfric.errors.SolverError` with the backend's own status and the residuals.
+
+The array form :func:`residuals` and the scalar form :func:`scalar_residuals` (for the single
+node's fast path) compute the same quantities; the tests check them equal on random data.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .refine import refine_box, refine_disc
+
+__all__ = ["residuals", "scalar_residuals", "scalar_worst", "worst", "accept"]
+
+
+def residuals(F, g, b, dims: int, fscale: float, cscale: float) -> dict:
+    """The residuals of a candidate answer of (P) (see the module docstring).
+
+    Parameters
+    ----------
+    F : (a·d,) ndarray
+        Friction forces of the nodes in contact.
+    g : (a·d,) ndarray
+        Their slip ``Δu = P F + q``.
+    b : (a,) ndarray
+        Their friction limits f_i N_i.
+    dims : int
+    fscale, cscale : float
+        Force and compliance scales.
+    """
+    if F.size == 0:
+        return {"cone": 0.0, "complementarity": 0.0, "stationarity": 0.0}
+    if dims == 1:
+        normF, normg = np.abs(F), np.abs(g)
+        proj = np.minimum(np.maximum(F - g / cscale, -b), b)
+        dot = F * g
+        stat = np.abs(F - proj)
+    else:
+        F2, g2 = F.reshape(-1, 2), g.reshape(-1, 2)
+        normF, normg = np.hypot(F2[:, 0], F2[:, 1]), np.hypot(g2[:, 0], g2[:, 1])
+        t2 = F2 - g2 / cscale
+        nt = np.hypot(t2[:, 0], t2[:, 1])
+        scale = np.where(nt > b, b / np.where(nt > 0, nt, 1.0), 1.0)
+        dot = np.einsum("ij,ij->i", F2, g2)
+        diff = F2 - t2 * scale[:, None]
+        stat = np.hypot(diff[:, 0], diff[:, 1])
+    return {
+        "cone": max(float((normF - b).max()), 0.0) / fscale,
+        "complementarity": float(np.abs(dot + b * normg).max()) / (cscale * fscale * fscale),
+        "stationarity": float(stat.max()) / fscale,
+    }
+
+
+def accept(prob, F, q, b, *, refine: bool, active_tol: float, check_tol: float,
+           fscale: float, cscale: float):
+    """Accept a solver's answer ``F`` of ``prob`` (linear term ``q``, limits ``b``).
+
+    With ``refine`` the answer identifies the active set and the refined point
+    (:mod:`~lcpfric.backends.refine`) is used if it passes the residual check; otherwise the
+    solver's own answer must pass on its own.
+
+    Returns
+    -------
+    (F, stick, res, kind)
+        The accepted forces (None when nothing passed), the mask of the variables that stick
+        exactly (None for an unrefined answer), the residuals, and ``"refined"``,
+        ``"unrefined"`` or ``"failed"``.
+    """
+    if refine:
+        refine_fn = refine_box if prob.dims == 1 else refine_disc
+        refined = refine_fn(prob, F, q, b, active_tol * fscale, fscale, cscale)
+        if refined is not None and worst(refined[2]) <= check_tol:
+            return refined[0], refined[1], refined[2], "refined"
+    g = prob.P @ F
+    g += q
+    res = residuals(F, g, b, prob.dims, fscale, cscale)
+    if not worst(res) <= check_tol:  # also catches NaN
+        return None, None, res, "failed"
+    return F, None, res, "unrefined"
+
+
+def worst(res: dict) -> float:
+    """The largest residual (NaN if any is NaN)."""
+    worst = 0.0
+    for v in res.values():
+        if v != v:
+            return math.nan
+        if v > worst:
+            worst = v
+    return worst
+
+
+def scalar_residuals(F, g, b, c, scale) -> dict:
+    """:func:`residuals` of one unknown (d = 1) in Python floats; ``scale = (s_F, c s_F²)``."""
+    fs, cfs2 = scale
+    t = F - g / c
+    return {"cone": max(abs(F) - b, 0.0) / fs,
+            "complementarity": abs(F * g + b * abs(g)) / cfs2,
+            "stationarity": abs(F - min(max(t, -b), b)) / fs}
+
+
+def scalar_worst(F, g, b, c, scale) -> float:
+    """max of :func:`scalar_residuals` without building the dict (NaN propagates)."""
+    fs, cfs2 = scale
+    t = F - g / c
+    r1 = (abs(F) - b) / fs
+    r2 = abs(F * g + b * abs(g)) / cfs2
+    r3 = abs(F - min(max(t, -b), b)) / fs
+    if r1 != r1 or r2 != r2 or r3 != r3:
+        return math.nan
+    return max(r1, r2, r3)

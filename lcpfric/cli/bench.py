@@ -1,0 +1,110 @@
+"""``lcpfric bench``: error against run time for every method (also
+``benchmarks/compare_backends.py``)."""
+
+from __future__ import annotations
+
+import json
+import time
+
+from . import _common
+from ..errors import InputError
+
+HELP = "error against run time for every method"
+DESCRIPTION = ("Run every method on the benchmark cases at increasing steps per cycle, judge it "
+               "against the exact solution, and write compare.csv, compare.md and (with "
+               "matplotlib) compare.png. " + _common.OUTPUT_RULE)
+#: API parameter names that differ from the option's name
+OPTIONS = {"method": "--methods", "steps_per_cycle": "--steps"}
+OUTPUTS = ("compare.csv", "compare.md", "compare.png")
+
+
+def configure(p) -> None:
+    p.add_argument("--quick", action="store_true", help="reduced set, under 3 minutes")
+    p.add_argument("--out", default="bench-out", metavar="DIR",
+                   help="output directory (default bench-out; its parent must exist)")
+    p.add_argument("--methods", default=None, metavar="LIST",
+                   help="comma-separated methods (default: all installed)")
+    p.add_argument("--cases", default=None, metavar="LIST", help="comma-separated case names")
+    p.add_argument("--budget", default=None, metavar="SECONDS",
+                   help="seconds per run before a method stops refining (> 0; default 20, or 1 "
+                        "with --quick)")
+    p.add_argument("--steps", default=None, metavar="LIST",
+                   help="comma-separated steps per cycle (default: 50 to 1e5, or the --quick set)")
+    p.add_argument("--placement", default="contact", choices=("contact", "uniform"))
+    p.add_argument("--json", action="store_true", help="print the headline numbers as JSON last")
+    _common.add_memory_option(p)
+
+
+def _list(text, option: str) -> list[str]:
+    items = [s.strip() for s in str(text).split(",") if s.strip()]
+    if not items:
+        raise InputError(option, f"expected a comma-separated list, got {text!r}")
+    return items
+
+
+def run(args) -> int:
+    from .. import _checks
+    from ..analysis import convergence as bench
+
+    out = _common.output_dir(args.out, "--out")
+    cases = bench.CASES
+    if args.cases is not None:
+        names = _list(args.cases, "--cases")
+        unknown = [n for n in names if n not in {c.name for c in bench.CASES}]
+        if unknown:
+            raise InputError("--cases", f"unknown {unknown}; choose from "
+                                        f"{[c.name for c in bench.CASES]}")
+        cases = tuple(c for c in bench.CASES if c.name in names)
+    methods = None
+    if args.methods is not None:
+        methods = _list(args.methods, "--methods")
+        from ..methods import get_stepper
+
+        for m in methods:
+            get_stepper(m)  # an unknown name or a missing extra fails here, named --methods
+    steps = bench.QUICK_STEPS if args.quick else bench.FULL_STEPS
+    if args.steps is not None:
+        steps = tuple(_checks.positive_int("--steps", s, minimum=4)
+                      for s in _list(args.steps, "--steps"))
+    if args.budget is not None:
+        budget = _checks.positive("--budget", _checks.parse_number(args.budget, "--budget"))
+    else:
+        budget = 1.0 if args.quick else 20.0
+    from ..methods import CLOSED_FORM, get_method
+
+    if methods is None and args.quick:  # the quick set: the methods the registry rates fast
+        methods = [m for m in bench.default_methods()
+                   if (get_method(m)[0].seconds_per_point_step or 0.0) < 1e-4]
+    worst = max((_common.steady_state_bytes(max(steps), m) for m in (methods or ["solver"])
+                 if m == "solver" or get_method(m)[0].kind != CLOSED_FORM), default=0.0)
+    _common.check_memory(worst, args, "--steps", f"a run with {max(steps)} steps per cycle")
+
+    existed = out.is_dir()
+    before = _common.snapshot(out)
+    t0 = time.perf_counter()
+    try:
+        rows = bench.run_comparison(cases, methods, steps, budget=budget,
+                                    repeats=1 if args.quick else 3, placement=args.placement)
+        cmd = ("python benchmarks/compare_backends.py" + (" --quick" if args.quick else "")
+               + (f" --cases {args.cases}" if args.cases else "")
+               + (f" --methods {args.methods}" if args.methods else "")
+               + (f" --steps {args.steps}" if args.steps else "")
+               + (f" --budget {budget:g}" if args.budget is not None else "")
+               + f" --out {args.out}"
+               + (f" --placement {args.placement}" if args.placement != "contact" else ""))
+        headline = bench.write_outputs(rows, str(out), cases, cmd)
+    except BaseException:
+        _common.remove_created(out, before, existed)
+        raise
+    headline["seconds"] = time.perf_counter() - t0
+    written = [p.name for p in _common.written_files(out, before, OUTPUTS)]
+    headline["files"] = written
+    note = ""
+    if "compare.png" not in written:
+        note = (' (compare.png not drawn: matplotlib is not installed; pip install '
+                '"lcpfric[plot]")' if not _common.installed("matplotlib") else
+                " (compare.png not drawn)")
+    print(f"wrote {out}/{', '.join(written) or 'nothing'} in {headline['seconds']:.0f} s{note}")
+    if args.json:
+        print(json.dumps(headline))
+    return 0

@@ -1,0 +1,65 @@
+"""``lcpfric figures``: the paper's Figs. 3-7 and 9, computed and drawn."""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+
+from . import _common
+
+HELP = "compute and draw the paper's Figs. 3-7 and 9 (PNG and PDF)"
+DESCRIPTION = ("Compute the data of the paper's figures with the exact solution and write them as "
+               "PNG and PDF files into a directory. " + _common.OUTPUT_RULE)
+#: API parameter names that differ from the option's name
+OPTIONS = {"formats": "--format"}
+#: phases of the maps of Figs. 3 and 4 (φ = kπ/10, k = 0..10)
+MAP_PHASES = 11
+#: curves of Figs. 5-7 and 9 drawn with --points points each (at most)
+CURVES = 8
+
+
+def configure(p) -> None:
+    p.add_argument("--out", required=True, metavar="DIR",
+                   help="output directory (created; its parent must exist)")
+    p.add_argument("--grid", default="101", metavar="N",
+                   help="points per axis of the maps (default 101, as in the paper)")
+    p.add_argument("--points", default="361", metavar="N", help="points per curve (default 361)")
+    p.add_argument("--format", default="png,pdf", metavar="LIST",
+                   help="comma-separated file formats among png, pdf, svg (default png,pdf)")
+    p.add_argument("--json", action="store_true", help="print the files written as JSON")
+    _common.add_memory_option(p)
+
+
+def run(args) -> int:
+    _common.require_extras("figures", ["matplotlib", "xarray"])
+    out = _common.output_dir(args.out, "--out")
+    from .. import _checks
+
+    grid = _checks.positive_int("--grid", args.grid, minimum=3)
+    points = _checks.positive_int("--points", args.points, minimum=3)
+    formats = [f.strip().lower() for f in str(args.format).split(",") if f.strip()]
+    need = (_common.map_bytes(float(grid) ** 2 * MAP_PHASES, 2 * grid + MAP_PHASES)
+            + _common.map_bytes(float(points) * CURVES))
+    _common.check_memory(need, args, "--grid" if grid ** 2 * MAP_PHASES > points * CURVES
+                         else "--points", f"figures with --grid {grid} and --points {points}")
+
+    from ..paper.figures import write_figures
+
+    existed = out.is_dir()
+    before = _common.snapshot(out)
+    t0 = time.perf_counter()
+    try:
+        paths = write_figures(out, grid=grid, points=points, formats=formats,
+                              progress=lambda line: print(line, file=sys.stderr, flush=True))
+    except BaseException:
+        _common.remove_created(out, before, existed)
+        raise
+    seconds = time.perf_counter() - t0
+    if args.json:
+        print(json.dumps({"out": str(out), "files": [str(p) for p in paths],
+                          "seconds": seconds}))
+    else:
+        print(f"wrote {len(paths)} files to {out} in {seconds:.2f} s: "
+              + ", ".join(p.name for p in paths))
+    return 0

@@ -1,0 +1,233 @@
+"""``lcpfric map``: a dissipation map Ŵ(φ, P̂1, Q̂1) written to NetCDF."""
+
+from __future__ import annotations
+
+import json
+import re
+import sys
+from typing import TYPE_CHECKING
+
+from . import _common
+from ..errors import InputError
+
+if TYPE_CHECKING:
+    from pathlib import Path
+
+HELP = "compute a dissipation map W_hat(phi, P1, Q1) and write it to NetCDF"
+DESCRIPTION = ("Compute W_hat on the grid phi x P1 x Q1 and write it to a NetCDF file. Finished "
+               "chunks are saved next to the output (<out>.parts) and an interrupted run resumes "
+               "when the same command is run again. " + _common.OUTPUT_RULE)
+#: API parameter names that differ from the option's name
+OPTIONS = {"steps_per_cycle": "--steps", "store": "--out"}
+DIMS = ("phi", "P1", "Q1")
+
+
+def configure(p) -> None:
+    p.add_argument("--P1", required=True, metavar="START:STOP:NUM",
+                   help="normal amplitudes P1/P0: START:STOP:NUM (NUM points, ends included) or "
+                        "a comma-separated list")
+    p.add_argument("--Q1", required=True, metavar="START:STOP:NUM",
+                   help="tangential amplitudes Q1/(f P0): START:STOP:NUM or a list")
+    p.add_argument("--phi", required=True, metavar="LIST",
+                   help="phases: comma-separated radians or multiples of pi (0,0.6pi,pi/2; "
+                        "negative ones too: -0.5pi,0.5pi), or START:STOP:NUM (0:pi:11)")
+    p.add_argument("--out", required=True, metavar="FILE.nc",
+                   help="output NetCDF file; must end in .nc, in an existing directory")
+    p.add_argument("--method", default="exact", help="method (default: exact)")
+    p.add_argument("--steps", default=None, metavar="N",
+                   help="steps per cycle for time-stepping methods")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="Dask scheduler address, tcp://HOST:PORT or HOST:PORT (default: local "
+                        "processes)")
+    p.add_argument("--processes", default=None, metavar="N",
+                   help="local worker processes (default: all cores when it pays)")
+    p.add_argument("--chunk-size", default=None, metavar="N",
+                   help="grid points per saved chunk")
+    p.add_argument("--restart", action="store_true",
+                   help="delete the output and the saved chunks of an earlier run first, and "
+                        "compute everything again")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--json", action="store_true", help="print the summary as JSON")
+    _common.add_memory_option(p)
+
+
+# -- checks before any work ------------------------------------------------------------------------
+def grid_count(text) -> int | None:
+    """How many values a grid option asks for, without building it (None: let the parser say
+    what is wrong)."""
+    text = str(text).strip()
+    if ":" in text:
+        parts = text.split(":")
+        if len(parts) != 3:
+            return None
+        try:
+            return int(parts[2].strip())
+        except ValueError:
+            return None
+    return len([s for s in text.split(",") if s.strip()])
+
+
+_ADDRESS = re.compile(r"^(?:(?P<scheme>[A-Za-z][A-Za-z0-9+.-]*)://)?"
+                      r"(?P<host>\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):(?P<port>\d{1,5})$")
+_SCHEMES = ("tcp", "tls", "ws", "wss", "ucx")
+PROBE_SECONDS = 5.0
+
+
+def scheduler_address(text) -> str:
+    """Check a Dask scheduler address, and that something listens there, before any work."""
+    import socket
+
+    s = str(text).strip()
+    m = _ADDRESS.match(s)
+    scheme = (m.group("scheme") or "tcp").lower() if m else ""
+    if m is None or scheme not in _SCHEMES or not 0 < int(m.group("port")) < 65536:
+        raise InputError("--scheduler", f"{text!r} is not a Dask scheduler address; give "
+                                        "tcp://HOST:PORT or HOST:PORT, e.g. tcp://10.0.0.5:8786")
+    host, port = m.group("host").strip("[]"), int(m.group("port"))
+    address = s if m.group("scheme") else f"tcp://{s}"
+    if scheme != "ucx":
+        try:
+            socket.create_connection((host, port), timeout=PROBE_SECONDS).close()
+        except socket.gaierror:
+            raise InputError("--scheduler", f"cannot reach the Dask scheduler at {address}: "
+                                            f"unknown host {host!r}") from None
+        except (OSError, TimeoutError) as exc:
+            reason = getattr(exc, "strerror", None) or type(exc).__name__
+            if isinstance(exc, TimeoutError):
+                reason = f"no answer within {PROBE_SECONDS:g} s"
+            raise InputError("--scheduler", f"cannot reach the Dask scheduler at {address}: "
+                                            f"{reason}") from None
+    return address
+
+
+CONNECT_SECONDS = 20
+
+
+def connect(address: str):
+    """A ``dask.distributed.Client`` of the scheduler at ``address``; any failure to connect is
+    bad input for ``--scheduler`` (a service there that is not a Dask scheduler makes Dask's
+    reader fail in odd ways, a MemoryError among them)."""
+    from distributed import Client
+
+    try:
+        return Client(address, timeout=f"{CONNECT_SECONDS}s")
+    except MemoryError:
+        reason = "what answers there does not speak Dask's protocol"
+    except Exception as exc:  # OSError, TimeoutError, a protocol error...
+        reason = f"{type(exc).__name__}: {exc}"
+    raise InputError("--scheduler", f"cannot connect to a Dask scheduler at {address}: "
+                                    f"{_common.one_line(reason)}")
+
+
+def _chunk_files(store: Path) -> list[Path]:
+    return sorted(store.glob("chunk-*.npy")) if store.is_dir() else []
+
+
+def remove_store(store: Path) -> None:
+    """Delete a sweep's chunk store (only the files a sweep writes there)."""
+    if not store.is_dir():
+        return
+    for pattern in ("chunk-*.npy", "manifest.json", ".*.tmp"):
+        for f in store.glob(pattern):
+            f.unlink(missing_ok=True)
+    try:
+        store.rmdir()
+    except OSError:  # someone keeps other files there: leave them
+        pass
+
+
+# -- the command -----------------------------------------------------------------------------------
+def run(args) -> int:
+    from .. import _checks
+
+    method = str(args.method).strip()
+    modules = ["xarray"] + ([] if _common.installed("netCDF4") else ["h5netcdf", "h5py"])
+    if args.scheduler is not None:
+        modules.append("distributed")
+    _common.require_extras("maps", modules)
+
+    out = _common.output_file(args.out, "--out", ".nc")
+    store = out.with_name(out.name + ".parts")
+    if store.exists() and not store.is_dir():
+        raise InputError("--out", f"{str(store)!r} (where the finished chunks are saved) exists "
+                                  "and is not a directory")
+    steps = None if args.steps is None else _checks.positive_int("--steps", args.steps, 4)
+    processes = (None if args.processes is None else
+                 _checks.positive_int("--processes", args.processes))
+    chunk_size = (None if args.chunk_size is None else
+                  _checks.positive_int("--chunk-size", args.chunk_size))
+
+    counts = {d: grid_count(getattr(args, d)) for d in DIMS}
+    if all(c is not None and c > 0 for c in counts.values()):
+        n = counts["phi"] * counts["P1"] * counts["Q1"]
+        workers = 1 if args.scheduler is not None else _common.workers_for(processes)
+        need = _common.map_bytes(n, sum(counts.values()), method, steps, chunk_size, workers)
+        _common.check_memory(need, args, "--P1, --Q1, --phi",
+                             f"a map of {counts['phi']} x {counts['P1']} x {counts['Q1']} = "
+                             f"{n:.4g} points")
+    from ..analysis.sweep import parse_grid
+
+    P1 = parse_grid(args.P1, "--P1")
+    Q1 = parse_grid(args.Q1, "--Q1")
+    phi = parse_grid(args.phi, "--phi", angle=True)
+    scheduler = None if args.scheduler is None else scheduler_address(args.scheduler)
+
+    if args.restart:  # nothing of the earlier run may survive an interrupted restart
+        out.unlink(missing_ok=True)
+        remove_store(store)
+    store_existed = store.exists()
+    progress = not args.no_progress and _common.installed("tqdm")
+
+    from ..analysis.sweep import sweep
+
+    client = None if scheduler is None else connect(scheduler)
+    try:
+        ds = sweep(P1, Q1, phi, method=method, steps_per_cycle=steps, chunk_size=chunk_size,
+                   out=out, resume=not args.restart, scheduler=client, processes=processes,
+                   progress=progress)
+    except KeyboardInterrupt:
+        saved = len(_chunk_files(store))
+        if saved:
+            print(f"interrupted: {saved} finished chunks are saved in {store}; run the same "
+                  "command again to resume", file=sys.stderr)
+        else:
+            if not store_existed:
+                remove_store(store)
+            print("interrupted before any chunk finished; nothing was saved", file=sys.stderr)
+        return 130
+    except BaseException as exc:
+        saved = len(_chunk_files(store))
+        if saved:
+            _common.add_note(exc, f"{saved} finished chunks are kept in {store}; run the same "
+                                  "command again to resume")
+        elif not store_existed:
+            remove_store(store)
+        raise
+    finally:
+        if client is not None:
+            client.close()
+    return _report(ds, out, args.json)
+
+
+def _report(ds, out: Path, as_json: bool) -> int:
+    W = ds.W_hat
+    where = W.argmax(...)
+    summary = {
+        "out": str(out), "method": ds.attrs["method"],
+        "shape": {d: int(ds.sizes[d]) for d in DIMS}, "points": int(W.size),
+        "seconds": round(float(ds.attrs["seconds"]), 4), "executor": ds.attrs["executor"],
+        "chunks_computed": int(ds.attrs["chunks_computed"]),
+        "chunks_reused": int(ds.attrs["chunks_reused"]),
+        "W_hat_max": float(W.max()),
+        "at": {d: float(ds[d][where[d]]) for d in DIMS},
+    }
+    if as_json:
+        print(json.dumps(summary))
+        return 0
+    at = ", ".join(f"{d}={v:.4g}" for d, v in summary["at"].items())
+    print(f"wrote {out}: W_hat on {W.size} points (phi x P1 x Q1 = "
+          f"{' x '.join(str(v) for v in summary['shape'].values())}) by {summary['method']} "
+          f"in {summary['seconds']:.3g} s [{summary['executor']}; "
+          f"{summary['chunks_reused']} of {ds.attrs['chunks']} chunks reused]; "
+          f"max W_hat = {summary['W_hat_max']:.6g} at {at}")
+    return 0

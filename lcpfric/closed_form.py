@@ -1,0 +1,76 @@
+"""Closed-form methods: the periodic steady state without time steps (``method="exact"``).
+
+:class:`ExactSolver` is what the registry gives for ``"exact"``: it checks that the model is
+the paper's single node with harmonic loads, computes the periodic orbit event by event
+(:mod:`lcpfric.exact`) and returns the same :class:`~lcpfric.results.SteadyState` as the
+periodic driver, with the time series sampled at ``steps_per_cycle + 1`` instants (which does
+not affect W).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from . import _checks
+from .errors import InputError
+from .methods import CLOSED_FORM
+from .model import ContactSystem, SingleNode
+from .results import SteadyState
+
+__all__ = ["ExactSolver"]
+
+
+class ExactSolver:
+    """The closed-form steady state of the single node (see :mod:`lcpfric.exact`)."""
+
+    name = "exact"
+    kind = CLOSED_FORM
+    label = "exact"
+
+    def __init__(self):
+        pass
+
+    def check(self, model) -> SingleNode:
+        """Return the single node to solve, or raise InputError naming the methods that can."""
+        from .scene import Scene
+
+        if isinstance(model, Scene):
+            model = model.model if model.model is not None else model.system
+        if not isinstance(model, (SingleNode, ContactSystem)):
+            raise InputError("model", "expected a SingleNode, ContactSystem or Scene, got "
+                                      f"{type(model).__name__}")
+        if not isinstance(model, SingleNode):
+            raise InputError("method", "'exact' solves the single node (SingleNode); for a "
+                                       "general system use 'explicit', 'projection' or a solver "
+                                       "backend")
+        if not model.is_harmonic:
+            raise InputError("method", "'exact' needs harmonic loads P0 + P1 sin(ωt), "
+                                       "Q0 + Q1 sin(ωt + φ); for other periodic loads use "
+                                       "'explicit' or 'projection'")
+        return model
+
+    def steady_state(self, model, steps_per_cycle: int = 2000) -> SteadyState:
+        """The exact steady state, its time series sampled at ``steps_per_cycle + 1`` instants."""
+        from .exact import exact_cycle
+
+        start = time.perf_counter()
+        model = self.check(model)
+        samples = _checks.positive_int("steps_per_cycle", steps_per_cycle, 4)
+        P1, Q1, phi = model.normalized_parameters()
+        cyc = exact_cycle(P1, Q1, phi)
+        t = np.linspace(0.0, model.period, samples + 1)
+        theta = model.omega * t + model.normal_load.phase
+        u = cyc.w(theta)
+        F = Q1 * np.sin(theta + phi) + u
+        N = np.maximum(1.0 + P1 * np.sin(theta), 0.0)
+        v, F, N = model.series(u, F, N)
+        W_hat = np.array([cyc.W_hat])
+        return SteadyState(
+            W=float(model.W(cyc.W_hat)), W_cycles=np.atleast_1d(model.W(W_hat)), cycles=1,
+            converged=True, method=self.name, steps_requested=samples, steps_used=0, t=t,
+            v=v, F=F, N=N, state=cyc.state(theta), seconds=time.perf_counter() - start,
+            change=0.0, message=f"exact steady state (closed form, no time steps; series "
+                                f"sampled at {samples + 1} instants)",
+            normalization=model.normalization(), W_hat_cycles=W_hat)
