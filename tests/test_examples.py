@@ -20,6 +20,7 @@ def run(name, *args, tmp_path):
     return proc.stdout
 
 
+@pytest.mark.slow
 def test_motor(tmp_path):
     pytest.importorskip("matplotlib")
     out = run("motor.py", "--out", str(tmp_path), tmp_path=tmp_path)
@@ -29,6 +30,7 @@ def test_motor(tmp_path):
     assert a == pytest.approx(b, rel=1e-9)
 
 
+@pytest.mark.slow
 def test_two_harmonic(tmp_path):
     out = run("two_harmonic.py", tmp_path=tmp_path)
     errors = [float(e) for e in re.findall(r"relative error ([\d.e+-]+)", out)]

@@ -32,7 +32,7 @@ def run_all(system, steps, methods):
 
 
 @pytest.mark.parametrize("n, steps", [pytest.param(2, 200, id="n=2"),
-                                      pytest.param(10, 400, id="n=10"),
+                                      pytest.param(10, 400, id="n=10", marks=pytest.mark.slow),
                                       pytest.param(100, 100, id="n=100", marks=pytest.mark.slow)])
 @pytest.mark.parametrize("separation", [False, True], ids=["contact", "separation"])
 def test_chain_methods_agree(n, steps, separation):

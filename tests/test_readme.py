@@ -9,6 +9,7 @@ import pytest
 README = Path(__file__).resolve().parents[1] / "README.md"
 
 
+@pytest.mark.slow
 def test_readme_snippets_run(tmp_path, monkeypatch):
     pytest.importorskip("xarray")
     pytest.importorskip("matplotlib")

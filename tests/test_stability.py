@@ -61,6 +61,8 @@ def _cases(scenario_list, methods):
         key = (_id(scenario), method)
         marks = ([pytest.mark.xfail(strict=True, reason=KNOWN_WRONG[key])]
                  if key in KNOWN_WRONG else [])
+        if scenario.group == "multi-node" and method == "explicit":
+            marks.append(pytest.mark.slow)  # seconds each; CI runs them
         out.append(pytest.param(scenario, method, marks=marks, id=f"{key[0]}-{method}"))
     return out
 
