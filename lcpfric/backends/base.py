@@ -21,7 +21,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .._checks import positive
+from .._checks import boolean, positive
 from ..errors import InputError, SolverError
 from ..results import CycleResult, State, StepState
 from ..steppers.base import Stepper
@@ -52,12 +52,6 @@ class ConvexData:
     plan: ScenePlan
     bdata: list
     stats: dict
-
-
-def _boolean(name: str, value) -> bool:
-    if not isinstance(value, (bool, np.bool_)):
-        raise InputError(name, f"must be True or False, got {value!r}")
-    return bool(value)
 
 
 class ConvexStepper(Stepper):
@@ -97,7 +91,7 @@ class ConvexStepper(Stepper):
 
     def __init__(self, *, refine: bool = True, check_tol: float = 1e-6,
                  active_tol: float = 1e-6, **settings):
-        self.refine = _boolean("refine", refine)
+        self.refine = boolean("refine", refine)
         self.check_tol = positive("check_tol", check_tol)
         self.active_tol = positive("active_tol", active_tol)
         self.user_settings = dict(settings)
