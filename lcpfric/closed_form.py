@@ -23,7 +23,8 @@ __all__ = ["ExactSolver"]
 
 
 class ExactSolver:
-    """The closed-form steady state of the single node (see :mod:`lcpfric.exact`)."""
+    """The exact steady state: the single node in closed form (:mod:`lcpfric.exact`), a
+    discrete system (d = 1) event by event (:mod:`lcpfric.exact.discrete`)."""
 
     name = "exact"
     kind = CLOSED_FORM
@@ -32,8 +33,9 @@ class ExactSolver:
     def __init__(self):
         pass
 
-    def check(self, model) -> SingleNode:
-        """Return the single node to solve, or raise InputError naming the methods that can."""
+    def check(self, model):
+        """Return the single node or system to solve, or raise InputError naming the methods
+        that can."""
         from .scene import Scene
 
         if isinstance(model, Scene):
@@ -42,9 +44,10 @@ class ExactSolver:
             raise InputError("model", "expected a SingleNode, ContactSystem or Scene, got "
                                       f"{type(model).__name__}")
         if not isinstance(model, SingleNode):
-            raise InputError("method", "'exact' solves the single node (SingleNode); for a "
-                                       "general system use 'explicit', 'projection' or a solver "
-                                       "backend")
+            from .exact.discrete import check_system
+
+            check_system(model)
+            return model
         if not model.is_harmonic:
             raise InputError("method", "'exact' needs harmonic loads P0 + P1 sin(ωt), "
                                        "Q0 + Q1 sin(ωt + φ); for other periodic loads use "
@@ -58,6 +61,8 @@ class ExactSolver:
         start = time.perf_counter()
         model = self.check(model)
         samples = _checks.positive_int("steps_per_cycle", steps_per_cycle, 4)
+        if isinstance(model, ContactSystem):
+            return self._system_steady_state(model, samples, start)
         P1, Q1, phi = model.normalized_parameters()
         cyc = exact_cycle(P1, Q1, phi)
         t = np.linspace(0.0, model.period, samples + 1)
@@ -74,3 +79,17 @@ class ExactSolver:
             change=0.0, message=f"exact steady state (closed form, no time steps; series "
                                 f"sampled at {samples + 1} instants)",
             normalization=model.normalization(), W_hat_cycles=W_hat)
+
+    def _system_steady_state(self, system, samples, start) -> SteadyState:
+        from .exact.discrete import exact_system_cycle
+
+        cyc = exact_system_cycle(system, samples)
+        t = cyc.theta / cyc.omega
+        stats = dict(cyc.stats)
+        return SteadyState(
+            W=float(cyc.W), W_cycles=cyc.W_cycles, cycles=cyc.cycles, converged=True,
+            method=self.name, steps_requested=samples, steps_used=0, t=t, v=cyc.u, F=cyc.F,
+            N=cyc.N, state=cyc.state, seconds=time.perf_counter() - start, change=cyc.change,
+            message=f"exact steady state (event by event, {cyc.events} events per cycle, "
+                    f"periodic after {cyc.cycles} cycles; series sampled at {samples + 1} "
+                    f"instants)", solver_stats=stats)

@@ -148,7 +148,8 @@ def unregister(name: str) -> None:
 for _m in (
     Method("exact", CLOSED_FORM, "closed-form event-by-event steady state",
            "lcpfric.closed_form:ExactSolver", dims=(1,),
-           accepts="SingleNode with harmonic loads of one frequency",
+           accepts="harmonic loads of one frequency: SingleNode, or ContactSystem (d = 1, "
+                   "IndependentSprings)",
            grid="lcpfric.exact:exact_W_hat", seconds_per_point=1.2e-6, floats_per_step=12),
     Method("explicit", TIME_STEPPER, "the paper's state-based stepper, events located",
            "lcpfric.steppers.explicit:ExplicitStepper", dims=(1,),
