@@ -124,7 +124,7 @@ def _rate(T):
     return D
 
 
-def next_entry(T: np.ndarray, theta: float, tol) -> np.ndarray:
+def next_entry(T: np.ndarray, theta: float, tol, skipped: bool = False):
     """Per row of T, the first angle >= ``theta`` where ``g = c0 + cs sin + cc cos`` enters the
     arc where it is below ``-tol`` (inf when it never is).
 
@@ -133,14 +133,19 @@ def next_entry(T: np.ndarray, theta: float, tol) -> np.ndarray:
     keeps its digits). A dip shallower than ``tol`` (a touch) is not an entry. When θ is in the
     first half of the arc (g falling or at its minimum) the entry is ``theta`` itself; in the
     second half g is rising back and, unless it is still below ``-tol``, the next entry is one
-    period on.
+    period on. With ``skipped``, also returns the deepest dip not treated as an entry, as a
+    fraction of ``tol`` times 1e-11 (the scale-relative depth).
     """
     c0, cs, cc = T[:, 0], T[:, 1], T[:, 2]
     R = np.hypot(cs, cc)
     depth = R - c0
     out = np.full(c0.shape, np.inf)
     dips = depth > tol
-    if not dips.any():
+    if skipped:
+        shallow = float(np.max(np.where(dips, 0.0, depth / tol), initial=0.0)) * _REL
+        if not dips.any():
+            return out, shallow
+    elif not dips.any():
         return out
     always = dips & (depth >= 2.0 * R)            # c0 <= -R: negative everywhere
     out[always] = theta
@@ -155,7 +160,7 @@ def next_entry(T: np.ndarray, theta: float, tol) -> np.ndarray:
         inside = d < 2.0 * h
         now = inside & ((d <= h) | (g_now < -tol_a))
         out[arc] = np.where(now, theta, theta + (TWO_PI - d))
-    return out
+    return (out, shallow) if skipped else out
 
 
 def segment_dissipation(b: np.ndarray, U: np.ndarray, sign: np.ndarray, a: float,
@@ -184,6 +189,17 @@ def segment_dissipation(b: np.ndarray, U: np.ndarray, sign: np.ndarray, a: float
     per = (b0 * (us * dS + uc * dC) + (bs * us - bc * uc) * dS2 + (bc * us - bs * uc) * h
            + (bc * us + bs * uc) * (0.25 * d2))
     return float(sign @ per)
+
+
+def _multiplier(K):
+    """``x -> K @ x``, through a sparse copy of K when it is mostly zeros (a chain)."""
+    n = K.shape[0]
+    if n >= 400 and np.count_nonzero(K) <= 0.05 * n * n:
+        import scipy.sparse as sp
+
+        Ks = sp.csr_matrix(K)
+        return Ks.__matmul__
+    return K.__matmul__
 
 
 # ---------------------------------------------------------------------------------------------
@@ -233,6 +249,12 @@ class _Solver:
     def __init__(self, K, f, Qt, Pt, samples, max_events):
         self.K = self.Kd = K
         self.n = n = f.size
+        self.Kmul = _multiplier(K)
+        self.G = np.zeros((n, n))
+        self.Bidx = np.zeros(n, dtype=np.intp)
+        self.pos = np.full(n, -1, dtype=np.intp)
+        self.m = 0
+        self._since = 0
         self.f = f
         self.Qt = Qt                       # (n, 3)
         self.Pt = Pt                       # (n, 3)
@@ -244,6 +266,7 @@ class _Solver:
                        + np.abs(self.bt[:, 0]) + np.hypot(self.bt[:, 1], self.bt[:, 2]))
         fmax = float(np.max(self.fscale))
         self.fscale = np.maximum(self.fscale, 1e-300)
+        self._tol_stick = np.concatenate([_REL * self.fscale, _REL * self.fscale])
         kmin = float(np.min(np.diag(K)))
         self.rscale = max(fmax / kmin, 1e-300)
         # contact arcs: P_i < 0 on (sep_i, rec_i) (mod 2π); always / never in contact
@@ -276,113 +299,149 @@ class _Solver:
 
     # -- the pattern's closed form -----------------------------------------------------------
     def set_pattern(self, status, u, theta, refresh=False):
-        """Triples of u and F for the pattern ``status`` from the state (u at theta)."""
-        K = self.K
+        """Triples of u and F for the pattern ``status`` from the state (u at theta).
+
+        A pattern that differs from the current one in a few nodes is reached by rank-one
+        updates (:meth:`_flip`, O(n²) each for dense K); otherwise, or every max(64, |B|)
+        updates, it is recomputed from a fresh factorization of K_BB and its equilibrium
+        residual checked."""
+        old = getattr(self, "status", None)
+        if old is not None and not refresh and self._since < max(64, self.m):
+            changed = np.nonzero(old != status)[0]
+            if changed.size <= 4:
+                for j in changed:
+                    self._flip(int(j), int(status[j]), theta)
+                return
+        self._full(status, u, theta)
+
+    def _full(self, status, u, theta):
+        import scipy.linalg as sla
+
+        K, n = self.K, self.n
         B = status != STICK
         Bidx = np.nonzero(B)[0]
-        self._update_G(Bidx, refresh)
+        m = Bidx.size
+        self.m = m
+        self.Bidx[:m] = Bidx
+        self.pos[:] = -1
+        self.pos[Bidx] = np.arange(m)
+        if m:
+            self.G[:m, :m] = sla.cho_solve(sla.cho_factor(K[np.ix_(Bidx, Bidx)]), np.eye(m))
+        self.stats["refactorizations"] += 1
+        self._since = 0
         sign = np.where(status == FORWARD, -1.0, np.where(status == BACKWARD, 1.0, 0.0))
         Fp = sign[:, None] * self.bt                  # prescribed forces (0 when separated)
         uS = np.where(B, 0.0, u)
-        U = np.zeros((self.n, 3))
+        U = np.zeros((n, 3))
         U[:, 0] = uS
-        if Bidx.size:
-            KuS = K @ uS
+        if m:
+            KuS = self.Kmul(uS)
             rhs = Fp[Bidx] - self.Qt[Bidx]
             rhs[:, 0] -= KuS[Bidx]
-            U[Bidx] = self.G @ rhs
-        F = self.Qt + K @ U
-        if Bidx.size:
+            U[Bidx] = self.G[:m, :m] @ rhs
+        F = self.Qt + self.Kmul(U)
+        if m:
             res = float(np.max(np.abs(F[Bidx] - Fp[Bidx])) / np.max(self.fscale))
             if res > _RESIDUAL:
-                if not refresh:
-                    return self.set_pattern(status, u, theta, refresh=True)
                 raise SolverError(f"exact: equilibrium residual {res:.3g} of the pattern at "
                                   f"θ = {theta:.17g} (is K well conditioned?)", backend="exact",
                                   status="residual")
             F[Bidx] = Fp[Bidx]
-        self.status, self.U, self.Ft, self.sign = status, U, F, sign
+        self.status, self.U, self.Ft, self.sign = status.copy(), U, F, sign
         self.B = B
 
-    def _update_G(self, Bidx, refresh):
-        """G = K_BB⁻¹ for the new B, by bordering / downdating the previous one."""
-        K = self.K
-        old = getattr(self, "Bidx", None)
-        if (refresh or old is None or self._updates >= max(32, Bidx.size)):
-            self._factor(Bidx)
+    def _flip(self, j, new, theta):
+        """Change node j's state by rank-one updates of G = K_BB⁻¹, U and F."""
+        old = int(self.status[j])
+        if old == new:
             return
-        removed = np.setdiff1d(old, Bidx, assume_unique=True)
-        added = np.setdiff1d(Bidx, old, assume_unique=True)
-        if removed.size + added.size > 4:
-            self._factor(Bidx)
-            return
-        G, cur = self.G, list(old)
-        for j in removed:
-            p = cur.index(j)
-            col = G[:, p].copy()
-            G = G - np.outer(col, G[p]) / col[p]
-            G = np.delete(np.delete(G, p, 0), p, 1)
-            cur.pop(p)
-        for j in added:
-            kb = K[cur, j]
-            g = G @ kb
-            s = K[j, j] - kb @ g
-            if not s > 0:
-                self._factor(Bidx)
-                return
-            m = len(cur)
-            Gn = np.empty((m + 1, m + 1))
-            Gn[:m, :m] = G + np.outer(g, g) / s
-            Gn[:m, m] = Gn[m, :m] = -g / s
-            Gn[m, m] = 1.0 / s
-            G = Gn
-            cur.append(j)
-        order = np.argsort(cur)
-        self.G = G[np.ix_(order, order)] if removed.size or added.size else G
-        self.Bidx = np.asarray(cur)[order]
-        self._updates += removed.size + added.size
-
-    def _factor(self, Bidx):
-        import scipy.linalg as sla
-
-        if Bidx.size:
-            KBB = self.K[np.ix_(Bidx, Bidx)]
-            self.G = sla.cho_solve(sla.cho_factor(KBB), np.eye(Bidx.size))
+        sgn = -1.0 if new == FORWARD else (1.0 if new == BACKWARD else 0.0)
+        if old == STICK:                      # j joins B with a prescribed force
+            z = self._add(j)                  # u response (over B) to a unit force at j
+            delta = sgn * self.bt[j] - self.Ft[j]
+        elif new == STICK:                    # j leaves B: u_j keeps its value at theta
+            p = self.pos[j]
+            m = self.m
+            z = np.zeros(self.n)
+            z[self.Bidx[:m]] = self.G[:m, p]
+            du = -self.U[j].copy()
+            du[0] += float(_value(self.U[j], theta))
+            delta = du / z[j]
+            self._remove(j)
+        else:                                 # prescribed force changes (slip <-> separation)
+            p = self.pos[j]
+            m = self.m
+            z = np.zeros(self.n)
+            z[self.Bidx[:m]] = self.G[:m, p]
+            delta = sgn * self.bt[j] - self.Ft[j]
+        self.U += np.multiply.outer(z, delta)
+        self.Ft += np.multiply.outer(self.Kmul(z), delta)
+        self.status[j] = new
+        self.sign[j] = sgn
+        self.B[j] = new != STICK
+        if new == STICK:
+            self.U[j] = (float(_value(self.U[j], theta)), 0.0, 0.0)
         else:
-            self.G = np.zeros((0, 0))
-        self.Bidx = Bidx
-        self._updates = 0
-        self.stats["refactorizations"] += 1
+            self.Ft[j] = sgn * self.bt[j]
+        self._since += 1
+
+    def _add(self, j):
+        """Border G with node j; returns the new column of G scattered over the nodes."""
+        m = self.m
+        Bi = self.Bidx[:m]
+        kb = self.K[j, Bi]
+        g = self.G[:m, :m] @ kb
+        s = self.K[j, j] - kb @ g
+        if not s > 0:
+            raise SolverError(f"exact: K_BB lost positive definiteness adding node {j} "
+                              f"(pivot {s:.3g})", backend="exact", status="not_spd")
+        G = self.G
+        G[:m, :m] += np.multiply.outer(g, g / s)
+        G[:m, m] = G[m, :m] = -g / s
+        G[m, m] = 1.0 / s
+        self.Bidx[m] = j
+        self.pos[j] = m
+        self.m = m + 1
+        z = np.zeros(self.n)
+        z[self.Bidx[:m + 1]] = G[:m + 1, m]
+        return z
+
+    def _remove(self, j):
+        """Downdate G = K_BB⁻¹ for B without node j (the last node takes its place)."""
+        m, p = self.m, self.pos[j]
+        G = self.G
+        col = G[:m, p].copy()
+        G[:m, :m] -= np.multiply.outer(col, col / col[p])
+        last = m - 1
+        if p != last:
+            G[p, :last] = G[last, :last]
+            G[:last, p] = G[:last, last]
+            G[p, p] = G[last, last]
+            k = self.Bidx[last]
+            self.Bidx[p] = k
+            self.pos[k] = p
+        self.pos[j] = -1
+        self.m = last
 
     # -- events ------------------------------------------------------------------------------
     def next_event(self, theta):
-        """The next event angle after theta and its kinds per node."""
+        """Entry angles of every constraint of the pattern, shape (2n,): rows 0..n-1 the upper
+        margin ``f P - F`` of a stuck node or the slip rate ``±du/dθ`` of a slipping one; rows
+        n..2n-1 the lower margin ``f P + F`` of a stuck node (inf elsewhere)."""
+        n = self.n
         st = self.status
-        stick = np.nonzero(st == STICK)[0]
-        slip = np.nonzero((st == FORWARD) | (st == BACKWARD))[0]
-        t_hi = t_lo = t_rate = np.empty(0)
-        if stick.size:
-            # stuck nodes are in contact (separated nodes are in B)
-            g_hi = self.bt[stick] - self.Ft[stick]
-            g_lo = self.bt[stick] + self.Ft[stick]
-            tol = _REL * self.fscale[stick]
-            t_hi = next_entry(g_hi, theta, tol)
-            t_lo = next_entry(g_lo, theta, tol)
-            self._skipped(g_hi, tol)
-            self._skipped(g_lo, tol)
-        if slip.size:
-            D = np.where(st[slip] == FORWARD, 1.0, -1.0)
-            r = D[:, None] * _rate(self.U[slip])
-            t_rate = next_entry(r, theta, _REL * self.rscale)
-        return stick, slip, t_hi, t_lo, t_rate
-
-    def _skipped(self, g, tol):
-        c0, R = g[:, 0], np.hypot(g[:, 1], g[:, 2])
-        depth = R - c0
-        touch = (depth > 0) & (depth <= tol)
-        if touch.any():
-            self.stats["skipped_depth"] = max(self.stats["skipped_depth"],
-                                              float(np.max(depth[touch] / (tol[touch] / _REL))))
+        stick = (st == STICK)[:, None]
+        D = np.where(st == FORWARD, 1.0, np.where(st == BACKWARD, -1.0, 0.0))
+        T = np.empty((2 * n, 3))
+        T[:n] = np.where(stick, self.bt - self.Ft, D[:, None] * _rate(self.U))
+        T[n:] = np.where(stick, self.bt + self.Ft, 0.0)
+        tol = self._tol_stick if not np.any(D) else np.concatenate(
+            [np.where(stick[:, 0], _REL * self.fscale, _REL * self.rscale),
+             _REL * self.fscale])
+        t, skipped = next_entry(T, theta, tol, skipped=True)
+        if skipped > self.stats["skipped_depth"]:
+            self.stats["skipped_depth"] = skipped
+        return t
 
     # -- deciding the pattern at an event ----------------------------------------------------
     def decide(self, theta, u, guess, touch_lo, touch_hi, attempt, recontact=None):
@@ -425,7 +484,7 @@ class _Solver:
         _du, new = ExplicitStepper._rates(self.Kd, self.f, F0, bound, dQ, dN, sep,
                                           slipping & (guess == FORWARD),
                                           slipping & (guess == BACKWARD), touch_lo, touch_hi)
-        self.set_pattern(np.asarray(new, dtype=np.int8), u, theta)
+        self.set_pattern(np.asarray(new, dtype=np.int8), u, theta, refresh=True)
 
     def _K_u(self, u):
         return self.K @ u
@@ -435,30 +494,29 @@ class _Solver:
         and the state that removes it, or (-1, None): a slipping node whose rate is against its
         direction sticks; a stuck node on a limit whose margin is falling slips."""
         st = self.status
-        bad = np.full(self.n, -1, dtype=np.int8)
-        slip = np.nonzero((st == FORWARD) | (st == BACKWARD))[0]
-        if slip.size:
-            D = np.where(st[slip] == FORWARD, 1.0, -1.0)
-            r = D * _value(_rate(self.U[slip]), theta)
-            bad[slip[r < -_REL * self.rscale]] = STICK
-        stick = np.nonzero(st == STICK)[0]
-        if stick.size:
-            F = _value(self.Ft[stick], theta)
-            b = _value(self.bt[stick], theta)
-            tol = _REL * self.fscale[stick]
-            dF = _value(_rate(self.Ft[stick]), theta)
-            db = _value(self.dbt[stick], theta)
-            rtol = _REL * (self.fscale[stick] + np.abs(dF) + np.abs(db))
-            hi = (F >= b - tol) & (db - dF < -rtol)
-            lo = (F <= -b + tol) & (db + dF < -rtol)
-            bad[stick[lo]] = FORWARD
-            bad[stick[hi & ~lo]] = BACKWARD
-            if np.any(hi & lo):          # on both limits (N = 0): the LCP decides the sign
-                return int(stick[np.argmax(hi & lo)]), None
-        idx = np.nonzero(bad >= 0)[0]
-        if not idx.size:
+        sn, cs = math.sin(theta), math.cos(theta)
+        U, Ft, bt = self.U, self.Ft, self.bt
+        D = np.where(st == FORWARD, 1.0, np.where(st == BACKWARD, -1.0, 0.0))
+        stick = st == STICK
+        r = D * (U[:, 1] * cs - U[:, 2] * sn)
+        F = Ft[:, 0] + Ft[:, 1] * sn + Ft[:, 2] * cs
+        b = bt[:, 0] + bt[:, 1] * sn + bt[:, 2] * cs
+        dF = Ft[:, 1] * cs - Ft[:, 2] * sn
+        db = bt[:, 1] * cs - bt[:, 2] * sn
+        tol = _REL * self.fscale
+        rtol = tol + _REL * (np.abs(dF) + np.abs(db))
+        hi = stick & (F >= b - tol) & (db - dF < -rtol)
+        lo = stick & (F <= -b + tol) & (db + dF < -rtol)
+        back = r < -_REL * self.rscale
+        bad = hi | lo | back
+        if not bad.any():
             return -1, None
-        return int(idx[0]), int(bad[idx[0]])
+        i = int(np.argmax(bad))
+        if back[i]:
+            return i, STICK
+        if hi[i] and lo[i]:               # on both limits (N = 0): the LCP decides the sign
+            return i, None
+        return i, (BACKWARD if hi[i] else FORWARD)
 
     # -- one cycle ---------------------------------------------------------------------------
     def cycle(self, u, status, theta_s):
@@ -474,14 +532,13 @@ class _Solver:
         k_s = 0
         normal = self.normal_events
         k_n = 0   # normal events at θ = 0 are processed as events at the start
-        self.set_pattern(status, u, 0.0)
+        self.set_pattern(status, u, 0.0, refresh=True)
         attempt = 0
         last = -1.0
         while True:
-            stick, slip, t_hi, t_lo, t_rate = self.next_event(theta)
+            t_all = self.next_event(theta)
             t_norm = normal[k_n][0] if k_n < len(normal) else np.inf
-            t_next = min(float(np.min(t_hi, initial=np.inf)), float(np.min(t_lo, initial=np.inf)),
-                         float(np.min(t_rate, initial=np.inf)), t_norm, TWO_PI)
+            t_next = min(float(t_all.min()), t_norm, TWO_PI)
             # samples in [theta, t_next)
             k_end = int(np.searchsorted(theta_s, t_next, side="left"))
             if t_next >= TWO_PI:
@@ -493,6 +550,7 @@ class _Solver:
                 Ss[k_s:k_end] = self.status
                 k_s = k_end
             # dissipation of the segment
+            slip = np.nonzero(self.sign)[0]
             if slip.size and t_next > theta:
                 W += segment_dissipation(self.bt[slip], self.U[slip], self.sign[slip] * -1.0,
                                          theta, t_next)
@@ -510,12 +568,14 @@ class _Solver:
             touch_hi = np.zeros(n, dtype=bool)
             touch_lo = np.zeros(n, dtype=bool)
             recontact = np.zeros(n, dtype=bool)
-            if stick.size:
-                hi, lo = stick[t_hi <= horizon], stick[t_lo <= horizon]
-                touch_hi[hi], touch_lo[lo] = True, True
-                guess[hi], guess[lo] = BACKWARD, FORWARD
-            if slip.size:
-                guess[slip[t_rate <= horizon]] = STICK
+            now = t_all <= horizon
+            if now.any():
+                st = self.status
+                first, second = now[:n], now[n:]
+                hi = first & (st == STICK)
+                touch_hi[hi], touch_lo[second] = True, True
+                guess[first & (st != STICK)] = STICK
+                guess[hi], guess[second] = BACKWARD, FORWARD
             while k_n < len(normal) and normal[k_n][0] <= horizon:
                 _, i, kind = normal[k_n]
                 guess[i] = SEPARATION if kind == 0 else STICK
@@ -550,6 +610,7 @@ class _Solver:
                          SEPARATION).astype(np.int8)
         touch_hi = contact & (Fc >= b0) & (guess == STICK)
         touch_lo = contact & (Fc <= -b0) & (guess == STICK)
+        self._full(guess, u, 0.0)
         self.decide(0.0, u, guess, touch_lo, touch_hi, 0)
         return u, self.status.copy()
 
@@ -572,7 +633,7 @@ class _Solver:
         guess = np.where(contact, STICK, SEPARATION).astype(np.int8)
         touch_hi = contact & (Q0 >= b0)
         touch_lo = contact & (Q0 <= -b0)
-        self.status = guess
+        self._full(guess, u, 0.0)
         self.decide(0.0, u, guess, touch_lo, touch_hi, 1)
         return u, self.status.copy()
 
