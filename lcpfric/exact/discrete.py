@@ -381,8 +381,9 @@ class _Solver:
         self.B[j] = new != STICK
         if new == STICK:
             self.U[j] = (float(_value(self.U[j], theta)), 0.0, 0.0)
-        else:
-            self.Ft[j] = sgn * self.bt[j]
+        # the nodes of B carry their prescribed forces exactly (K z = e_j only to round-off)
+        B = self.B
+        self.Ft[B] = self.sign[B, None] * self.bt[B]
         self._since += 1
 
     def _add(self, j):
