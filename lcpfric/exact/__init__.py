@@ -1,5 +1,9 @@
 """The exact periodic steady state of the single node (``method="exact"``).
 
+Discrete systems (a ContactSystem with d = 1, any K, harmonic loads) are solved event by event
+in :mod:`lcpfric.exact.discrete` (:func:`exact_system_cycle`); this docstring is about the single
+node, whose orbit is entered in one step and vectorized over parameter grids.
+
 Why it is exact
 ---------------
 Write ``w = F̂ - Q̂ = Q̂1 v̂`` (the tangential displacement in units of f P0 / k11) and
@@ -101,9 +105,10 @@ for inputs indistinguishable from the given ones. Results in the subnormal range
 """
 
 from .api import ExactCycle, exact_cycle, exact_W_hat
+from .discrete import DiscreteCycle, exact_system_cycle
 from .formulas import BACKWARD, FORWARD, MAX_AMPLITUDE, SEPARATION, STICK
 from .scalar import _run_scalar  # noqa: F401 - the tests compare the two event loops
 from .vectorized import _run  # noqa: F401
 
-__all__ = ["exact_W_hat", "ExactCycle", "exact_cycle", "STICK", "FORWARD", "BACKWARD",
+__all__ = ["exact_W_hat", "ExactCycle", "exact_cycle", "exact_system_cycle", "DiscreteCycle", "STICK", "FORWARD", "BACKWARD",
            "SEPARATION", "MAX_AMPLITUDE"]

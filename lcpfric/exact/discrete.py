@@ -49,9 +49,19 @@ could hide is below that depth times the largest compliance times the largest fr
 Cycles
 ------
 The first cycle starts at θ = 0 from an admissible state (forces ``clip(Q(0), -f N, f N)``).
-Cycles are repeated until the displacements at the start of the cycle repeat to ``tol`` of their
-scale; with uncoupled normal reactions the steady dissipation is unique (Barber, Klarbring and
-Ciavarella), so the start does not change it. The number of cycles is reported.
+The cycle map ``u(0) -> u(2π)`` is then solved by Newton's method with its exact Jacobian,
+propagated along the cycle: a node that sticks holds ``u_j = U_j(θ)``, which depends on the
+stuck displacements through ``-(G K_BS)_j`` and, when it is stopped by another node reaching
+its limit (not by its own slip rate vanishing), on that event's angle, whose sensitivity is
+``-(∂g/∂u_S) / g'`` for the margin g that triggered it. With the sequence of events settled
+the convergence is quadratic (five to seven cycles in full contact instead of twenty with
+Anderson acceleration, or sixty by plain iteration, on the 100-node benchmark chain). A node
+that never changes state keeps its start displacement (the steady state is not unique in it,
+the dissipation is). Cycles stop when the start displacements of two successive cycles agree
+to ``tol`` of their scale; with uncoupled normal reactions the steady dissipation is unique
+(Barber, Klarbring and Ciavarella), so the start does not change it. When the first cycle
+already repeats (every node's history erased by separation) no Jacobian is computed. The
+number of cycles and of Newton steps is reported.
 """
 
 from __future__ import annotations
@@ -76,7 +86,7 @@ _REL = 1e-11             # a dip below this fraction of its scale is an event
 _SAME = 64 * np.finfo(float).eps * TWO_PI   # events closer than this happen together
 _ETAS = (1e-9, 1e-7, 1e-5, 1e-3)   # load-rate look-ahead for degenerate instants
 _RESIDUAL = 1e-10        # equilibrium residual that triggers a refactorization
-_ANDERSON = 6            # cycles remembered by the Anderson acceleration of the cycle map
+_SMALL = 256             # G blocks up to this size are updated whole (cheaper than indexing)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -133,40 +143,30 @@ def next_entry(T: np.ndarray, theta: float, tol, skipped: bool = False):
     keeps its digits). A dip shallower than ``tol`` (a touch) is not an entry. When θ is in the
     first half of the arc (g falling or at its minimum) the entry is ``theta`` itself; in the
     second half g is rising back and, unless it is still below ``-tol``, the next entry is one
-    period on. With ``skipped``, also returns the deepest dip not treated as an entry, as a
+    period on; c0 <= -R (negative everywhere) enters at theta. With ``skipped``, also returns the deepest dip not treated as an entry, as a
     fraction of ``tol`` times 1e-11 (the scale-relative depth).
     """
     c0, cs, cc = T[:, 0], T[:, 1], T[:, 2]
     R = np.hypot(cs, cc)
     depth = R - c0
-    out = np.full(c0.shape, np.inf)
-    dips = depth > tol
-    if skipped:
-        shallow = float(np.max(np.where(dips, 0.0, depth / tol), initial=0.0)) * _REL
-        if not dips.any():
-            return out, shallow
-    elif not dips.any():
-        return out
-    always = dips & (depth >= 2.0 * R)            # c0 <= -R: negative everywhere
-    out[always] = theta
-    arc = dips & ~always
-    if arc.any():
-        Ra, da = R[arc], depth[arc]
-        h = 2.0 * np.arcsin(np.sqrt(np.minimum(da / (2.0 * Ra), 1.0)))
-        psi = np.arctan2(cc[arc], cs[arc])
-        d = np.mod(theta + psi - (1.5 * math.pi - h), TWO_PI)   # angle past the entry
-        g_now = c0[arc] + Ra * np.sin(theta + psi)
-        tol_a = tol[arc] if np.ndim(tol) else tol
-        inside = d < 2.0 * h
-        now = inside & ((d <= h) | (g_now < -tol_a))
-        out[arc] = np.where(now, theta, theta + (TWO_PI - d))
-    return (out, shallow) if skipped else out
+    with np.errstate(divide="ignore", invalid="ignore"):
+        h = 2.0 * np.arcsin(np.sqrt(np.minimum(depth / (2.0 * R), 1.0)))
+        x = theta + np.arctan2(cc, cs)
+        d = np.mod(x - (1.5 * math.pi - h), TWO_PI)      # angle past the entry
+        now = (d < 2.0 * h) & ((d <= h) | (c0 + R * np.sin(x) < -tol))
+        out = np.where(now | (depth >= 2.0 * R), theta, theta + (TWO_PI - d))
+        shallow = depth <= tol
+        out[shallow] = np.inf
+        if skipped:
+            skip = float(np.max(depth[shallow] / tol[shallow], initial=0.0)) * _REL \
+                if np.ndim(tol) else float(np.max(depth[shallow], initial=0.0) / tol) * _REL
+    return (out, skip) if skipped else out
 
 
-def segment_dissipation(b: np.ndarray, U: np.ndarray, sign: np.ndarray, a: float,
-                        e: float) -> float:
-    """``Σ_i sign_i ∫_a^e b_i(θ) du_i/dθ dθ`` for triples b (bounds) and U (displacements):
-    the dissipation of the slipping nodes over one segment, in closed form.
+def segment_dissipation(b: np.ndarray, U: np.ndarray, sign: np.ndarray, a, e: float) -> float:
+    """``Σ_i sign_i ∫_{a_i}^e b_i(θ) du_i/dθ dθ`` for triples b (bounds) and U (displacements):
+    the dissipation of slipping nodes from their angles ``a`` (scalar or per row) to ``e``, in
+    closed form.
 
     With ``b = b0 + bs S + bc C`` and ``du = us C - uc S``::
 
@@ -178,12 +178,13 @@ def segment_dissipation(b: np.ndarray, U: np.ndarray, sign: np.ndarray, a: float
     """
     if b.shape[0] == 0:
         return 0.0
+    a = np.asarray(a, dtype=float)
     m, h = 0.5 * (a + e), 0.5 * (e - a)
-    sh = math.sin(h)
-    dS = 2.0 * math.cos(m) * sh
-    dC = -2.0 * math.sin(m) * sh
-    dS2 = dS * (math.sin(a) + math.sin(e)) * 0.5
-    d2 = 2.0 * math.cos(2.0 * m) * math.sin(2.0 * h)
+    sh = np.sin(h)
+    dS = 2.0 * np.cos(m) * sh
+    dC = -2.0 * np.sin(m) * sh
+    dS2 = dS * (np.sin(a) + math.sin(e)) * 0.5
+    d2 = 2.0 * np.cos(2.0 * m) * np.sin(2.0 * h)
     b0, bs, bc = b[:, 0], b[:, 1], b[:, 2]
     us, uc = U[:, 1], U[:, 2]
     per = (b0 * (us * dS + uc * dC) + (bs * us - bc * uc) * dS2 + (bc * us - bs * uc) * h
@@ -255,6 +256,17 @@ class _Solver:
         self.pos = np.full(n, -1, dtype=np.intp)
         self.m = 0
         self._since = 0
+        self.U = self.Ft = self.status = None
+        self.track = False
+        self.Jt = None
+        self.theta_row = None
+        self.flipped = np.zeros(n, dtype=bool)
+        self.W = 0.0
+        self.a_seg = np.zeros(n)
+        self.t_all = np.full(2 * n, np.inf)
+        self.dirty = np.ones(n, dtype=bool)
+        self._any_dirty = True
+        self.touched = np.ones(n, dtype=bool)
         self.f = f
         self.Qt = Qt                       # (n, 3)
         self.Pt = Pt                       # (n, 3)
@@ -298,26 +310,47 @@ class _Solver:
         return np.where(self.never, False, np.where(self.always, True, P > 0.0))
 
     # -- the pattern's closed form -----------------------------------------------------------
-    def set_pattern(self, status, u, theta, refresh=False):
-        """Triples of u and F for the pattern ``status`` from the state (u at theta).
+    def u_at(self, theta):
+        """Displacements at theta (stuck nodes hold theirs)."""
+        return _value(self.U, theta)
+
+    def set_pattern(self, status, theta, refresh=False, u=None):
+        """Triples of u and F for the pattern ``status`` at theta.
 
         A pattern that differs from the current one in a few nodes is reached by rank-one
-        updates (:meth:`_flip`, O(n²) each for dense K); otherwise, or every max(64, |B|)
-        updates, it is recomputed from a fresh factorization of K_BB and its equilibrium
-        residual checked."""
-        old = getattr(self, "status", None)
-        if old is not None and not refresh and self._since < max(64, self.m):
-            changed = np.nonzero(old != status)[0]
+        updates (:meth:`_flip`, O(n²) at most for dense K, less where K is sparse); otherwise,
+        or every max(64, |B|) updates, it is recomputed from a fresh factorization of K_BB from
+        the displacements ``u`` (default: the current ones at theta) and its equilibrium residual
+        checked."""
+        if not refresh and u is None and self._since < max(64, self.m):
+            changed = np.nonzero(self.status != status)[0]
             if changed.size <= 4:
                 for j in changed:
                     self._flip(int(j), int(status[j]), theta)
                 return
-        self._full(status, u, theta)
+        self._full(status, self.u_at(theta) if u is None else u, theta)
+
+    def _settle(self, rows, theta):
+        """Add the dissipation of ``rows`` from their segment starts to theta; restart there."""
+        sign = self.sign[rows]
+        slip = rows[sign != 0.0]
+        if slip.size:
+            a = self.a_seg[slip]
+            self.W += segment_dissipation(self.bt[slip], self.U[slip], -self.sign[slip], a,
+                                          theta)
+        self.a_seg[rows] = theta
 
     def _full(self, status, u, theta):
         import scipy.linalg as sla
 
         K, n = self.K, self.n
+        if self.U is not None:
+            self._settle(np.arange(n), theta)
+            if self.track:
+                for j in (self.B & (status == STICK)).nonzero()[0]:
+                    self._tangent_stick(int(j), theta)
+            self.flipped |= self.status != status
+        self.a_seg[:] = theta
         B = status != STICK
         Bidx = np.nonzero(B)[0]
         m = Bidx.size
@@ -325,6 +358,7 @@ class _Solver:
         self.Bidx[:m] = Bidx
         self.pos[:] = -1
         self.pos[Bidx] = np.arange(m)
+        self.G[:m, :m] = 0.0
         if m:
             self.G[:m, :m] = sla.cho_solve(sla.cho_factor(K[np.ix_(Bidx, Bidx)]), np.eye(m))
         self.stats["refactorizations"] += 1
@@ -349,70 +383,144 @@ class _Solver:
             F[Bidx] = Fp[Bidx]
         self.status, self.U, self.Ft, self.sign = status.copy(), U, F, sign
         self.B = B
+        self.dirty[:] = True
+        self.touched[:] = True
+        self._any_dirty = True
+
+    # -- the cycle map's Jacobian ------------------------------------------------------------
+    def _tangent_stick(self, j, theta):
+        """Node j (in B) sticks at theta: its held displacement ``u_j = U_j(θ)`` depends on
+        the stuck displacements through ``-(G K_BS)_j``, and on the event angle through its rate
+        ``U_j'(θ)``: zero when its slip stops by itself, not when it is stopped by another node
+        reaching its limit at theta (then ``self.theta_row``, that angle's own sensitivity)."""
+        m, p = self.m, self.pos[j]
+        g = self.G[p, :m]
+        nz = g.nonzero()[0]
+        row = -(g[nz] @ self.K[self.Bidx[nz], :])
+        row[self.B] = 0.0
+        k = row.nonzero()[0]
+        self.Jt[j] = row[k] @ self.Jt[k] if k.size else 0.0
+        if self.theta_row is not None:
+            rate = float(_value(_rate(self.U[j]), theta))
+            self.Jt[j] += rate * self.theta_row
+
+    def _theta_sensitivity(self, j, upper, theta):
+        """d(event angle)/d(start state) for stuck node j reaching its upper (or lower) limit:
+        ``-(∂g/∂u_S · J_S) / g'`` with g the margin and ``∂F_j/∂u_S = K_jS - K_jB G K_BS``."""
+        m = self.m
+        Bi = self.Bidx[:m]
+        s_row = self.K[j].copy()
+        if m:
+            kj = self.K[j, Bi]
+            nz = kj.nonzero()[0]
+            w = kj[nz] @ self.G[nz, :m]
+            nw = w.nonzero()[0]
+            s_row -= w[nw] @ self.K[Bi[nw], :]
+        s_row[self.B] = 0.0
+        sigma = 1.0 if upper else -1.0
+        dg = float(_value(self.dbt[j], theta)) - sigma * float(_value(_rate(self.Ft[j]), theta))
+        if not dg < 0.0:
+            return None
+        k = s_row.nonzero()[0]
+        return sigma * (s_row[k] @ self.Jt[k]) / dg
+
+    def jacobian(self):
+        """The cycle map's Jacobian d u(2π) / d u(0) (after a tracked cycle): stuck nodes carry
+        their rows; slaved ones (B) follow the stuck ones through ``-G K_BS``."""
+        J = self.Jt.copy()
+        m = self.m
+        if m:
+            Bi = self.Bidx[:m]
+            S = (~self.B).nonzero()[0]
+            J[Bi] = -(self.G[:m, :m] @ self.K[np.ix_(Bi, S)]) @ self.Jt[S]
+        return J
 
     def _flip(self, j, new, theta):
-        """Change node j's state by rank-one updates of G = K_BB⁻¹, U and F."""
+        """Change node j's state by rank-one updates of G = K_BB⁻¹, U and F, on the rows they
+        change (all of them for dense K; the slipping cluster around j for a sparse one)."""
         old = int(self.status[j])
         if old == new:
             return
         sgn = -1.0 if new == FORWARD else (1.0 if new == BACKWARD else 0.0)
         if old == STICK:                      # j joins B with a prescribed force
-            z = self._add(j)                  # u response (over B) to a unit force at j
+            sup, zs = self._add(j)            # u response (over B) to a unit force at j
             delta = sgn * self.bt[j] - self.Ft[j]
-        elif new == STICK:                    # j leaves B: u_j keeps its value at theta
+        else:
             p = self.pos[j]
             m = self.m
+            col = self.G[:m, p]
+            nz = np.nonzero(col)[0]
+            sup, zs = self.Bidx[nz], col[nz].copy()
+            if new == STICK:                  # j leaves B: u_j keeps its value at theta
+                if self.track:
+                    self._tangent_stick(j, theta)
+                du = -self.U[j].copy()
+                du[0] += float(_value(self.U[j], theta))
+                delta = du / col[p]
+                self._remove(j)
+            else:                             # prescribed force changes (slip <-> separation)
+                delta = sgn * self.bt[j] - self.Ft[j]
+        if 4 * sup.size > self.n:
             z = np.zeros(self.n)
-            z[self.Bidx[:m]] = self.G[:m, p]
-            du = -self.U[j].copy()
-            du[0] += float(_value(self.U[j], theta))
-            delta = du / z[j]
-            self._remove(j)
-        else:                                 # prescribed force changes (slip <-> separation)
-            p = self.pos[j]
-            m = self.m
-            z = np.zeros(self.n)
-            z[self.Bidx[:m]] = self.G[:m, p]
-            delta = sgn * self.bt[j] - self.Ft[j]
-        self.U += np.multiply.outer(z, delta)
-        self.Ft += np.multiply.outer(self.Kmul(z), delta)
+            z[sup] = zs
+            Kz = self.Kmul(z)
+        else:
+            Kz = self.K[:, sup] @ zs
+        mask = Kz != 0.0
+        mask[sup] = True
+        rows = mask.nonzero()[0]
+        self._settle(rows, theta)
+        self.U[sup] += np.multiply.outer(zs, delta)
+        self.Ft[rows] += np.multiply.outer(Kz[rows], delta)
         self.status[j] = new
+        self.flipped[j] = True
         self.sign[j] = sgn
         self.B[j] = new != STICK
         if new == STICK:
             self.U[j] = (float(_value(self.U[j], theta)), 0.0, 0.0)
         # the nodes of B carry their prescribed forces exactly (K z = e_j only to round-off)
-        B = self.B
-        self.Ft[B] = self.sign[B, None] * self.bt[B]
+        rb = rows[self.B[rows]]
+        self.Ft[rb] = self.sign[rb, None] * self.bt[rb]
+        self.dirty[rows] = True
+        self.touched[rows] = True
+        self._any_dirty = True
         self._since += 1
 
     def _add(self, j):
-        """Border G with node j; returns the new column of G scattered over the nodes."""
+        """Border G with node j; returns the support (nodes) and values of G's new column."""
         m = self.m
         Bi = self.Bidx[:m]
         kb = self.K[j, Bi]
-        g = self.G[:m, :m] @ kb
+        nzk = np.nonzero(kb)[0]
+        G = self.G
+        g = G[:m, nzk] @ kb[nzk] if nzk.size < m else G[:m, :m] @ kb
         s = self.K[j, j] - kb @ g
         if not s > 0:
             raise SolverError(f"exact: K_BB lost positive definiteness adding node {j} "
                               f"(pivot {s:.3g})", backend="exact", status="not_spd")
-        G = self.G
-        G[:m, :m] += np.multiply.outer(g, g / s)
+        sup = g.nonzero()[0]
+        if m <= _SMALL or 4 * sup.size > m:
+            G[:m, :m] += np.multiply.outer(g, g / s)
+        elif sup.size:
+            G[np.ix_(sup, sup)] += np.multiply.outer(g[sup], g[sup] / s)
         G[:m, m] = G[m, :m] = -g / s
         G[m, m] = 1.0 / s
         self.Bidx[m] = j
         self.pos[j] = m
         self.m = m + 1
-        z = np.zeros(self.n)
-        z[self.Bidx[:m + 1]] = G[:m + 1, m]
-        return z
+        cols = np.append(sup, m)
+        return self.Bidx[cols], G[cols, m].copy()
 
     def _remove(self, j):
         """Downdate G = K_BB⁻¹ for B without node j (the last node takes its place)."""
         m, p = self.m, self.pos[j]
         G = self.G
         col = G[:m, p].copy()
-        G[:m, :m] -= np.multiply.outer(col, col / col[p])
+        sup = col.nonzero()[0]
+        if m <= _SMALL or 4 * sup.size > m:
+            G[:m, :m] -= np.multiply.outer(col, col / col[p])
+        else:
+            G[np.ix_(sup, sup)] -= np.multiply.outer(col[sup], col[sup] / col[p])
         last = m - 1
         if p != last:
             G[p, :last] = G[last, :last]
@@ -421,6 +529,8 @@ class _Solver:
             k = self.Bidx[last]
             self.Bidx[p] = k
             self.pos[k] = p
+        G[last, :m] = 0.0
+        G[:m, last] = 0.0
         self.pos[j] = -1
         self.m = last
 
@@ -428,24 +538,34 @@ class _Solver:
     def next_event(self, theta):
         """Entry angles of every constraint of the pattern, shape (2n,): rows 0..n-1 the upper
         margin ``f P - F`` of a stuck node or the slip rate ``±du/dθ`` of a slipping one; rows
-        n..2n-1 the lower margin ``f P + F`` of a stuck node (inf elsewhere)."""
+        n..2n-1 the lower margin ``f P + F`` of a stuck node (inf elsewhere). Only the rows
+        whose functions changed since the last call are recomputed."""
+        if not self._any_dirty:
+            return self.t_all
         n = self.n
-        st = self.status
-        stick = (st == STICK)[:, None]
-        D = np.where(st == FORWARD, 1.0, np.where(st == BACKWARD, -1.0, 0.0))
-        T = np.empty((2 * n, 3))
-        T[:n] = np.where(stick, self.bt - self.Ft, D[:, None] * _rate(self.U))
-        T[n:] = np.where(stick, self.bt + self.Ft, 0.0)
-        tol = self._tol_stick if not np.any(D) else np.concatenate(
-            [np.where(stick[:, 0], _REL * self.fscale, _REL * self.rscale),
-             _REL * self.fscale])
-        t, skipped = next_entry(T, theta, tol, skipped=True)
-        if skipped > self.stats["skipped_depth"]:
-            self.stats["skipped_depth"] = skipped
-        return t
+        self._any_dirty = False
+        rows = self.dirty.nonzero()[0]
+        if rows.size:
+            self.dirty[:] = False
+            st = self.status[rows]
+            stick = (st == STICK)[:, None]
+            D = np.where(st == FORWARD, 1.0, np.where(st == BACKWARD, -1.0, 0.0))
+            k = rows.size
+            T = np.empty((2 * k, 3))
+            bt, Ft = self.bt[rows], self.Ft[rows]
+            T[:k] = np.where(stick, bt - Ft, D[:, None] * _rate(self.U[rows]))
+            T[k:] = np.where(stick, bt + Ft, 0.0)
+            ftol = _REL * self.fscale[rows]
+            tol = np.concatenate([np.where(stick[:, 0], ftol, _REL * self.rscale), ftol])
+            t, skipped = next_entry(T, theta, tol, skipped=True)
+            if skipped > self.stats["skipped_depth"]:
+                self.stats["skipped_depth"] = skipped
+            self.t_all[rows] = t[:k]
+            self.t_all[rows + n] = t[k:]
+        return self.t_all
 
     # -- deciding the pattern at an event ----------------------------------------------------
-    def decide(self, theta, u, guess, touch_lo, touch_hi, attempt, recontact=None):
+    def decide(self, theta, guess, touch_lo, touch_hi, attempt, recontact=None):
         """The pattern valid just after theta.
 
         First the guess, corrected by principal pivots on the actual pattern (least index: a
@@ -456,7 +576,7 @@ class _Solver:
         if attempt == 0:
             pattern = guess.copy()
             for _ in range(4 + int(np.sum(guess != self.status))):
-                self.set_pattern(pattern, u, theta)
+                self.set_pattern(pattern, theta)
                 i, new = self._violation(theta)
                 if i < 0:
                     return
@@ -469,8 +589,9 @@ class _Solver:
         self.stats["lcp_solves"] += 1
         from ..steppers.explicit import ExplicitStepper
 
+        u = self.u_at(theta)
         sep = guess == SEPARATION
-        F0 = _value(self.Qt, theta) + self._K_u(u)
+        F0 = _value(self.Qt, theta) + self.Kmul(u)
         bound = np.where(sep, 0.0, np.maximum(_value(self.bt, theta), 0.0))
         slipping = (guess == FORWARD) | (guess == BACKWARD)
         F0 = np.where(sep, 0.0, np.where(guess == FORWARD, -bound,
@@ -485,46 +606,37 @@ class _Solver:
         _du, new = ExplicitStepper._rates(self.Kd, self.f, F0, bound, dQ, dN, sep,
                                           slipping & (guess == FORWARD),
                                           slipping & (guess == BACKWARD), touch_lo, touch_hi)
-        self.set_pattern(np.asarray(new, dtype=np.int8), u, theta, refresh=True)
-
-    def _K_u(self, u):
-        return self.K @ u
+        self.set_pattern(np.asarray(new, dtype=np.int8), theta, refresh=True, u=u)
 
     def _violation(self, theta):
-        """The least-index violation of the LCP's conditions at theta for the current pattern
-        and the state that removes it, or (-1, None): a slipping node whose rate is against its
-        direction sticks; a stuck node on a limit whose margin is falling slips."""
-        st = self.status
-        sn, cs = math.sin(theta), math.cos(theta)
-        U, Ft, bt = self.U, self.Ft, self.bt
-        D = np.where(st == FORWARD, 1.0, np.where(st == BACKWARD, -1.0, 0.0))
-        stick = st == STICK
-        r = D * (U[:, 1] * cs - U[:, 2] * sn)
-        F = Ft[:, 0] + Ft[:, 1] * sn + Ft[:, 2] * cs
-        b = bt[:, 0] + bt[:, 1] * sn + bt[:, 2] * cs
-        dF = Ft[:, 1] * cs - Ft[:, 2] * sn
-        db = bt[:, 1] * cs - bt[:, 2] * sn
-        tol = _REL * self.fscale
-        rtol = tol + _REL * (np.abs(dF) + np.abs(db))
-        hi = stick & (F >= b - tol) & (db - dF < -rtol)
-        lo = stick & (F <= -b + tol) & (db + dF < -rtol)
-        back = r < -_REL * self.rscale
-        bad = hi | lo | back
+        """The least-index node, among those changed since the event began, whose constraint
+        is entered now (the event search's own test: a slipping node whose rate turns against
+        its direction, a stuck node on a limit whose margin falls), and the state that removes
+        it (None: on both limits at N = 0, for the LCP), or (-1, None)."""
+        n = self.n
+        t = self.next_event(theta)
+        rows = self.touched.nonzero()[0]
+        horizon = theta + _SAME
+        first, second = t[rows] <= horizon, t[rows + n] <= horizon
+        bad = first | second
         if not bad.any():
             return -1, None
-        i = int(np.argmax(bad))
-        if back[i]:
+        k = int(np.argmax(bad))
+        i = int(rows[k])
+        st = self.status[i]
+        if st != STICK:
             return i, STICK
-        if hi[i] and lo[i]:               # on both limits (N = 0): the LCP decides the sign
+        if first[k] and second[k]:
             return i, None
-        return i, (BACKWARD if hi[i] else FORWARD)
+        return i, (BACKWARD if first[k] else FORWARD)
 
     # -- one cycle ---------------------------------------------------------------------------
-    def cycle(self, u, status, theta_s):
+    def cycle(self, u, status, theta_s, track=False):
         """Integrate one cycle from the state (u, status) at θ = 0; returns the end state, W,
-        the number of events and the samples."""
+        the number of events and the samples. With ``track``, the tangent map is propagated
+        too (:meth:`jacobian`)."""
         n = self.n
-        W = 0.0
+        self.W = 0.0
         theta = 0.0
         events = 0
         Us = np.empty((theta_s.size, n))
@@ -533,7 +645,13 @@ class _Solver:
         k_s = 0
         normal = self.normal_events
         k_n = 0   # normal events at θ = 0 are processed as events at the start
-        self.set_pattern(status, u, 0.0, refresh=True)
+        self.track = False
+        self.set_pattern(status, 0.0, refresh=True, u=u)
+        self.W = 0.0
+        self.track = track
+        self.flipped = np.zeros(n, dtype=bool)
+        if track:
+            self.Jt = np.diag((self.status == STICK).astype(float))
         attempt = 0
         last = -1.0
         while True:
@@ -541,23 +659,17 @@ class _Solver:
             t_norm = normal[k_n][0] if k_n < len(normal) else np.inf
             t_next = min(float(t_all.min()), t_norm, TWO_PI)
             # samples in [theta, t_next)
-            k_end = int(np.searchsorted(theta_s, t_next, side="left"))
-            if t_next >= TWO_PI:
-                k_end = theta_s.size
+            k_end = theta_s.size if t_next >= TWO_PI else int(
+                np.searchsorted(theta_s, t_next, side="left"))
             if k_end > k_s:
                 th = theta_s[k_s:k_end]
                 Us[k_s:k_end] = _value(self.U[None, :, :], th[:, None])
                 Fs[k_s:k_end] = _value(self.Ft[None, :, :], th[:, None])
                 Ss[k_s:k_end] = self.status
                 k_s = k_end
-            # dissipation of the segment
-            slip = np.nonzero(self.sign)[0]
-            if slip.size and t_next > theta:
-                W += segment_dissipation(self.bt[slip], self.U[slip], self.sign[slip] * -1.0,
-                                         theta, t_next)
-            u = np.where(self.B, _value(self.U, t_next), u)
             if t_next >= TWO_PI:
-                return u, self.status.copy(), W, events, (Us, Fs, Ss)
+                self._settle(np.arange(n), TWO_PI)
+                return self.u_at(TWO_PI), self.status.copy(), self.W, events, (Us, Fs, Ss)
             events += 1
             if events > self.max_events:
                 raise SolverError(f"exact: more than {self.max_events} events in one cycle "
@@ -569,19 +681,23 @@ class _Solver:
             touch_hi = np.zeros(n, dtype=bool)
             touch_lo = np.zeros(n, dtype=bool)
             recontact = np.zeros(n, dtype=bool)
-            now = t_all <= horizon
-            if now.any():
+            self.touched[:] = False
+            now = np.nonzero(t_all <= horizon)[0]
+            if now.size:
+                first, second = now[now < n], now[now >= n] - n
                 st = self.status
-                first, second = now[:n], now[n:]
-                hi = first & (st == STICK)
+                hi = first[st[first] == STICK]
+                guess[first[st[first] != STICK]] = STICK
                 touch_hi[hi], touch_lo[second] = True, True
-                guess[first & (st != STICK)] = STICK
                 guess[hi], guess[second] = BACKWARD, FORWARD
+                self.touched[first] = True
+                self.touched[second] = True
             while k_n < len(normal) and normal[k_n][0] <= horizon:
                 _, i, kind = normal[k_n]
                 guess[i] = SEPARATION if kind == 0 else STICK
                 touch_hi[i] = touch_lo[i] = False
                 recontact[i] = kind == 1
+                self.touched[i] = True
                 k_n += 1
             attempt = attempt + 1 if t_next <= last + _SAME else 0
             if attempt > len(_ETAS) + 2:
@@ -589,7 +705,14 @@ class _Solver:
                                   f"({self._describe()})", backend="exact",
                                   status="event_loop")
             theta = last = t_next
-            self.decide(theta, u, guess, touch_lo, touch_hi, attempt, recontact)
+            self.theta_row = None
+            if self.track and now.size:
+                hits = (touch_hi | touch_lo).nonzero()[0]
+                if hits.size:
+                    j = int(hits[0])
+                    self.theta_row = self._theta_sensitivity(j, bool(touch_hi[j]), theta)
+            self.decide(theta, guess, touch_lo, touch_hi, attempt, recontact)
+            self.theta_row = None
 
     def _describe(self):
         counts = {State(s).label: int(np.sum(self.status == s)) for s in range(4)}
@@ -612,8 +735,8 @@ class _Solver:
         touch_hi = contact & (Fc >= b0) & (guess == STICK)
         touch_lo = contact & (Fc <= -b0) & (guess == STICK)
         self._full(guess, u, 0.0)
-        self.decide(0.0, u, guess, touch_lo, touch_hi, 0)
-        return u, self.status.copy()
+        self.decide(0.0, guess, touch_lo, touch_hi, 0)
+        return self.u_at(0.0), self.status.copy()
 
     def _cho_solve(self, rhs):
         import scipy.linalg as sla
@@ -635,8 +758,25 @@ class _Solver:
         touch_hi = contact & (Q0 >= b0)
         touch_lo = contact & (Q0 <= -b0)
         self._full(guess, u, 0.0)
-        self.decide(0.0, u, guess, touch_lo, touch_hi, 1)
-        return u, self.status.copy()
+        self.decide(0.0, guess, touch_lo, touch_hi, 1)
+        return self.u_at(0.0), self.status.copy()
+
+
+def _newton_step(J, r, status0, flipped):
+    """δ with ``(I - J) δ = r``: the Newton step of the cycle map u -> u(2π) (J its Jacobian,
+    r = u(2π) - u). A node stuck at the start that never changed state keeps its displacement
+    whatever the others do (J has its unit row, r_i = 0): it is left out, as the steady state
+    is not unique in it."""
+    n = r.size
+    keep = ~((status0 == STICK) & ~flipped)
+    delta = np.zeros(n)
+    if keep.any():
+        A = np.eye(n)[np.ix_(keep, keep)] - J[np.ix_(keep, keep)]
+        try:
+            delta[keep] = np.linalg.solve(A, r[keep])
+        except np.linalg.LinAlgError:
+            delta[keep] = np.linalg.lstsq(A, r[keep], rcond=None)[0]
+    return delta
 
 
 def check_system(system):
@@ -681,8 +821,6 @@ def exact_system_cycle(system, samples: int = 2000, *, tol: float = 1e-12,
         Cap on the events of one cycle (default 200 n + 1000); reaching it raises
         :class:`~lcpfric.errors.SolverError` naming the state.
     """
-    from ..model.normal import IndependentSprings
-
     start = time.perf_counter()
     omega, Qt, Pt = check_system(system)
     samples = _checks.positive_int("samples", samples, 4)
@@ -701,28 +839,23 @@ def exact_system_cycle(system, samples: int = 2000, *, tol: float = 1e-12,
     u, status = solver.initial_state()
     u_load = solver.rscale
     W_cycles, change = [], np.inf
-    X, R = [], []             # Anderson history: starts and their residuals G(x) - x
-    best = np.inf
+    track, best, newton = False, np.inf, 0
     for _ in range(max_cycles):
-        u_end, status_end, W, events, series = solver.cycle(u, status, theta_s)
+        u_end, status_end, W, events, series = solver.cycle(u, status, theta_s, track)
         W_cycles.append(W * scale * scale)
         r = u_end - u
         ref = max(float(np.max(np.abs(u_end), initial=0.0)), u_load)
         change = float(np.max(np.abs(r), initial=0.0)) / ref
         if change <= tol:
             break
-        if change > best:         # the acceleration made it worse: restart from this cycle
-            X, R = [], []
-        best = min(best, change)
-        X.append(u)
-        R.append(r)
-        X, R = X[-_ANDERSON - 1:], R[-_ANDERSON - 1:]
         u_next = u_end
-        if len(X) >= 2:
-            dX = np.diff(np.array(X), axis=0).T
-            dR = np.diff(np.array(R), axis=0).T
-            gamma = np.linalg.lstsq(dR, r, rcond=None)[0]
-            u_next = u + r - (dX + dR) @ gamma
+        if track and change < best:
+            u_next = u + _newton_step(solver.jacobian(), r, status, solver.flipped)
+            newton += 1
+        best = min(best, change)
+        # the tangent map pays O(n) per event on a chain, O(n²) on dense K: track only when
+        # the first cycle did not already reach the orbit (a history erased by separation)
+        track = change > 1e3 * tol
         u, status = solver.admissible(u_next, status_end)
     else:
         raise ConvergenceError(f"exact: no periodic steady state after {max_cycles} cycles "
@@ -732,6 +865,7 @@ def exact_system_cycle(system, samples: int = 2000, *, tol: float = 1e-12,
     N = np.maximum(_value(Pt[None, :, :], theta_s[:, None]), 0.0)
     N = np.where(solver.never, 0.0, N)
     stats = dict(solver.stats, events_per_cycle=events, cycles=len(W_cycles),
+                 newton_steps=newton,
                  seconds=time.perf_counter() - start)
     return DiscreteCycle(W=W_cycles[-1], W_cycles=np.asarray(W_cycles), cycles=len(W_cycles),
                          change=change, events=events, omega=omega, theta=theta_s, u=Us * scale,
