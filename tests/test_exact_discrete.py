@@ -195,3 +195,11 @@ def test_event_search_and_segment_integral():
     got = segment_dissipation(np.array([[2.0, 1.0, 0.0]]), np.array([[0.0, 0.0, 1.0]]),
                               np.array([1.0]), a, e)
     assert got == pytest.approx(quad, rel=1e-9)
+
+
+def test_memory_is_checked_before_any_work(monkeypatch):
+    monkeypatch.setenv("LCPFRIC_MAX_MEMORY", "1MB")
+    system = lcpfric.chain(400, k_coupling=10, P1=0.5, Q1=1.0, sparse=True)
+    with pytest.raises(InputError, match="memory") as info:
+        exact_system_cycle(system, 16)
+    assert info.value.parameter == "model"

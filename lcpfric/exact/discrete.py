@@ -827,8 +827,13 @@ def exact_system_cycle(system, samples: int = 2000, *, tol: float = 1e-12,
     tol = _checks.positive("tol", tol)
     max_cycles = _checks.positive_int("max_cycles", max_cycles)
     f = system.friction
-    K = system.dense_stiffness().astype(float)
     n = f.size
+    from .. import memory
+
+    memory.check(8.0 * (6.0 * n * n + 3.0 * n * (samples + 1)), "model",
+                 f"the exact steady state of {n} nodes (dense n x n matrices: K, K_BB⁻¹, the "
+                 f"cycle's Jacobian)")
+    K = system.dense_stiffness().astype(float)
     # forces of order one: divide by a power of two (exact), W scales by its square
     size = float(max(np.max(np.abs(Qt[:, 0]) + np.hypot(Qt[:, 1], Qt[:, 2])),
                      np.max(f * (np.abs(Pt[:, 0]) + np.hypot(Pt[:, 1], Pt[:, 2])))))
