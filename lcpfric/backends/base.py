@@ -27,6 +27,7 @@ from ..results import CycleResult, State, StepState
 from ..steppers.base import Stepper
 from ..steppers.dissipation import increment_dissipation, scalar_share
 from .checks import accept, scalar_residuals, scalar_worst, worst
+from .events import first_event, path_is_exact
 from .problem import IncrementProblem, ScenePlan
 from .settings import CONIC_METHODS, settings_for
 from .status import UNKNOWN, advice
@@ -79,6 +80,10 @@ class ConvexStepper(Stepper):
         Largest residual accepted (relative to the problem scale).
     active_tol : float
         δ / s_F of the active-set identification.
+    locate_events : bool
+        On coupled d = 1 systems, split an increment at the instant where a node starts to
+        slip when the single projection cannot be exact there (see :meth:`_increment`): one
+        more convex problem per event, and second order instead of first.
     **settings
         Solver settings, overriding lcpfric's tight defaults.
     """
@@ -90,8 +95,9 @@ class ConvexStepper(Stepper):
     solver: str | None = None  # the solver of a ':<solver>' backend
 
     def __init__(self, *, refine: bool = True, check_tol: float = 1e-6,
-                 active_tol: float = 1e-6, **settings):
+                 active_tol: float = 1e-6, locate_events: bool = True, **settings):
         self.refine = boolean("refine", refine)
+        self.locate_events = boolean("locate_events", locate_events)
         self.check_tol = positive("check_tol", check_tol)
         self.active_tol = positive("active_tol", active_tol)
         self.user_settings = dict(settings)
@@ -140,7 +146,7 @@ class ConvexStepper(Stepper):
                 prob.handle = self.guarded(self.build, prob, self.settings_for(prob.dims))
         bdata = [self.bounds(p, b) if p is not None else None
                  for p, b in zip(plan.step_problem, plan.node_bounds)]
-        stats = {"solves": 0, "refined": 0, "unrefined": 0, "max_residual": 0.0}
+        stats = {"solves": 0, "refined": 0, "unrefined": 0, "max_residual": 0.0, "events": 0}
         return replace(super().init(scene, u0), data=ConvexData(plan, bdata, stats))
 
     def guarded(self, fn, *args):
@@ -156,12 +162,13 @@ class ConvexStepper(Stepper):
     def step(self, scene, k, state):
         data = state.data
         stats = dict(data.stats)
-        u1, F1 = self._increment(data, scene, k, state.u, stats)
+        u1, F1, extra = self._increment(data, scene, k, state.u, state.F, stats)
         rows = np.array([k + 1])
         self._check_equilibrium(data.plan, scene, rows, u1[None, :], F1[None, :])
         du = u1 - state.u
         s = self._states(data.plan, rows, du[None, :])[0]
-        return StepState(u1, F1, s, increment_dissipation(state.F, F1, du, data.plan.dims),
+        return StepState(u1, F1, s,
+                         increment_dissipation(state.F, F1, du, data.plan.dims) + extra,
                          replace(data, stats=stats))
 
     def cycle(self, scene, state):
@@ -173,13 +180,15 @@ class ConvexStepper(Stepper):
         U = np.empty((steps + 1, plan.m))
         Fs = np.empty_like(U)
         U[0], Fs[0] = state.u, state.F
-        u = state.u
+        u, F = state.u, state.F
         stats = dict(data.stats)
         increment = self._increment
+        extra = 0.0  # the sub-increments' dissipation minus the whole increments' trapezoids
         for k in range(steps):
-            u, F = increment(data, scene, k, u, stats)
+            u, F, dW = increment(data, scene, k, u, F, stats)
             U[k + 1] = u
             Fs[k + 1] = F
+            extra += dW
         # what needs no solver is done for the whole cycle at once: the equilibrium check of
         # every increment, the node states and the dissipation
         rows = np.arange(1, steps + 1)
@@ -188,7 +197,7 @@ class ConvexStepper(Stepper):
         S = np.empty((steps + 1, plan.n), dtype=np.int8)
         S[0] = state.state
         S[1:] = self._states(plan, rows, dU)
-        W = increment_dissipation(Fs[:-1], Fs[1:], dU, plan.dims)
+        W = increment_dissipation(Fs[:-1], Fs[1:], dU, plan.dims) + extra
         end = StepState(U[-1].copy(), Fs[-1].copy(), S[-1].copy(), 0.0,
                         replace(data, stats=stats))
         return end, CycleResult(scene.t, U, Fs, S, W, self.stats(end))
@@ -197,20 +206,71 @@ class ConvexStepper(Stepper):
         return dict(state.data.stats)
 
     # -- one increment, any size --------------------------------------------------------------
-    def _increment(self, data: ConvexData, scene, k, u, stats):
-        """Solve, refine and check increment k; return ``(u, F)`` at t_{k+1}."""
+    def _increment(self, data: ConvexData, scene, k, u, F, stats):
+        """Increment k from ``(u, F)`` at t_k: ``(u, F)`` at t_{k+1} and the dissipation to add
+        to the increment's trapezoid (nonzero when it was split at events).
+
+        One problem (P) to t_{k+1}; on a coupled d = 1 system whose answer is not the exact
+        end state (:func:`~lcpfric.backends.events.path_is_exact`: a node slips at the end that
+        did not at the start), the increment is split at its events
+        (:mod:`~lcpfric.backends.events`), one problem (P) per sub-increment."""
+        plan = data.plan
+        u1, F1, limit = self._project(data, scene, k, u, stats)
+        if (not self.locate_events or limit is None or plan.dims != 1 or plan.diagonal
+                or path_is_exact(F, plan.bound[k], F1, limit, plan.separating[k + 1],
+                                 plan.force_scale)):
+            return u1, F1, 0.0
+        # split at the events: the first one from the rates at the start, solve to it, and
+        # again from there while the rest of the increment is not exact
+        f = plan.friction
+        Qk, Nk = plan.Q[k], plan.N[k]
+        dQ, dN = plan.Q[k + 1] - Qk, plan.N[k + 1] - Nk
+        sep = (Nk + plan.N[k + 1]) <= 0.0
+        a, ua, Fa = 0.0, u, F
+        W = 0.0
+        for _ in range(4 * plan.n + 16):
+            tau = first_event(plan.K, f, Fa, Qk + a * dQ, Nk + a * dN, dQ, dN, sep, a)
+            if tau is None:
+                break
+            ub, Fb, _ = self._project(data, scene, k, ua, stats, tau)
+            stats["events"] += 1
+            W += increment_dissipation(Fa, Fb, ub - ua)
+            a, ua, Fa = tau, ub, Fb
+            u1, F1, limit = self._project(data, scene, k, ua, stats)
+            if limit is None or path_is_exact(Fa, f * (Nk + a * dN), F1, limit,
+                                              plan.separating[k + 1], plan.force_scale):
+                break
+        W += increment_dissipation(Fa, F1, u1 - ua)
+        return u1, F1, W - increment_dissipation(F, F1, u1 - u)
+
+    def _project(self, data: ConvexData, scene, k, u, stats, frac=None):
+        """Solve, refine and check (P) from ``u`` to t_{k+1} (or, with ``frac``, to the instant
+        ``t_k + frac (t_{k+1} - t_k)``, loads interpolated); return ``(u, F, limit)`` there,
+        ``limit`` marking the nodes on their friction limit (None for an unrefined answer)."""
         plan = data.plan
         j = k + 1
-        prob = plan.step_problem[j]
-        if prob is None:  # everything separated: F = 0, u = -C Q
-            return -plan.CQ[j], np.zeros(plan.m)
+        if frac is None:
+            prob = plan.step_problem[j]
+            if prob is None:  # everything separated: F = 0, u = -C Q
+                return -plan.CQ[j], np.zeros(plan.m), None
+            neg_CQ, b, bdata = plan.neg_CQ[j], plan.node_bounds[j], data.bdata[j]
+            CQ = plan.CQ[j]
+        else:
+            prob = plan.interior_problem(k)
+            if prob.handle is None:
+                prob.handle = self.guarded(self.build, prob, self.settings_for(prob.dims))
+            CQ = plan.CQ[k] + frac * (plan.CQ[j] - plan.CQ[k])
+            neg_CQ = -(CQ if prob.full else CQ[prob.dofs])
+            b = plan.bound[k, prob.nodes] + frac * (plan.bound[j, prob.nodes]
+                                                    - plan.bound[k, prob.nodes])
+            bdata = self.bounds(prob, b)
         q = prob.q
-        np.subtract(plan.neg_CQ[j], u if prob.full else u[prob.dofs], out=q)
-        x, status, ok = self.guarded(self.solve, prob, q, data.bdata[j])
+        np.subtract(neg_CQ, u if prob.full else u[prob.dofs], out=q)
+        x, status, ok = self.guarded(self.solve, prob, q, bdata)
         stats["solves"] += 1
         if not ok:
             self._fail(scene, k, status, None)
-        FA, stick, res, kind = accept(prob, np.array(x, dtype=float), q, plan.node_bounds[j],
+        FA, stick, res, kind = accept(prob, np.array(x, dtype=float), q, b,
                                       refine=self.refine, active_tol=self.active_tol,
                                       check_tol=self.check_tol, fscale=plan.force_scale,
                                       cscale=plan.compliance_scale)
@@ -219,15 +279,19 @@ class ConvexStepper(Stepper):
         stats[kind] += 1
         stats["max_residual"] = max(stats["max_residual"], worst(res))
         u1 = prob.Cf @ FA
-        u1 -= plan.CQ[j]
+        u1 -= CQ
+        limit = None
         if stick is not None:  # a refined stick node keeps its displacement exactly
             st = prob.dofs[stick]
             u1[st] = u[st]
+            if prob.dims == 1:
+                limit = np.zeros(plan.n, dtype=bool)
+                limit[prob.nodes[~stick]] = True
         if prob.full:
-            return u1, FA
+            return u1, FA, limit
         F1 = np.zeros(plan.m)
         F1[prob.dofs] = FA
-        return u1, F1
+        return u1, F1, limit
 
     def _check_equilibrium(self, plan, scene, rows, U, Fs):
         """``max |Q + K u - F| / s_F`` of the increments ending at ``rows``; raise on the first

@@ -188,8 +188,11 @@ class ScenePlan:
             set_of_step[k] = keys[key]
         self.set_of_step = set_of_step
         self.contact = contact
+        self.N = N
+        self.friction = np.asarray(system.friction, dtype=float)
+        self._set_keys = keys
         d = self.dims
-        diagonal = system.is_diagonal()
+        self.diagonal = diagonal = system.is_diagonal()
         self.problems: list[IncrementProblem | None] = []
         for row in rows:
             nodes = np.flatnonzero(row)
@@ -208,6 +211,31 @@ class ScenePlan:
                        for k, p in enumerate(self.step_problem)]
         sep_sets = [np.flatnonzero(~row) for row in rows]
         self.separated = [sep_sets[s] for s in set_of_step]
+        # per grid instant j, the nodes in contact at t_{j-1} that separate at t_j (None if none)
+        leaving = np.zeros_like(contact)
+        leaving[1:] = contact[:-1] & ~contact[1:]
+        self.separating = [row if row.any() else None for row in leaving]
+        self._interior: dict[bytes, IncrementProblem] = {}
         scale = max(float(np.max(self.bound, initial=0.0)), float(np.max(np.abs(Q), initial=0.0)))
         self.force_scale = scale if scale > 0 else 1.0
         self.compliance_scale = float(np.max(np.diag(self.C)))
+
+    def interior_problem(self, k: int) -> IncrementProblem:
+        """The problem for an instant inside increment k: its nodes are those in contact at
+        either end (N > 0 over the open increment). One of the grid's problems when it has the
+        same set, else built on first use (its ``handle`` None until the backend builds it)."""
+        row = self.contact[k] | self.contact[k + 1]
+        key = row.tobytes()
+        index = self._set_keys.get(key)
+        if index is not None:
+            return self.problems[index]
+        prob = self._interior.get(key)
+        if prob is None:
+            d = self.dims
+            nodes = np.flatnonzero(row)
+            dofs = (nodes[:, None] * d + np.arange(d)[None, :]).ravel()
+            prob = self._interior[key] = IncrementProblem(
+                nodes, dofs, d, np.ascontiguousarray(self.C[np.ix_(dofs, dofs)]),
+                np.ascontiguousarray(self.C[:, dofs]), self.diagonal,
+                full=bool(nodes.size == self.n))
+        return prob
