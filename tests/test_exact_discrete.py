@@ -203,3 +203,22 @@ def test_memory_is_checked_before_any_work(monkeypatch):
     with pytest.raises(InputError, match="memory") as info:
         exact_system_cycle(system, 16)
     assert info.value.parameter == "model"
+
+
+def test_a_constant_tangential_load_does_not_change_W():
+    """Q0 shifts the equilibrium by K⁻¹ Q0 and nothing else (d = 1, uncoupled normal loads)."""
+    kw = dict(k_coupling=10, P1=[1.5, 0.5, 2.0], Q1=[1.5, 1.0, 2.0], phi=[0.3, 1.0, 2.0])
+    base = lcpfric.chain(3, **kw)
+    loads = tuple(Harmonic(q0, q.amplitude, q.phase) for q0, q in
+                  zip((0.7, -0.4, 0.2), base.tangential_loads))
+    shifted = ContactSystem(base.stiffness, base.friction, loads, base.normal)
+    assert exact_W(shifted) == pytest.approx(exact_W(base), rel=1e-12)
+
+
+def test_projection_converges_to_exact_on_uncoupled_nodes():
+    system = nodes_system([(1.5, 2.0, 0.6 * math.pi), (0.5, 1.5, 0.3)])
+    ref = exact_W(system)
+    steps = [400, 800, 1600]
+    err = [abs(lcpfric.steady_state(system, method="projection", steps_per_cycle=s).W - ref)
+           for s in steps]
+    assert -np.polyfit(np.log(steps), np.log(err), 1)[0] >= 1.8, err
