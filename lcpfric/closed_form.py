@@ -54,15 +54,20 @@ class ExactSolver:
                                        "'explicit' or 'projection'")
         return model
 
-    def steady_state(self, model, steps_per_cycle: int = 2000) -> SteadyState:
-        """The exact steady state, its time series sampled at ``steps_per_cycle + 1`` instants."""
+    def steady_state(self, model, steps_per_cycle: int = 2000, max_cycles: int = 100
+                     ) -> SteadyState:
+        """The exact steady state, its time series sampled at ``steps_per_cycle + 1`` instants.
+
+        ``max_cycles`` caps the cycles of a discrete system (its steady state is found by
+        Newton's method on the cycle map, periodic to 1e-12: see :mod:`lcpfric.exact.discrete`);
+        the single node's orbit is entered directly, in one cycle."""
         from .exact import exact_cycle
 
         start = time.perf_counter()
         model = self.check(model)
         samples = _checks.positive_int("steps_per_cycle", steps_per_cycle, 4)
         if isinstance(model, ContactSystem):
-            return self._system_steady_state(model, samples, start)
+            return self._system_steady_state(model, samples, start, max_cycles)
         P1, Q1, phi = model.normalized_parameters()
         cyc = exact_cycle(P1, Q1, phi)
         t = np.linspace(0.0, model.period, samples + 1)
@@ -80,10 +85,10 @@ class ExactSolver:
                                 f"sampled at {samples + 1} instants)",
             normalization=model.normalization(), W_hat_cycles=W_hat)
 
-    def _system_steady_state(self, system, samples, start) -> SteadyState:
+    def _system_steady_state(self, system, samples, start, max_cycles) -> SteadyState:
         from .exact.discrete import exact_system_cycle
 
-        cyc = exact_system_cycle(system, samples)
+        cyc = exact_system_cycle(system, samples, max_cycles=max_cycles)
         t = cyc.theta / cyc.omega
         stats = dict(cyc.stats)
         return SteadyState(

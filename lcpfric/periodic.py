@@ -128,7 +128,7 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
         memory.check(memory.steady_state_bytes(steps, getattr(solver, "label", ""), size),
                      "steps_per_cycle", f"a steady state with {steps} steps per cycle")
     if solver.kind == CLOSED_FORM:
-        return solver.steady_state(model, steps_per_cycle)
+        return solver.steady_state(model, steps_per_cycle, max_cycles=max_cycles)
     if isinstance(model, Scene):
         scene = model
     elif isinstance(model, (SingleNode, ContactSystem)):
