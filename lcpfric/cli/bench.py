@@ -26,7 +26,7 @@ def configure(p) -> None:
                    help="the coupled d = 1 cases (chains with k_coupling = 10, a dense SPD K, a "
                         "100-node chain) against method 'exact', with a Richardson check; "
                         "default methods exact, explicit, clarabel, osqp, qpsolvers:proxqp, "
-                        "cvxpy:CLARABEL (those installed), steps 100 to 12800, budget 25 s")
+                        "cvxpy:CLARABEL (those installed), steps 100 to 12800, budget 40 s")
     p.add_argument("--out", default="bench-out", metavar="DIR",
                    help="output directory (default bench-out; its parent must exist)")
     p.add_argument("--methods", default=None, metavar="LIST",
@@ -85,7 +85,7 @@ def run(args) -> int:
     if args.budget is not None:
         budget = _checks.positive("--budget", _checks.parse_number(args.budget, "--budget"))
     else:
-        budget = 1.0 if args.quick else (25.0 if coupled else 20.0)
+        budget = 1.0 if args.quick else (40.0 if coupled else 20.0)
     from ..methods import CLOSED_FORM, available_methods, get_method
 
     if methods is None and coupled:
