@@ -572,12 +572,13 @@ def _plot_coupled(rows, cases, steppers, closed, path) -> bool:
         colors = ["#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#a6761d", "#666666"]
         for ax, c in zip(axes.flat, cases):
             for i, m in enumerate(steppers):
-                pts = sorted((r["seconds"], max(r["rel_error"], 1e-16)) for r in rows
-                             if r["case"] == c.name and r["method"] == m
+                # in the order of refinement (run times are noisy, step counts are not)
+                pts = sorted((r["steps_per_cycle"], r["seconds"], max(r["rel_error"], 1e-16))
+                             for r in rows if r["case"] == c.name and r["method"] == m
                              and r["rel_error"] != "")
                 if not pts:
                     continue
-                x, y = zip(*pts)
+                _, x, y = zip(*pts)
                 ax.loglog(x, y, label=m, color=colors[i % len(colors)],
                           **pl.curve_style(i, len(steppers), len(pts)))
             ref = [r for r in rows if r["case"] == c.name and r["method"] in closed
