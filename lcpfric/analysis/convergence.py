@@ -5,6 +5,12 @@ exact solution: the single node's closed form, and for the multi-node case a blo
 system whose exact dissipation is the sum of its nodes' exact answers. Wall time is the median
 of repeats, measured in the same run for all methods. Writes ``compare.csv``, ``compare.md`` and
 ``compare.png`` (log-log error against time, one panel per case, one line per method).
+
+The coupled cases (:data:`COUPLED_CASES`, ``lcpfric bench --coupled``) are d = 1 systems with a
+coupled stiffness (chains with k_coupling = 10, a dense random SPD K), judged against
+``steady_state(model, method="exact").W`` computed once per case; that reference is checked
+independently by Richardson extrapolation of the explicit stepper (:func:`richardson`). They
+write ``compare-coupled.csv``, ``.md`` and ``.png`` (:func:`write_coupled_outputs`).
 """
 
 from __future__ import annotations
@@ -15,10 +21,12 @@ import os
 import statistics
 import time
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 
-__all__ = ["CASES", "Case", "run_comparison", "convergence_order"]
+__all__ = ["CASES", "Case", "COUPLED_CASES", "CoupledCase", "run_comparison",
+           "convergence_order", "richardson", "write_coupled_outputs"]
 
 
 @dataclass(frozen=True)
@@ -80,6 +88,110 @@ FULL_STEPS = (50, 100, 200, 500, 1000, 2000, 5000, 10000, 20000, 50000, 100000)
 QUICK_STEPS = (50, 200, 1000, 5000, 20000)
 
 
+# -- coupled d = 1 systems, judged against the exact event-by-event steady state ---------------
+_REFERENCES: dict = {}   # case name -> (W, seconds, solver_stats) of steady_state(..., "exact")
+
+
+@dataclass(frozen=True)
+class CoupledCase:
+    """A coupled d = 1 system (``build()`` returns its ContactSystem) whose reference is
+    ``steady_state(model, method="exact").W``, computed once per case and process.
+    ``max_steps`` caps the steps per cycle it is run at (the costly cases)."""
+
+    name: str
+    description: str
+    build: Callable
+    max_steps: int | None = None
+
+    multi = True
+    coupled = True
+
+    def model(self):
+        return self.build()
+
+    def reference(self) -> tuple:
+        """(W, seconds, solver_stats) of the exact steady state (cached)."""
+        if self.name not in _REFERENCES:
+            from ..periodic import steady_state
+
+            t0 = time.perf_counter()
+            res = steady_state(self.model(), method="exact")
+            _REFERENCES[self.name] = (float(res.W), time.perf_counter() - t0,
+                                      dict(res.solver_stats))
+        return _REFERENCES[self.name]
+
+    def exact(self) -> float:
+        return self.reference()[0]
+
+    def value(self, result) -> float:
+        return result.W
+
+    def steps(self, steps) -> tuple:
+        return tuple(n for n in steps if self.max_steps is None or n <= self.max_steps)
+
+    def label(self) -> str:
+        return f"{self.name} ({self.description})"
+
+
+_Q3, _PHI3 = (1.5, 2.0, 2.5), (0.0, 0.6 * PI, 0.38 * PI)
+
+
+def _chain3_contact():
+    from ..model import chain
+
+    return chain(3, k_coupling=10.0, P1=(0.3, 0.6, 0.8), Q1=_Q3, phi=_PHI3)
+
+
+def _chain3_separation():
+    from ..model import chain
+
+    return chain(3, k_coupling=10.0, P1=(1.5, 0.6, 2.5), Q1=_Q3, phi=_PHI3)
+
+
+def _dense_spd():
+    """K = A Aᵀ/n + I with A standard normal (seed 1), 5 nodes, 2 of them separating."""
+    from ..model import ContactSystem, IndependentSprings
+    from ..model.loads import Harmonic
+
+    n = 5
+    rng = np.random.default_rng(1)
+    A = rng.standard_normal((n, n))
+    K = A @ A.T / n + np.eye(n)
+    P1 = (0.4, 1.6, 0.8, 2.2, 0.5)
+    Q1, phi = rng.uniform(1.0, 3.0, n), rng.uniform(0.0, PI, n)
+    return ContactSystem(
+        stiffness=K, friction=np.ones(n),
+        tangential_loads=tuple(Harmonic(0.0, q, f) for q, f in zip(Q1, phi)),
+        normal=IndependentSprings(tuple(Harmonic(1.0, p, 0.0) for p in P1)))
+
+
+def _chain100():
+    """100 nodes, k_coupling = 10; per-node P1 ~ U(0.2, 1.5), Q1 ~ U(1, 3), φ ~ U(0, π),
+    seed 100 (about a quarter of the nodes separate)."""
+    from ..model import chain
+
+    n = 100
+    rng = np.random.default_rng(100)
+    return chain(n, k_coupling=10.0, P1=rng.uniform(0.2, 1.5, n), Q1=rng.uniform(1.0, 3.0, n),
+                 phi=rng.uniform(0.0, PI, n))
+
+
+COUPLED_CASES = (
+    CoupledCase("chain-contact", "3-node chain, k_coupling = 10, full contact", _chain3_contact),
+    CoupledCase("chain-separation", "3-node chain, k_coupling = 10, 2 nodes separate",
+                _chain3_separation),
+    CoupledCase("dense-spd", "dense random SPD K, 5 nodes, 2 separate", _dense_spd),
+    CoupledCase("chain-100", "100-node chain, k_coupling = 10, random loads", _chain100,
+                max_steps=1600),
+)
+#: steps per cycle of the coupled cases (doubling: the Richardson check uses the two finest)
+COUPLED_STEPS = (100, 200, 400, 800, 1600, 3200, 6400, 12800)
+COUPLED_QUICK_STEPS = (100, 200, 400, 800, 1600)
+#: the methods run on the coupled cases by default (those installed)
+COUPLED_METHODS = ("exact", "explicit", "clarabel", "osqp", "qpsolvers:proxqp",
+                   "cvxpy:CLARABEL")
+
+
 def _closed_form(method: str) -> bool:
     """Whether the registry lists ``method`` as a closed form (timed once, no step counts)."""
     from ..methods import CLOSED_FORM, get_method
@@ -119,7 +231,8 @@ def run_comparison(cases=CASES, methods=None, steps=FULL_STEPS, *, budget: float
         model = case.model()
         for method in methods:
             closed = _closed_form(method)
-            run_steps = (0,) if closed else steps
+            coupled = getattr(case, "coupled", False)
+            run_steps = (0,) if closed else (case.steps(steps) if coupled else steps)
             last, prev_n = 0.0, 1
             for n in run_steps:
                 if not closed and last * n / max(prev_n, 1) > budget:
@@ -128,6 +241,20 @@ def run_comparison(cases=CASES, methods=None, steps=FULL_STEPS, *, budget: float
                                      W="", exact=ref, note="skipped: over time budget"))
                     continue
                 try:
+                    if closed and coupled:
+                        # the reference itself: its cost (its error is 0 by definition)
+                        ref_sec = case.reference()[1]
+                        res, sec = _time(lambda: steady_state(model, method),
+                                         repeats if ref_sec < 2.0 else 1)
+                        rows.append(dict(case=case.name, method=method, steps_per_cycle=0,
+                                         rel_error="", seconds=sec, cycles=res.cycles,
+                                         steps=0, W=res.W, exact=ref,
+                                         note="reference: " + ", ".join(
+                                             f"{k} {res.solver_stats[k]}" for k in
+                                             ("events_per_cycle", "cycles")
+                                             if k in res.solver_stats)))
+                        log(f"{case.name:15s} {method:22s}       reference  {sec:9.4f} s")
+                        continue
                     if closed:
                         # what computes Ŵ exactly: lcpfric.exact_W_hat (steady_state(...,
                         # "exact") adds a time series of the cycle, ~0.3 ms at 2000 points)
@@ -306,3 +433,171 @@ def read_rows(path: str) -> list[dict]:
                 r[key] = float(r[key]) if r[key] != "" else ""
             rows.append(r)
     return rows
+
+
+# -- the coupled cases' outputs ------------------------------------------------------------------
+def richardson(rows, case: str, method: str = "explicit", order: float = 2.0) -> dict | None:
+    """Richardson extrapolation of a method's W at its two finest grids (requested steps per
+    cycle n1 < n2): ``W_rich = W2 + (W2 - W1) / ((n2/n1)^order - 1)``, an estimate of the exact
+    W independent of the exact solver. Returns the steps, W_rich, the reference, and the
+    relative errors of W_rich and of the finest run against the reference (None with fewer
+    than two runs)."""
+    pts = sorted((r["steps_per_cycle"], r["W"], r["exact"]) for r in rows
+                 if r["case"] == case and r["method"] == method and r["rel_error"] != "")
+    if len(pts) < 2:
+        return None
+    (n1, w1, _), (n2, w2, ref) = pts[-2:]
+    w = w2 + (w2 - w1) / ((n2 / n1) ** order - 1.0)
+    scale = abs(ref) or 1.0
+    return dict(case=case, method=method, steps=(n1, n2), W_rich=w, W_exact=ref,
+                abs_error=abs(w - ref), rich_error=abs(w - ref) / scale,
+                finest_error=abs(w2 - ref) / scale)
+
+
+def _per_cycle(rows, case: str, method: str):
+    """Seconds per cycle of a method's finest run (its time over its cycles), and its steps."""
+    ok = [r for r in rows if r["case"] == case and r["method"] == method
+          and r["seconds"] != "" and r["cycles"] not in ("", 0)]
+    if not ok:
+        return None
+    r = max(ok, key=lambda r: r["steps_per_cycle"])
+    return r["seconds"] / r["cycles"], r["steps_per_cycle"]
+
+
+COUPLED_OUTPUTS = ("compare-coupled.csv", "compare-coupled.md", "compare-coupled.png")
+
+
+def write_coupled_outputs(rows, out_dir: str, cases=COUPLED_CASES, command: str = "") -> dict:
+    """Write compare-coupled.csv, .md and .png; return the headline numbers (measured orders,
+    the Richardson check, the reference's cost)."""
+    os.makedirs(out_dir, exist_ok=True)
+    fields = ["case", "method", "steps_per_cycle", "rel_error", "seconds", "cycles", "steps",
+              "W", "exact", "note"]
+    with open(os.path.join(out_dir, COUPLED_OUTPUTS[0]), "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=fields)
+        w.writeheader()
+        w.writerows(rows)
+    methods = list(dict.fromkeys(r["method"] for r in rows))
+    closed = {m for m in methods if _closed_form(m)}
+    steppers = [m for m in methods if m not in closed]
+    headline = {"orders": {}, "richardson": {}, "reference": {}}
+    lines = [f"Reproduce: `{command}`" if command else "", "",
+             "Reference: `steady_state(model, method=\"exact\").W`, once per case. Errors are "
+             "|W - W_exact| / W_exact.", "",
+             "## Measured convergence order (least-squares slope of log error against log "
+             "steps, runs with >= 200 steps and error above 1e-13)", "",
+             "| method | " + " | ".join(c.name for c in cases) + " |",
+             "|---|" + "---|" * len(cases)]
+    for m in steppers:
+        cells = []
+        for c in cases:
+            o = convergence_order(rows, c.name, m)
+            headline["orders"].setdefault(m, {})[c.name] = o
+            cells.append("-" if o is None else f"{o:.2f}")
+        lines.append(f"| {m} | " + " | ".join(cells) + " |")
+    lines += ["", "## Independent check of the reference: Richardson extrapolation of explicit",
+              "", "W_rich = W(n2) + (W(n2) - W(n1))/3 at explicit's two finest grids n1 < n2 "
+              "(second order).", "",
+              "| case | W_exact | n1, n2 | explicit error at n2 | W_rich | abs. error of W_rich "
+              "| relative |", "|---|---|---|---|---|---|---|"]
+    for c in cases:
+        rc = richardson(rows, c.name)
+        headline["richardson"][c.name] = rc
+        if rc:
+            lines.append(f"| {c.name} | {rc['W_exact']:.12g} | {rc['steps'][0]}, "
+                         f"{rc['steps'][1]} | {rc['finest_error']:.1e} | {rc['W_rich']:.12g} "
+                         f"| {rc['abs_error']:.1e} | {rc['rich_error']:.1e} |")
+    lines += ["", "## Cost of the reference (`exact`)", "",
+              "| case | seconds per steady state | events per cycle | cycles |",
+              "|---|---|---|---|"]
+    for c in cases:
+        hit = [r for r in rows if r["case"] == c.name and r["method"] in closed
+               and r["seconds"] != ""]
+        if not hit and c.name not in _REFERENCES:
+            continue
+        W, sec, stats = _REFERENCES.get(c.name, (None, None, {}))
+        sec = hit[0]["seconds"] if hit else sec
+        headline["reference"][c.name] = dict(seconds=sec, **{
+            k: stats.get(k) for k in ("events_per_cycle", "cycles")})
+        lines.append(f"| {c.name} | {sec:.3g} | {stats.get('events_per_cycle', '')} | "
+                     f"{stats.get('cycles', '')} |")
+    lines += ["", "## Relative error against exact, per case", "",
+              "Time per cycle: the finest run's wall time over the cycles the periodic driver "
+              "ran (the steps per cycle in brackets).", ""]
+    for c in cases:
+        sub = [r for r in rows if r["case"] == c.name]
+        steps = sorted({r["steps_per_cycle"] for r in sub if r["method"] not in closed})
+        lines += [f"### {c.label()}", "",
+                  "| method | " + " | ".join(str(s) for s in steps) + " | order | s per cycle |",
+                  "|---|" + "---|" * (len(steps) + 2)]
+        for m in steppers:
+            cells = []
+            for s in steps:
+                hit = [r for r in sub if r["method"] == m and r["steps_per_cycle"] == s]
+                cells.append(f"{hit[0]['rel_error']:.1e}" if hit and hit[0]["rel_error"] != ""
+                             else "")
+            o = convergence_order(rows, c.name, m)
+            pc = _per_cycle(rows, c.name, m)
+            cells += ["-" if o is None else f"{o:.2f}",
+                      "-" if pc is None else f"{pc[0]:.2e} ({pc[1]})"]
+            lines.append(f"| {m} | " + " | ".join(cells) + " |")
+        notes = {r["method"]: r["note"] for r in sub if r["note"].startswith("error")}
+        for m, note in notes.items():
+            lines.append(f"\n{m}: {note}")
+        lines.append("")
+    with open(os.path.join(out_dir, COUPLED_OUTPUTS[1]), "w") as fh:
+        fh.write("\n".join(lines))
+    files = list(COUPLED_OUTPUTS[:2])
+    if _plot_coupled(rows, cases, steppers, closed, os.path.join(out_dir, COUPLED_OUTPUTS[2])):
+        files.append(COUPLED_OUTPUTS[2])
+    headline["files"] = files
+    return headline
+
+
+def _plot_coupled(rows, cases, steppers, closed, path) -> bool:
+    """compare-coupled.png in the house print style (lcpfric.plotting): page width, 7 pt text,
+    one panel per case, every method a labelled line, the exact reference's cost a labelled
+    vertical line. False (nothing written) without matplotlib."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        return False
+    from .. import plotting as pl
+
+    ncol = 2
+    nrow = math.ceil(len(cases) / ncol)
+    with pl.style():
+        fig = pl.figure(figsize=(pl.PAGE_WIDTH, 2.3 * nrow + 0.4), layout="constrained")
+        axes = fig.subplots(nrow, ncol, squeeze=False)
+        colors = ["#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#a6761d", "#666666"]
+        for ax, c in zip(axes.flat, cases):
+            for i, m in enumerate(steppers):
+                # in the order of refinement (run times are noisy, step counts are not)
+                pts = sorted((r["steps_per_cycle"], r["seconds"], max(r["rel_error"], 1e-16))
+                             for r in rows if r["case"] == c.name and r["method"] == m
+                             and r["rel_error"] != "")
+                if not pts:
+                    continue
+                _, x, y = zip(*pts)
+                ax.loglog(x, y, label=m, color=colors[i % len(colors)],
+                          **pl.curve_style(i, len(steppers), len(pts)))
+            ref = [r for r in rows if r["case"] == c.name and r["method"] in closed
+                   and r["seconds"] != ""]
+            if ref:
+                ax.axvline(ref[0]["seconds"], color="k", lw=0.8, ls=(0, (1, 1.5)),
+                           label="exact (the reference): its run time")
+            ax.set_title(f"{c.name}\n{c.description}", fontsize=pl.SMALL)
+            ax.set_xlabel("wall time per steady state (s)")
+            ax.set_ylabel(r"$|W - W_{\mathrm{exact}}|\,/\,W_{\mathrm{exact}}$")
+            ax.grid(True, which="major", alpha=0.3)
+        for ax in list(axes.flat)[len(cases):]:
+            ax.axis("off")
+        handles = {}
+        for ax in axes.flat:
+            for h, lab in zip(*ax.get_legend_handles_labels()):
+                handles.setdefault(lab, h)
+        fig.legend(list(handles.values()), list(handles), loc="outside lower center",
+                   ncol=min(len(handles), 4))
+        pl.finish(fig)
+        fig.savefig(path, dpi=pl.DPI)
+    return True

@@ -12,14 +12,21 @@ from ..errors import InputError
 HELP = "error against run time for every method"
 DESCRIPTION = ("Run every method on the benchmark cases at increasing steps per cycle, judge it "
                "against the exact solution, and write compare.csv, compare.md and (with "
-               "matplotlib) compare.png. " + _common.OUTPUT_RULE)
+               "matplotlib) compare.png; with --coupled, the coupled d = 1 cases against "
+               "method 'exact' (compare-coupled.csv, .md, .png). " + _common.OUTPUT_RULE)
 #: API parameter names that differ from the option's name
 OPTIONS = {"method": "--methods", "steps_per_cycle": "--steps"}
 OUTPUTS = ("compare.csv", "compare.md", "compare.png")
+COUPLED_OUTPUTS = ("compare-coupled.csv", "compare-coupled.md", "compare-coupled.png")
 
 
 def configure(p) -> None:
     p.add_argument("--quick", action="store_true", help="reduced set, under 3 minutes")
+    p.add_argument("--coupled", action="store_true",
+                   help="the coupled d = 1 cases (chains with k_coupling = 10, a dense SPD K, a "
+                        "100-node chain) against method 'exact', with a Richardson check; "
+                        "default methods exact, explicit, clarabel, osqp, qpsolvers:proxqp, "
+                        "cvxpy:CLARABEL (those installed), steps 100 to 12800, budget 40 s")
     p.add_argument("--out", default="bench-out", metavar="DIR",
                    help="output directory (default bench-out; its parent must exist)")
     p.add_argument("--methods", default=None, metavar="LIST",
@@ -47,14 +54,20 @@ def run(args) -> int:
     from ..analysis import convergence as bench
 
     out = _common.output_dir(args.out, "--out")
-    cases = bench.CASES
+    coupled = bool(getattr(args, "coupled", False))
+    all_cases = bench.COUPLED_CASES if coupled else bench.CASES
+    cases = all_cases
+    if coupled and args.quick:  # the 100-node chain is left to the full run
+        cases = tuple(c for c in all_cases if c.max_steps is None)
     if args.cases is not None:
         names = _list(args.cases, "--cases")
-        unknown = [n for n in names if n not in {c.name for c in bench.CASES}]
+        unknown = [n for n in names if n not in {c.name for c in all_cases}]
         if unknown:
             raise InputError("--cases", f"unknown {unknown}; choose from "
-                                        f"{[c.name for c in bench.CASES]}")
-        cases = tuple(c for c in bench.CASES if c.name in names)
+                                        f"{[c.name for c in all_cases]}"
+                                        + ("" if coupled else " (or --coupled for "
+                                           f"{[c.name for c in bench.COUPLED_CASES]})"))
+        cases = tuple(c for c in all_cases if c.name in names)
     methods = None
     if args.methods is not None:
         methods = _list(args.methods, "--methods")
@@ -62,16 +75,22 @@ def run(args) -> int:
 
         for m in methods:
             get_stepper(m)  # an unknown name or a missing extra fails here, named --methods
-    steps = bench.QUICK_STEPS if args.quick else bench.FULL_STEPS
+    if coupled:
+        steps = bench.COUPLED_QUICK_STEPS if args.quick else bench.COUPLED_STEPS
+    else:
+        steps = bench.QUICK_STEPS if args.quick else bench.FULL_STEPS
     if args.steps is not None:
         steps = tuple(_checks.positive_int("--steps", s, minimum=4)
                       for s in _list(args.steps, "--steps"))
     if args.budget is not None:
         budget = _checks.positive("--budget", _checks.parse_number(args.budget, "--budget"))
     else:
-        budget = 1.0 if args.quick else 20.0
-    from ..methods import CLOSED_FORM, get_method
+        budget = 1.0 if args.quick else (40.0 if coupled else 20.0)
+    from ..methods import CLOSED_FORM, available_methods, get_method
 
+    if methods is None and coupled:
+        installed = set(available_methods())
+        methods = [m for m in bench.COUPLED_METHODS if m in installed]
     if methods is None and args.quick:  # the quick set: the methods the registry rates fast
         methods = [m for m in bench.default_methods()
                    if (get_method(m)[0].seconds_per_point_step or 0.0) < 1e-4]
@@ -85,25 +104,28 @@ def run(args) -> int:
     try:
         rows = bench.run_comparison(cases, methods, steps, budget=budget,
                                     repeats=1 if args.quick else 3, placement=args.placement)
-        cmd = ("python benchmarks/compare_backends.py" + (" --quick" if args.quick else "")
+        cmd = ("python benchmarks/compare_backends.py" + (" --coupled" if coupled else "")
+               + (" --quick" if args.quick else "")
                + (f" --cases {args.cases}" if args.cases else "")
                + (f" --methods {args.methods}" if args.methods else "")
                + (f" --steps {args.steps}" if args.steps else "")
                + (f" --budget {budget:g}" if args.budget is not None else "")
                + f" --out {args.out}"
                + (f" --placement {args.placement}" if args.placement != "contact" else ""))
-        headline = bench.write_outputs(rows, str(out), cases, cmd)
+        write = bench.write_coupled_outputs if coupled else bench.write_outputs
+        headline = write(rows, str(out), cases, cmd)
     except BaseException:
         _common.remove_created(out, before, existed)
         raise
     headline["seconds"] = time.perf_counter() - t0
-    written = [p.name for p in _common.written_files(out, before, OUTPUTS)]
+    outputs = COUPLED_OUTPUTS if coupled else OUTPUTS
+    written = [p.name for p in _common.written_files(out, before, outputs)]
     headline["files"] = written
     note = ""
-    if "compare.png" not in written:
-        note = (' (compare.png not drawn: matplotlib is not installed; pip install '
+    if outputs[2] not in written:
+        note = (f' ({outputs[2]} not drawn: matplotlib is not installed; pip install '
                 '"lcpfric[plot]")' if not _common.installed("matplotlib") else
-                " (compare.png not drawn)")
+                f" ({outputs[2]} not drawn)")
     print(f"wrote {out}/{', '.join(written) or 'nothing'} in {headline['seconds']:.0f} s{note}")
     if args.json:
         print(json.dumps(headline))
