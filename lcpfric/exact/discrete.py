@@ -143,8 +143,9 @@ def next_entry(T: np.ndarray, theta: float, tol, skipped: bool = False):
     keeps its digits). A dip shallower than ``tol`` (a touch) is not an entry. When θ is in the
     first half of the arc (g falling or at its minimum) the entry is ``theta`` itself; in the
     second half g is rising back and, unless it is still below ``-tol``, the next entry is one
-    period on; c0 <= -R (negative everywhere) enters at theta. With ``skipped``, also returns the deepest dip not treated as an entry, as a
-    fraction of ``tol`` times 1e-11 (the scale-relative depth).
+    period on; c0 <= -R (negative everywhere) enters at theta. With ``skipped``, also returns
+    the deepest dip not treated as an entry, as a fraction of ``tol`` times 1e-11 (the
+    scale-relative depth).
     """
     c0, cs, cc = T[:, 0], T[:, 1], T[:, 2]
     R = np.hypot(cs, cc)
