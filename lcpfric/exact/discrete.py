@@ -859,9 +859,10 @@ def exact_system_cycle(system, samples: int = 2000, *, tol: float = 1e-12,
             u_next = u + _newton_step(solver.jacobian(), r, status, solver.flipped)
             newton += 1
         best = min(best, change)
-        # the tangent map pays O(n) per event on a chain, O(n²) on dense K: track only when
-        # the first cycle did not already reach the orbit (a history erased by separation)
-        track = change > 1e3 * tol
+        # the tangent map pays O(n) per event on a chain, O(n²) on dense K: track from the
+        # second cycle on unless the first already reached the orbit (a history erased by
+        # separation), and then until the end
+        track = track or change > 1e3 * tol
         u, status = solver.admissible(u_next, status_end)
     else:
         raise ConvergenceError(f"exact: no periodic steady state after {max_cycles} cycles "
