@@ -65,7 +65,10 @@ def test_chain_convex_and_explicit_converge_together(separation):
     W = {m: [steady_state(system, m, s, tol=1e-9).W for s in steps]
          for m in ("explicit", "osqp")}
     diff = np.abs(np.subtract(W["explicit"], W["osqp"])) / W["explicit"][-1]
-    assert diff[-1] < 1e-5 and diff[-1] < diff[0] / 20, diff
+    # the convex backends locate the events inside an increment (lcpfric.backends.events):
+    # they solve the same piecewise-linear problem as the explicit stepper (measured: equal to
+    # round-off from 400 steps on; 2.4e-5 apart at 100 steps with separation)
+    assert np.all(diff[1:] < 1e-9) and diff[0] < 1e-4, diff
     # each method is self-consistent at second order
     for m in W:
         assert abs(W[m][1] - W[m][2]) < abs(W[m][0] - W[m][1]) / 4

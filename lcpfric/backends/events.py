@@ -38,8 +38,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..results import State
-from ..steppers.explicit import ExplicitStepper
+from ..steppers.explicit import ExplicitStepper, limit_crossings
 
 __all__ = ["path_is_exact", "first_event"]
 
@@ -79,15 +78,7 @@ def first_event(K, f, F0, Q0, N0, dQ, dN, sep, tau: float):
     for _ in range(n + 2):
         du, state = ExplicitStepper._rates(K, f, F0, bound, dQ, dN, sep, was_fwd, was_bwd,
                                            touch_lo, touch_hi)
-        dF = dQ + K @ du
-        stick = state == State.STICK
-        rtol = _REL * (np.abs(f * dN) + np.abs(dF)) + 1e-300
-        gtol = _REL * (bound + np.abs(F0))
-        events = []
-        with np.errstate(divide="ignore", invalid="ignore"):
-            for g, r in ((bound - F0, f * dN - dF), (bound + F0, f * dN + dF)):
-                hit = stick & (r < -rtol) & (g > gtol)
-                events.append(np.where(hit, tau + g / -r, 2.0))
+        events = limit_crossings(K, f, F0, bound, dQ, dN, du, state, tau)
         t_end = min(float(np.min(events[0])), float(np.min(events[1])))
         now = tau + _EPS8 * max(1.0, tau)
         if t_end <= now:  # limits reached within round-off of tau: decide those nodes at tau

@@ -36,7 +36,7 @@ from .base import Stepper
 from .dissipation import increment_dissipation, scalar_share
 from .lcp import solve_lcp
 
-__all__ = ["ExplicitStepper", "solve_lcp"]
+__all__ = ["ExplicitStepper", "solve_lcp", "limit_crossings"]
 
 STICK, FORWARD, BACKWARD, SEPARATION = (State.STICK, State.FORWARD, State.BACKWARD,
                                         State.SEPARATION)
@@ -86,16 +86,7 @@ class ExplicitStepper(Stepper):
             F0 = _on_limits(Qt + K @ u, bound, slipping & ~sep, slipping_b & ~sep)
             du, node_state = self._rates(K, f, F0, bound, dQ, dN, sep, slipping, slipping_b,
                                          touch_lo, touch_hi)
-            dF = dQ + K @ du
-            # first instant where a sticking node in contact reaches a friction limit
-            stick = node_state == STICK
-            rtol = _REL * (np.abs(f * dN) + np.abs(dF)) + 1e-300
-            gtol = _REL * (bound + np.abs(F0))
-            events = []
-            with np.errstate(divide="ignore", invalid="ignore"):
-                for g, r in ((bound - F0, f * dN - dF), (bound + F0, f * dN + dF)):
-                    hit = stick & (r < -rtol) & (g > gtol)
-                    events.append(np.where(hit, tau + g / -r, 2.0))
+            events = limit_crossings(K, f, F0, bound, dQ, dN, du, node_state, tau)
             t_end = min(1.0, float(np.min(events[0])), float(np.min(events[1])))
             now = tau + _EPS8 * max(1.0, tau)
             if t_end <= now:
@@ -195,6 +186,23 @@ class ExplicitStepper(Stepper):
 
     def stats(self, state):
         return {"substeps": state.data["substeps"], "events": state.data["events"]}
+
+
+def limit_crossings(K, f, F0, bound, dQ, dN, du, node_state, tau):
+    """Per node, the instant (fraction of the increment, 2 for never) where a sticking node
+    reaches its upper and its lower friction limit, the rates ``du`` held from ``tau``: the
+    margins ``f N ∓ F`` are linear in time, so the instants are exact. Returns (upper, lower).
+    """
+    dF = dQ + K @ du
+    stick = node_state == STICK
+    rtol = _REL * (np.abs(f * dN) + np.abs(dF)) + 1e-300
+    gtol = _REL * (bound + np.abs(F0))
+    events = []
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for g, r in ((bound - F0, f * dN - dF), (bound + F0, f * dN + dF)):
+            hit = stick & (r < -rtol) & (g > gtol)
+            events.append(np.where(hit, tau + g / -r, 2.0))
+    return events
 
 
 def _on_limits(F, bound, forward, backward):
