@@ -85,7 +85,8 @@ TWO_PI = 2.0 * math.pi
 _REL = 1e-11             # a dip below this fraction of its scale is an event
 _SAME = 64 * np.finfo(float).eps * TWO_PI   # events closer than this happen together
 _ETAS = (1e-9, 1e-7, 1e-5, 1e-3)   # load-rate look-ahead for degenerate instants
-_RESIDUAL = 1e-10        # equilibrium residual that triggers a refactorization
+_RESIDUAL = 1e-10        # equilibrium residual of a fresh pattern above which it is an error
+_EPS = float(np.finfo(float).eps)
 _SMALL = 256             # G blocks up to this size are updated whole (cheaper than indexing)
 
 
@@ -248,8 +249,12 @@ class DiscreteCycle:
 class _Solver:
     """Event-by-event integration of one system (all quantities in scaled units)."""
 
-    def __init__(self, K, f, Qt, Pt, samples, max_events):
+    def __init__(self, K, f, Qt, Pt, samples, max_events, kappa=1.0):
         self.K = self.Kd = K
+        # what round-off through K_BB⁻¹ allows: relative tolerances grow with cond(K)
+        self.kappa = kappa
+        self.rel = max(_REL, 100.0 * _EPS * kappa)
+        self.residual = max(_RESIDUAL, 1e3 * _EPS * kappa)
         self.n = n = f.size
         self.Kmul = _multiplier(K)
         self.G = np.zeros((n, n))
@@ -279,9 +284,12 @@ class _Solver:
                        + np.abs(self.bt[:, 0]) + np.hypot(self.bt[:, 1], self.bt[:, 2]))
         fmax = float(np.max(self.fscale))
         self.fscale = np.maximum(self.fscale, 1e-300)
-        self._tol_stick = np.concatenate([_REL * self.fscale, _REL * self.fscale])
         kmin = float(np.min(np.diag(K)))
         self.rscale = max(fmax / kmin, 1e-300)
+        # the displacement a cycle moves by (Q0 only shifts u and does not count)
+        amp = (np.hypot(Qt[:, 1], Qt[:, 2]) + np.abs(self.bt[:, 0])
+               + np.hypot(self.bt[:, 1], self.bt[:, 2]))
+        self.uscale = max(float(np.max(amp)) / kmin, 1e-300)
         # contact arcs: P_i < 0 on (sep_i, rec_i) (mod 2π); always / never in contact
         c0, R = Pt[:, 0], np.hypot(Pt[:, 1], Pt[:, 2])
         self.never = c0 + R <= 0.0
@@ -377,7 +385,7 @@ class _Solver:
         F = self.Qt + self.Kmul(U)
         if m:
             res = float(np.max(np.abs(F[Bidx] - Fp[Bidx])) / np.max(self.fscale))
-            if res > _RESIDUAL:
+            if res > self.residual:
                 raise SolverError(f"exact: equilibrium residual {res:.3g} of the pattern at "
                                   f"θ = {theta:.17g} (is K well conditioned?)", backend="exact",
                                   status="residual")
@@ -556,8 +564,8 @@ class _Solver:
             bt, Ft = self.bt[rows], self.Ft[rows]
             T[:k] = np.where(stick, bt - Ft, D[:, None] * _rate(self.U[rows]))
             T[k:] = np.where(stick, bt + Ft, 0.0)
-            ftol = _REL * self.fscale[rows]
-            tol = np.concatenate([np.where(stick[:, 0], ftol, _REL * self.rscale), ftol])
+            ftol = self.rel * self.fscale[rows]
+            tol = np.concatenate([np.where(stick[:, 0], ftol, self.rel * self.rscale), ftol])
             t, skipped = next_entry(T, theta, tol, skipped=True)
             if skipped > self.stats["skipped_depth"]:
                 self.stats["skipped_depth"] = skipped
@@ -720,23 +728,20 @@ class _Solver:
         return ", ".join(f"{v} {k}" for k, v in counts.items() if v)
 
     def admissible(self, u, guess):
-        """The state at θ = 0 nearest ``u`` inside the friction cone (forces clipped, u moved
-        accordingly), its pattern from ``guess`` (checked) or the rate LCP."""
-        Q0 = _value(self.Qt, 0.0)
+        """The state at θ = 0 from the displacements ``u`` of the nodes stuck in ``guess``: the
+        others (slipping, separated) follow from them (their u is not state), and a stuck node
+        that ``u`` puts on or beyond a friction limit is decided by the pivots on the pattern or
+        the rate LCP, as at an event. Stuck nodes keep their u exactly: correcting all of u
+        through K⁻¹ instead would move a stiffly coupled pair along its soft mode by the
+        round-off of K u divided by K's smallest eigenvalue, every cycle."""
         contact = self.in_contact(0.0)
-        b0 = np.where(contact, _value(self.bt, 0.0), 0.0)
-        F = Q0 + self.K @ u
-        Fc = np.where(contact, np.clip(F, -b0, b0), 0.0)
-        slip = (guess == FORWARD) | (guess == BACKWARD)
-        Fc = np.where(contact & slip, np.where(guess == FORWARD, -b0, b0), Fc)
-        if np.any(Fc != F):
-            u = u + self._cho_solve(Fc - F)
         guess = np.where(contact, np.where(guess == SEPARATION, STICK, guess),
                          SEPARATION).astype(np.int8)
-        touch_hi = contact & (Fc >= b0) & (guess == STICK)
-        touch_lo = contact & (Fc <= -b0) & (guess == STICK)
         self._full(guess, u, 0.0)
-        self.decide(0.0, guess, touch_lo, touch_hi, 0)
+        F = _value(self.Ft, 0.0)
+        b0 = np.where(contact, _value(self.bt, 0.0), 0.0)
+        stuck = guess == STICK
+        self.decide(0.0, guess, stuck & (F <= -b0), stuck & (F >= b0), 0)
         return self.u_at(0.0), self.status.copy()
 
     def _cho_solve(self, rhs):
@@ -761,6 +766,16 @@ class _Solver:
         self._full(guess, u, 0.0)
         self.decide(0.0, guess, touch_lo, touch_hi, 1)
         return self.u_at(0.0), self.status.copy()
+
+
+def _condition(K) -> float:
+    """cond(K) = λmax/λmin (symmetric positive definite), from the eigenvalues up to n = 3000;
+    beyond, an estimate: the largest absolute row sum over the smallest diagonal entry."""
+    n = K.shape[0]
+    if n <= 3000:
+        ev = np.linalg.eigvalsh(K)
+        return float(ev[-1] / ev[0]) if ev[0] > 0 else np.inf
+    return float(np.max(np.sum(np.abs(K), axis=1)) / np.min(np.diag(K)))
 
 
 def _newton_step(J, r, status0, flipped):
@@ -839,30 +854,38 @@ def exact_system_cycle(system, samples: int = 2000, *, tol: float = 1e-12,
     size = float(max(np.max(np.abs(Qt[:, 0]) + np.hypot(Qt[:, 1], Qt[:, 2])),
                      np.max(f * (np.abs(Pt[:, 0]) + np.hypot(Pt[:, 1], Pt[:, 2])))))
     scale = 2.0 ** round(math.log2(size)) if size > 0 and math.isfinite(size) else 1.0
+    kappa = _condition(K)
     solver = _Solver(K, f, Qt / scale, Pt / scale, samples,
-                     max_events or 200 * n + 1000)
+                     max_events or 200 * n + 1000, kappa)
     theta_s = np.linspace(0.0, TWO_PI, samples + 1)
     u, status = solver.initial_state()
-    u_load = solver.rscale
-    W_cycles, change = [], np.inf
-    track, best, newton = False, np.inf, 0
+    floor = max(tol, 100.0 * _EPS * kappa)   # periodic to round-off, which grows with cond(K)
+    W_cycles, change, last_change = [], np.inf, np.inf
+    track, newton, was_newton = False, 0, False
     for _ in range(max_cycles):
         u_end, status_end, W, events, series = solver.cycle(u, status, theta_s, track)
         W_cycles.append(W * scale * scale)
         r = u_end - u
-        ref = max(float(np.max(np.abs(u_end), initial=0.0)), u_load)
+        # relative to the displacement range of the cycle (a static offset from Q0 does not
+        # count) or, if larger, the displacement the loads' amplitudes make
+        ref = max(float(np.max(np.ptp(series[0], axis=0), initial=0.0)), solver.uscale)
         change = float(np.max(np.abs(r), initial=0.0)) / ref
-        if change <= tol:
+        if change <= floor:
             break
         u_next = u_end
-        if track and change < best:
+        # Newton's step, except right after one that made the change grow (then one plain
+        # cycle-map step, and Newton again)
+        if track and not (was_newton and change > last_change):
             u_next = u + _newton_step(solver.jacobian(), r, status, solver.flipped)
             newton += 1
-        best = min(best, change)
+            was_newton = True
+        else:
+            was_newton = False
+        last_change = change
         # the tangent map pays O(n) per event on a chain, O(n²) on dense K: track from the
         # second cycle on unless the first already reached the orbit (a history erased by
         # separation), and then until the end
-        track = track or change > 1e3 * tol
+        track = track or change > 1e3 * floor
         u, status = solver.admissible(u_next, status_end)
     else:
         raise ConvergenceError(f"exact: no periodic steady state after {max_cycles} cycles "
@@ -872,7 +895,7 @@ def exact_system_cycle(system, samples: int = 2000, *, tol: float = 1e-12,
     N = np.maximum(_value(Pt[None, :, :], theta_s[:, None]), 0.0)
     N = np.where(solver.never, 0.0, N)
     stats = dict(solver.stats, events_per_cycle=events, cycles=len(W_cycles),
-                 newton_steps=newton,
+                 newton_steps=newton, condition=kappa, periodicity_tol=floor,
                  seconds=time.perf_counter() - start)
     return DiscreteCycle(W=W_cycles[-1], W_cycles=np.asarray(W_cycles), cycles=len(W_cycles),
                          change=change, events=events, omega=omega, theta=theta_s, u=Us * scale,
