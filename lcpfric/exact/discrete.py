@@ -41,10 +41,13 @@ the equilibrium residual of the new pattern exceeds 1e-10 of the force scale.
 
 Tolerances
 ----------
-A margin or rate is *meaningfully* negative when its minimum is below ``-1e-11`` of its node's
-force (or the system's rate) scale. Shallower dips, a node touching its limit without slipping,
-are not events; the deepest one skipped is reported (``skipped_depth``), and the dissipation it
-could hide is below that depth times the largest compliance times the largest friction limit.
+A margin or rate is *meaningfully* negative when its minimum is below ``-rel`` of its node's
+force (or the system's rate) scale, ``rel = max(1e-11, 100 eps cond(K))``: round-off through
+``K_BB⁻¹`` grows with the conditioning. Shallower dips, a node touching its limit without
+slipping, are not events; the deepest one skipped is reported (``skipped_depth``), and the
+dissipation it could hide is below that depth times the largest compliance times the largest
+friction limit. A fresh pattern whose equilibrium residual exceeds ``max(1e-10, 1e3 eps cond(K))``
+raises :class:`~lcpfric.errors.SolverError`.
 
 Cycles
 ------
@@ -54,14 +57,16 @@ propagated along the cycle: a node that sticks holds ``u_j = U_j(θ)``, which de
 stuck displacements through ``-(G K_BS)_j`` and, when it is stopped by another node reaching
 its limit (not by its own slip rate vanishing), on that event's angle, whose sensitivity is
 ``-(∂g/∂u_S) / g'`` for the margin g that triggered it. With the sequence of events settled
-the convergence is quadratic (five to seven cycles in full contact instead of twenty with
-Anderson acceleration, or sixty by plain iteration, on the 100-node benchmark chain). A node
-that never changes state keeps its start displacement (the steady state is not unique in it,
-the dissipation is). Cycles stop when the start displacements of two successive cycles agree
-to ``tol`` of their scale; with uncoupled normal reactions the steady dissipation is unique
-(Barber, Klarbring and Ciavarella), so the start does not change it. When the first cycle
-already repeats (every node's history erased by separation) no Jacobian is computed. The
-number of cycles and of Newton steps is reported.
+the convergence is quadratic; where a node sits on the threshold of slipping (a tiny slip that
+appears in one cycle and not the next) the cycle map has a kink there and the convergence is
+linear (``benchmarks/exact_discrete.py`` reports the cycles). A node that never changes state
+keeps its start displacement (the steady state is not unique in it, the dissipation is).
+Cycles stop when the start displacements of two successive cycles agree to
+``max(tol, 100 eps cond(K))`` of the cycle's displacement range (a static offset from a mean
+tangential load Q0 does not count); with uncoupled normal reactions the steady dissipation is
+unique (Barber, Klarbring and Ciavarella), so the start does not change it. When the first
+cycle already repeats (every node's history erased by separation) no Jacobian is computed.
+The number of cycles and of Newton steps is reported.
 """
 
 from __future__ import annotations
@@ -829,8 +834,9 @@ def exact_system_cycle(system, samples: int = 2000, *, tol: float = 1e-12,
         The steady cycle is sampled at ``samples + 1`` equally spaced instants (W does not
         depend on it).
     tol : float
-        Periodicity: the start displacements of two successive cycles agree to ``tol`` of their
-        scale (the largest |u| and the loads' displacement scale).
+        Periodicity: the start displacements of two successive cycles agree to
+        ``max(tol, 100 eps cond(K))`` of their scale (the displacement range of the cycle, or
+        the displacement the loads' amplitudes make, whichever is larger).
     max_cycles : int
         Cap on the cycles; reaching it raises :class:`~lcpfric.errors.ConvergenceError`.
     max_events : int, optional
