@@ -61,12 +61,16 @@ the convergence is quadratic; where a node sits on the threshold of slipping (a 
 appears in one cycle and not the next) the cycle map has a kink there and the convergence is
 linear (``benchmarks/exact_discrete.py`` reports the cycles). A node that never changes state
 keeps its start displacement (the steady state is not unique in it, the dissipation is).
-Cycles stop when the start displacements of two successive cycles agree to
-``max(tol, 100 eps cond(K))`` of the cycle's displacement range (a static offset from a mean
-tangential load Q0 does not count); with uncoupled normal reactions the steady dissipation is
-unique (Barber, Klarbring and Ciavarella), so the start does not change it. When the first
-cycle already repeats (every node's history erased by separation) no Jacobian is computed.
-The number of cycles and of Newton steps is reported.
+Cycles stop when the start displacements of two successive cycles agree to ``tol`` of the
+largest displacement range over the cycle (what the slips are measured against; at least
+the displacement ``max |Q1| / min K_ii`` the tangential amplitudes make; a mean
+tangential load Q0 is taken out beforehand, as it only shifts u by ``-K⁻¹ Q0``), or to the
+round-off ``100 eps cond(K) max(|u|, max f N / min K_ii)``, if larger; with uncoupled normal
+reactions the steady dissipation is unique (Barber, Klarbring and Ciavarella), so the start
+does not change it. When the first cycle already repeats (every node's history erased by
+separation) no Jacobian is computed. Where Newton's step makes no progress (less than 10 % off
+the change), it is halved from the best start so far, down to 1/8, then one plain cycle-map
+step is taken. The number of cycles and of Newton steps is reported.
 """
 
 from __future__ import annotations
@@ -291,10 +295,8 @@ class _Solver:
         self.fscale = np.maximum(self.fscale, 1e-300)
         kmin = float(np.min(np.diag(K)))
         self.rscale = max(fmax / kmin, 1e-300)
-        # the displacement a cycle moves by (Q0 only shifts u and does not count)
-        amp = (np.hypot(Qt[:, 1], Qt[:, 2]) + np.abs(self.bt[:, 0])
-               + np.hypot(self.bt[:, 1], self.bt[:, 2]))
-        self.uscale = max(float(np.max(amp)) / kmin, 1e-300)
+        # the displacement the tangential amplitudes make (what moves u; a mean Q0 is taken out)
+        self.qscale = max(float(np.max(np.hypot(Qt[:, 1], Qt[:, 2]))) / kmin, 1e-300)
         # contact arcs: P_i < 0 on (sep_i, rec_i) (mod 2π); always / never in contact
         c0, R = Pt[:, 0], np.hypot(Pt[:, 1], Pt[:, 2])
         self.never = c0 + R <= 0.0
@@ -773,6 +775,12 @@ class _Solver:
         return self.u_at(0.0), self.status.copy()
 
 
+def _chol_solve(K, b):
+    import scipy.linalg as sla
+
+    return sla.cho_solve(sla.cho_factor(K), b)
+
+
 def _condition(K) -> float:
     """cond(K) = λmax/λmin (symmetric positive definite), from the eigenvalues up to n = 3000;
     beyond, an estimate: the largest absolute row sum over the smallest diagonal entry."""
@@ -834,9 +842,9 @@ def exact_system_cycle(system, samples: int = 2000, *, tol: float = 1e-12,
         The steady cycle is sampled at ``samples + 1`` equally spaced instants (W does not
         depend on it).
     tol : float
-        Periodicity: the start displacements of two successive cycles agree to
-        ``max(tol, 100 eps cond(K))`` of their scale (the displacement range of the cycle, or
-        the displacement the loads' amplitudes make, whichever is larger).
+        Periodicity: the start displacements of two successive cycles agree to ``tol`` of the
+        largest displacement range over the cycle (at least ``max |Q1| / min K_ii``), or to the
+        round-off ``100 eps cond(K) max(|u|, max f N / min K_ii)`` if that is larger.
     max_cycles : int
         Cap on the cycles; reaching it raises :class:`~lcpfric.errors.ConvergenceError`.
     max_events : int, optional
@@ -861,38 +869,56 @@ def exact_system_cycle(system, samples: int = 2000, *, tol: float = 1e-12,
                      np.max(f * (np.abs(Pt[:, 0]) + np.hypot(Pt[:, 1], Pt[:, 2])))))
     scale = 2.0 ** round(math.log2(size)) if size > 0 and math.isfinite(size) else 1.0
     kappa = _condition(K)
+    # a constant tangential load Q0 only shifts u by -K⁻¹ Q0 (F = Q + K u is unchanged): it is
+    # taken out, so that displacements of a small amplitude are not computed on a large offset
+    Qt = Qt.copy()
+    u_static = -_chol_solve(K, Qt[:, 0]) if np.any(Qt[:, 0]) else np.zeros(n)
+    Qt[:, 0] = 0.0
     solver = _Solver(K, f, Qt / scale, Pt / scale, samples,
                      max_events or 200 * n + 1000, kappa)
     theta_s = np.linspace(0.0, TWO_PI, samples + 1)
     u, status = solver.initial_state()
-    floor = max(tol, 100.0 * _EPS * kappa)   # periodic to round-off, which grows with cond(K)
-    W_cycles, change, last_change = [], np.inf, np.inf
-    track, newton, was_newton = False, 0, False
+    floor = tol
+    W_cycles, change = [], np.inf
+    track, newton = False, 0
+    best = None      # (change, start, its status, step) of the best start so far
+    lam = 1.0
     for _ in range(max_cycles):
         u_end, status_end, W, events, series = solver.cycle(u, status, theta_s, track)
         W_cycles.append(W * scale * scale)
         r = u_end - u
-        # relative to the displacement range of the cycle (a static offset from Q0 does not
-        # count) or, if larger, the displacement the loads' amplitudes make
-        ref = max(float(np.max(np.ptp(series[0], axis=0), initial=0.0)), solver.uscale)
+        # relative to the largest displacement range over the cycle (what the slips are
+        # measured against), at least the displacement the tangential amplitudes make;
+        # round-off is relative to |u| or the forces' displacement scale, times cond(K)
+        ref = max(float(np.max(np.ptp(series[0], axis=0), initial=0.0)), solver.qscale)
         change = float(np.max(np.abs(r), initial=0.0)) / ref
+        size = max(float(np.max(np.abs(u_end), initial=0.0)), ref, solver.rscale)
+        floor = max(tol, 100.0 * _EPS * kappa * size / ref)
         if change <= floor:
             break
-        u_next = u_end
-        # Newton's step, except right after one that made the change grow (then one plain
-        # cycle-map step, and Newton again)
-        if track and not (was_newton and change > last_change):
-            u_next = u + _newton_step(solver.jacobian(), r, status, solver.flipped)
-            newton += 1
-            was_newton = True
+        if best is None or change < 0.9 * best[0]:
+            # progress: Newton's step from here (the plain cycle-map step before the Jacobian
+            # is tracked)
+            step = r
+            if track:
+                step = _newton_step(solver.jacobian(), r, status, solver.flipped)
+                newton += 1
+            best, lam = (change, u, status, step, u_end, status_end), 1.0
+            u_next, guess = u + step, status_end
+        elif lam > 0.125:
+            # no progress: back from the best start along a shorter step (damped Newton)
+            lam *= 0.5
+            u_next, guess = best[1] + lam * best[3], best[5]
         else:
-            was_newton = False
-        last_change = change
+            # Newton's direction does not help here (a kink of the cycle map): one plain step
+            # from the best start, whose result is accepted whatever it is
+            u_next, guess = best[4], best[5]
+            best, lam = None, 1.0
         # the tangent map pays O(n) per event on a chain, O(n²) on dense K: track from the
         # second cycle on unless the first already reached the orbit (a history erased by
         # separation), and then until the end
         track = track or change > 1e3 * floor
-        u, status = solver.admissible(u_next, status_end)
+        u, status = solver.admissible(u_next, guess)
     else:
         raise ConvergenceError(f"exact: no periodic steady state after {max_cycles} cycles "
                                f"(relative change of the start {change:.3g} > tol {tol:g}); "
@@ -904,5 +930,6 @@ def exact_system_cycle(system, samples: int = 2000, *, tol: float = 1e-12,
                  newton_steps=newton, condition=kappa, periodicity_tol=floor,
                  seconds=time.perf_counter() - start)
     return DiscreteCycle(W=W_cycles[-1], W_cycles=np.asarray(W_cycles), cycles=len(W_cycles),
-                         change=change, events=events, omega=omega, theta=theta_s, u=Us * scale,
+                         change=change, events=events, omega=omega, theta=theta_s,
+                         u=Us * scale + u_static,
                          F=Fs * scale, N=N, state=Ss, stats=stats)
