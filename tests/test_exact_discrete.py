@@ -222,3 +222,45 @@ def test_projection_converges_to_exact_on_uncoupled_nodes():
     err = [abs(lcpfric.steady_state(system, method="projection", steps_per_cycle=s).W - ref)
            for s in steps]
     assert -np.polyfit(np.log(steps), np.log(err), 1)[0] >= 1.8, err
+
+
+# -- found by benchmarks/exact_discrete_audit.py -------------------------------------------------
+def test_stiff_pair_converges_without_drift():
+    """k_coupling = 1e4: correcting the start through K⁻¹ moved the pair along its soft mode by
+    round-off / λmin every cycle (2e-9), and the periodicity test never passed."""
+    K = np.array([[1 + 1e4, -1e4], [-1e4, 1 + 1e4]])
+    system = ContactSystem(K, np.ones(2), (Harmonic(0, 1, 0.3), Harmonic(0, 2, 2.0)),
+                           IndependentSprings((Harmonic(1, 0.5, 0), Harmonic(1, 0.5, 1.0))))
+    res = lcpfric.steady_state(system, method="exact")
+    assert res.cycles <= 4 and res.W > 0
+
+
+def test_weakly_coupled_systems_converge_in_few_cycles():
+    slow = lcpfric.chain(2, k_coupling=100.0, k_ground=0.1, P1=0.5, Q1=1.0, phi=[0.0, 1.0],
+                         normal_phase=[0.0, 0.5])
+    assert lcpfric.steady_state(slow, method="exact").cycles <= 10   # plain iteration: 145
+
+
+def test_damped_newton_on_a_weakly_grounded_chain():
+    """Undamped Newton cycled among four states here (for 183 of 401 phase shifts)."""
+    f = [0.596, 0.934, 0.447, 0.618, 0.402]
+    P0, P1 = [0.876, 1.417, 1.230, 1.196, 1.490], [0.600, 2.245, 0.087, 2.269, 0.494]
+    psi = [2.804, 4.455, 1.212, 5.440, 5.546]
+    Q0, Q1 = [0.098, 1.054, -0.417, -0.256, 0.395], [2.083, 0.888, 1.131, 1.740, 2.619]
+    qph = [3.469, 6.061, 1.149, 0.489, 4.826]
+    W = []
+    for shift in (0.0, -10.0, 3.3):
+        system = lcpfric.chain(
+            5, k_coupling=0.526, k_ground=0.012, friction=f,
+            normal_loads=[Harmonic(P0[i], P1[i], psi[i] + shift) for i in range(5)],
+            tangential_loads=[Harmonic(Q0[i], Q1[i], qph[i] + shift) for i in range(5)])
+        W.append(exact_W(system))
+    assert np.ptp(W) <= 1e-9 * W[0]
+
+
+def test_stiff_lockstep_chain_equals_single_nodes():
+    """k_coupling = 1e6 (cond K ~ 4e6): the tolerances grow with the conditioning."""
+    system = lcpfric.chain(5, k_coupling=1e6, k_ground=1.0, friction=0.7, P0=1.2, P1=1.5, Q1=1.0,
+                           phi=1.2, normal_phase=0.1)
+    ref = 5 * 0.7 * 1.2 * 1.0 * float(exact_W_hat(1.5 / 1.2, 1.0 / (0.7 * 1.2), 1.2))
+    assert exact_W(system) == pytest.approx(ref, rel=1e-9)
