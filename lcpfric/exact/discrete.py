@@ -42,7 +42,7 @@ the equilibrium residual of the new pattern exceeds 1e-10 of the force scale.
 Tolerances
 ----------
 A margin or rate is *meaningfully* negative when its minimum is below ``-rel`` of its node's
-force (or the system's rate) scale, ``rel = max(1e-11, 100 eps cond(K))``: round-off through
+force (or the system's rate) scale, ``rel = max(1e-13, 100 eps cond(K))``: round-off through
 ``K_BB⁻¹`` grows with the conditioning. Shallower dips, a node touching its limit without
 slipping, are not events; the deepest one skipped is reported (``skipped_depth``), and the
 dissipation it could hide is below that depth times the largest compliance times the largest
@@ -91,7 +91,7 @@ __all__ = ["DiscreteCycle", "harmonic_triples", "next_entry", "segment_dissipati
 STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
                                         int(State.BACKWARD), int(State.SEPARATION))
 TWO_PI = 2.0 * math.pi
-_REL = 1e-11             # a dip below this fraction of its scale is an event
+_REL = 1e-13             # a dip below this fraction of its scale is an event
 _SAME = 64 * np.finfo(float).eps * TWO_PI   # events closer than this happen together
 _ETAS = (1e-9, 1e-7, 1e-5, 1e-3)   # load-rate look-ahead for degenerate instants
 _RESIDUAL = 1e-10        # equilibrium residual of a fresh pattern above which it is an error
@@ -154,7 +154,7 @@ def next_entry(T: np.ndarray, theta: float, tol, skipped: bool = False):
     first half of the arc (g falling or at its minimum) the entry is ``theta`` itself; in the
     second half g is rising back and, unless it is still below ``-tol``, the next entry is one
     period on; c0 <= -R (negative everywhere) enters at theta. With ``skipped``, also returns
-    the deepest dip not treated as an entry, as a fraction of ``tol`` times 1e-11 (the
+    the deepest dip not treated as an entry, as a fraction of ``tol`` times ``_REL`` (the
     scale-relative depth).
     """
     c0, cs, cc = T[:, 0], T[:, 1], T[:, 2]
@@ -917,7 +917,7 @@ def exact_system_cycle(system, samples: int = 2000, *, tol: float = 1e-12,
         # the tangent map pays O(n) per event on a chain, O(n²) on dense K: track from the
         # second cycle on unless the first already reached the orbit (a history erased by
         # separation), and then until the end
-        track = track or change > 1e3 * floor
+        track = track or change > 1e3 * tol
         u, status = solver.admissible(u_next, guess)
     else:
         raise ConvergenceError(f"exact: no periodic steady state after {max_cycles} cycles "
