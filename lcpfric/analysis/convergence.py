@@ -303,15 +303,35 @@ def time_to_reach(rows, case: str, method: str, target: float) -> tuple[float, i
     return min(ok) if ok else None
 
 
-def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
-    """Write compare.csv, compare.md and compare.png; return the headline numbers."""
-    os.makedirs(out_dir, exist_ok=True)
+def _write_csv(path: str, rows) -> None:
+    """Every run, one row each (the columns of :func:`run_comparison`'s rows)."""
+    os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
     fields = ["case", "method", "steps_per_cycle", "rel_error", "seconds", "cycles", "steps",
               "W", "exact", "note"]
-    with open(os.path.join(out_dir, "compare.csv"), "w", newline="") as fh:
+    with open(path, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=fields)
         w.writeheader()
         w.writerows(rows)
+
+
+def _order_table(rows, cases, methods, orders: dict) -> list:
+    """Markdown table of measured orders, a row per method, a column per case; fills
+    ``orders[method][case]``."""
+    lines = ["| method | " + " | ".join(c.name for c in cases) + " |",
+             "|---|" + "---|" * len(cases)]
+    for m in methods:
+        cells = []
+        for c in cases:
+            o = convergence_order(rows, c.name, m)
+            orders.setdefault(m, {})[c.name] = o
+            cells.append("-" if o is None else f"{o:.2f}")
+        lines.append(f"| {m} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
+    """Write compare.csv, compare.md and compare.png; return the headline numbers."""
+    _write_csv(os.path.join(out_dir, "compare.csv"), rows)
     methods = list(dict.fromkeys(r["method"] for r in rows))
     closed = {m for m in methods if _closed_form(m)}
     headline = {"orders": {}, "time_to_1e-6": {}, "exact": {}}
@@ -343,17 +363,8 @@ def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
     lines += [
               "## Measured convergence order (least-squares slope, runs with >= 200 steps and "
               "error above 1e-13)", "",
-              "| method | " + " | ".join(c.name for c in cases) + " |",
-              "|---|" + "---|" * len(cases)]
-    for m in methods:
-        if m in closed:
-            continue
-        cells = []
-        for c in cases:
-            o = convergence_order(rows, c.name, m)
-            headline["orders"].setdefault(m, {})[c.name] = o
-            cells.append("-" if o is None else f"{o:.2f}")
-        lines.append(f"| {m} | " + " | ".join(cells) + " |")
+              *_order_table(rows, cases, [m for m in methods if m not in closed],
+                            headline["orders"])]
     lines += ["", "## Relative error of Ŵ (W for multi-node) against the exact solution", ""]
     for c in cases:
         sub = [r for r in rows if r["case"] == c.name]
@@ -470,13 +481,7 @@ COUPLED_OUTPUTS = ("compare-coupled.csv", "compare-coupled.md", "compare-coupled
 def write_coupled_outputs(rows, out_dir: str, cases=COUPLED_CASES, command: str = "") -> dict:
     """Write compare-coupled.csv, .md and .png; return the headline numbers (measured orders,
     the Richardson check, the reference's cost)."""
-    os.makedirs(out_dir, exist_ok=True)
-    fields = ["case", "method", "steps_per_cycle", "rel_error", "seconds", "cycles", "steps",
-              "W", "exact", "note"]
-    with open(os.path.join(out_dir, COUPLED_OUTPUTS[0]), "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=fields)
-        w.writeheader()
-        w.writerows(rows)
+    _write_csv(os.path.join(out_dir, COUPLED_OUTPUTS[0]), rows)
     methods = list(dict.fromkeys(r["method"] for r in rows))
     closed = {m for m in methods if _closed_form(m)}
     steppers = [m for m in methods if m not in closed]
@@ -486,15 +491,7 @@ def write_coupled_outputs(rows, out_dir: str, cases=COUPLED_CASES, command: str 
              "|W - W_exact| / W_exact.", "",
              "## Measured convergence order (least-squares slope of log error against log "
              "steps, runs with >= 200 steps and error above 1e-13)", "",
-             "| method | " + " | ".join(c.name for c in cases) + " |",
-             "|---|" + "---|" * len(cases)]
-    for m in steppers:
-        cells = []
-        for c in cases:
-            o = convergence_order(rows, c.name, m)
-            headline["orders"].setdefault(m, {})[c.name] = o
-            cells.append("-" if o is None else f"{o:.2f}")
-        lines.append(f"| {m} | " + " | ".join(cells) + " |")
+             *_order_table(rows, cases, steppers, headline["orders"])]
     lines += ["", "## Independent check of the reference: Richardson extrapolation of explicit",
               "", "W_rich = W(n2) + (W(n2) - W(n1))/3 at explicit's two finest grids n1 < n2 "
               "(second order).", "",
