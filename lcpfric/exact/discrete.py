@@ -259,7 +259,7 @@ class _Solver:
     """Event-by-event integration of one system (all quantities in scaled units)."""
 
     def __init__(self, K, f, Qt, Pt, samples, max_events, kappa=1.0):
-        self.K = self.Kd = K
+        self.K = K
         # what round-off through K_BB⁻¹ allows: relative tolerances grow with cond(K)
         self.kappa = kappa
         self.rel = max(_REL, 100.0 * _EPS * kappa)
@@ -619,7 +619,7 @@ class _Solver:
         tr = theta + eta
         dQ = _value(self.dQt, tr)
         dN = np.where(sep, 0.0, _value(self.dPt, tr))
-        _du, new = ExplicitStepper._rates(self.Kd, self.f, F0, bound, dQ, dN, sep,
+        _du, new = ExplicitStepper._rates(self.K, self.f, F0, bound, dQ, dN, sep,
                                           slipping & (guess == FORWARD),
                                           slipping & (guess == BACKWARD), touch_lo, touch_hi)
         self.set_pattern(np.asarray(new, dtype=np.int8), theta, refresh=True, u=u)
@@ -755,7 +755,7 @@ class _Solver:
         import scipy.linalg as sla
 
         if not hasattr(self, "_cho"):
-            self._cho = sla.cho_factor(self.Kd)
+            self._cho = sla.cho_factor(self.K)
         return sla.cho_solve(self._cho, rhs)
 
     def initial_state(self):
@@ -773,12 +773,6 @@ class _Solver:
         self._full(guess, u, 0.0)
         self.decide(0.0, guess, touch_lo, touch_hi, 1)
         return self.u_at(0.0), self.status.copy()
-
-
-def _chol_solve(K, b):
-    import scipy.linalg as sla
-
-    return sla.cho_solve(sla.cho_factor(K), b)
 
 
 def _condition(K) -> float:
@@ -871,11 +865,12 @@ def exact_system_cycle(system, samples: int = 2000, *, tol: float = 1e-12,
     kappa = _condition(K)
     # a constant tangential load Q0 only shifts u by -K⁻¹ Q0 (F = Q + K u is unchanged): it is
     # taken out, so that displacements of a small amplitude are not computed on a large offset
+    Q0 = Qt[:, 0].copy()
     Qt = Qt.copy()
-    u_static = -_chol_solve(K, Qt[:, 0]) if np.any(Qt[:, 0]) else np.zeros(n)
     Qt[:, 0] = 0.0
     solver = _Solver(K, f, Qt / scale, Pt / scale, samples,
                      max_events or 200 * n + 1000, kappa)
+    u_static = -solver._cho_solve(Q0) if np.any(Q0) else np.zeros(n)
     theta_s = np.linspace(0.0, TWO_PI, samples + 1)
     u, status = solver.initial_state()
     floor = tol
