@@ -62,13 +62,15 @@ def path_is_exact(F_start, b_start, F_end, limit, separating, fscale: float) -> 
     return True
 
 
-def first_event(K, f, F0, Q0, N0, dQ, dN, sep, tau: float):
+def first_event(K, f, F0, Q0, N0, dQ, dN, sep, tau: float, rates=None):
     """The first instant in ``(tau, 1)`` (fraction of the increment) where a sticking node
     reaches its friction limit, starting at ``tau`` from the forces ``F0`` (loads
     ``Q0 = Q(tau)``, ``N0 = N(tau)``; rates ``dQ``, ``dN`` per unit fraction), or None.
 
-    The slip rates at ``tau`` solve the explicit stepper's rate LCP (its ``_rates``, one copy);
-    with them fixed every Coulomb margin is linear, so the instant is exact."""
+    The slip rates at ``tau`` solve the rate problem: by default the explicit stepper's rate LCP
+    (its ``_rates``, one copy); ``rates(F0, bound, dQ, dN, sep, touch_lo, touch_hi) -> (du,
+    node states)`` replaces it (the active-set backend solves it with its own iteration). With
+    the rates fixed every Coulomb margin is linear, so the instant is exact."""
     n = f.size
     bound = f * N0
     near = _REL * (bound + np.abs(F0)) + 1e-300
@@ -76,8 +78,11 @@ def first_event(K, f, F0, Q0, N0, dQ, dN, sep, tau: float):
     was_bwd = ~sep & (F0 >= bound - near)
     touch_lo = touch_hi = np.zeros(n, dtype=bool)
     for _ in range(n + 2):
-        du, state = ExplicitStepper._rates(K, f, F0, bound, dQ, dN, sep, was_fwd, was_bwd,
-                                           touch_lo, touch_hi)
+        if rates is None:
+            du, state = ExplicitStepper._rates(K, f, F0, bound, dQ, dN, sep, was_fwd, was_bwd,
+                                               touch_lo, touch_hi)
+        else:
+            du, state = rates(F0, bound, dQ, dN, sep, touch_lo, touch_hi)
         events = limit_crossings(K, f, F0, bound, dQ, dN, du, state, tau)
         t_end = min(float(np.min(events[0])), float(np.min(events[1])))
         now = tau + _EPS8 * max(1.0, tau)

@@ -1,0 +1,386 @@
+r"""Problem (P) for many nodes by a primal-dual active-set method (``method="active-set"``).
+
+The increment is the same as every convex backend's (:mod:`~lcpfric.backends.problem`): the
+maximum-dissipation projection of the trial force onto the friction cone. It is solved here in
+its stiffness form, the dual of (P),
+
+    u_{k+1} = argmin_u  ½ uᵀ K u + Q_{k+1}ᵀ u + Σ_i b_i ||u_i - u_{k,i}||,   b_i = f_i N_i(t_{k+1}),
+
+whose optimality conditions are Coulomb's law for ``F = Q_{k+1} + K u``: a node sticks
+(``Δu_i = 0``, ``||F_i|| <= b_i``) or slips on its limit against its force, and a separated node
+(``b_i = 0``) carries ``F_i = 0``. Nothing is inverted but blocks of K, so a stiff K (stiffness
+ratios to 1e12) keeps its digits: C = K⁻¹ is never formed.
+
+The method (d = 1)
+------------------
+A *pattern* says for each node: stick, slip at ``+b`` (backward), slip at ``-b`` (forward), or
+separated. With the pattern fixed the increment is linear: the sticking nodes keep ``u_k``; the
+free nodes F (slipping and separated) carry the forces ``r_F`` (``±b``, 0), so
+
+    K_FF δ_F = r_F - F^tr_F,   δ_S = 0,   F = F^tr + K δ,   F^tr = Q_{k+1} + K u_k.
+
+The pattern is then updated node by node from the natural map ``z_i = F_i - Δu_i / k_ii``
+(``z > b``: slip at +b; ``z < -b``: slip at -b; else stick): the semismooth Newton method for
+the box-constrained problem, which is the primal-dual active-set method of Hintermüller, Ito and
+Kunisch. It starts from the one-node guess (each node alone under its trial force), ends when the
+pattern repeats, and converges in a few iterations when few nodes change state, which is the
+case between two increments. Should it revisit a pattern (possible for a K that is not an
+M-matrix), it continues with single changes, the lowest-numbered violated node first (Murty's
+least-index rule), which terminates for any symmetric positive definite K.
+
+Every solve is refined (iterative refinement on K: ``δ_F += K_FF⁻¹ (r - F)_F``) until the forces
+of the free nodes are at round-off, so an inverse that lost digits (a stiff K, many updates)
+does not reach the answer. The block ``K_FF`` is kept by :mod:`~lcpfric.backends.blocks`:
+updated, not rebuilt, when the pattern changes by a few nodes.
+
+The method (d = 2)
+------------------
+A slipping node's force is ``b_i`` times a direction to be found. With the pattern fixed, the
+objective is smooth in the free displacements (``b ||Δu||`` is smooth away from ``Δu = 0``) and
+Newton's method on it, with a backtracking line search, converges quadratically; its Hessian
+``K_FF + Σ_slip (b_i / ||Δu_i||)(I - ν_i ν_iᵀ)`` (ν_i the slip direction) is symmetric positive
+definite. The pattern is updated from the natural map of the disc, as for d = 1.
+
+Checks
+------
+Every answer passes the independent residual checks of the other backends
+(:func:`~lcpfric.backends.checks.residuals`: cone, complementarity, stationarity, computed from
+the forces ``Q + K u`` and the slips, before the slipping forces are put exactly on their
+limits) and the equilibrium check ``|Q + K u - F|``; a failure raises
+:class:`~lcpfric.errors.SolverError` with the residuals. Separated nodes carry no force unknown
+and no constraint.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .._checks import boolean, positive, positive_int
+from ..errors import InputError, SolverError
+from ..results import CycleResult, State, StepState
+from ..steppers.base import Stepper
+from ..steppers.dissipation import increment_dissipation
+from .blocks import make_block
+from .checks import residuals, worst
+from .events import first_event, path_is_exact
+
+__all__ = ["ActiveSetStepper", "ActiveSetData"]
+
+STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
+                                        int(State.BACKWARD), int(State.SEPARATION))
+BLOCKS = ("auto", "dense", "banded", "sparse")
+_EPS = np.finfo(float).eps
+
+
+class _Plan:
+    """What every step of a scene needs: K and its block, the loads, the limits, the scales."""
+
+    def __init__(self, scene, block: str):
+        system = scene.system
+        self.n, self.m, self.dims = system.n, system.m, system.dims
+        K = system.stiffness
+        self.K = K
+        self.block = make_block(K, block)
+        self.kdiag = np.asarray(K.diagonal(), dtype=float).copy()
+        self.Q = np.asarray(scene.Q, dtype=float)
+        self.N = np.asarray(scene.N, dtype=float)
+        if not (np.all(np.isfinite(self.Q)) and np.all(np.isfinite(self.N))):
+            raise InputError("scene", "the tangential loads and normal reactions on the grid "
+                                      "must be finite; found NaN or inf")
+        self.friction = np.asarray(system.friction, dtype=float)
+        self.bound = self.N * self.friction
+        self.contact = np.asarray(scene.contact, dtype=bool)
+        scale = max(float(np.max(self.bound, initial=0.0)),
+                    float(np.max(np.abs(self.Q), initial=0.0)))
+        self.force_scale = scale if scale > 0 else 1.0
+        # the compliance scale of the residuals: 1/min k_ii (max C_ii for a diagonal K; C is
+        # never formed)
+        self.compliance_scale = float(1.0 / np.min(self.kdiag))
+        self.diagonal = system.is_diagonal()
+        # per grid instant j, the nodes in contact at t_{j-1} that separate at t_j (None if none)
+        leaving = np.zeros_like(self.contact)
+        leaving[1:] = self.contact[:-1] & ~self.contact[1:]
+        self.separating = [row if row.any() else None for row in leaving]
+
+    def dof_mask(self, nodes: np.ndarray) -> np.ndarray:
+        """Node mask -> unknown mask."""
+        return np.repeat(nodes, self.dims) if self.dims > 1 else nodes
+
+
+@dataclass(frozen=True)
+class ActiveSetData:
+    """What the active-set backend carries in ``StepState.data``.
+
+    Attributes
+    ----------
+    plan : _Plan
+        K, its block (updated in place: a cache whose content never changes an answer beyond
+        round-off, which the checks bound), the loads and limits on the grid.
+    stats : dict
+        ``solves``, ``iterations``, ``refinements``, ``single_changes``, ``max_residual``.
+    """
+
+    plan: _Plan
+    stats: dict
+
+
+class ActiveSetStepper(Stepper):
+    """Problem (P) by a primal-dual active-set method on K (see the module docstring).
+
+    Parameters
+    ----------
+    block : {"auto", "dense", "banded", "sparse"}
+        How ``K_FF`` is kept (:mod:`~lcpfric.backends.blocks`): by default the inverse, updated,
+        for a dense K; LAPACK's banded Cholesky for a sparse K of small bandwidth; SuperLU
+        otherwise.
+    check_tol : float
+        Largest residual accepted (relative to the problem scale), as for the other backends.
+    max_iter : int
+        Cap on the pattern updates of one increment (then SolverError, status "max_iter").
+    locate_events : bool
+        On coupled d = 1 systems, split an increment at the instant where a node starts to slip
+        when the single projection cannot be exact there, as the convex backends do
+        (:mod:`~lcpfric.backends.events`).
+    """
+
+    name = "active-set"
+
+    def __init__(self, *, block: str = "auto", check_tol: float = 1e-6, max_iter: int = 200,
+                 locate_events: bool = True):
+        if block not in BLOCKS:
+            raise InputError("block", f"must be one of {BLOCKS}, got {block!r}")
+        self.block = block
+        self.check_tol = positive("check_tol", check_tol)
+        self.max_iter = positive_int("max_iter", max_iter)
+        self.locate_events = boolean("locate_events", locate_events)
+
+    # -- the stepper contract ----------------------------------------------------------------
+    def init(self, scene, u0=None) -> StepState:
+        self.check(scene.system)
+        plan = _Plan(scene, self.block)
+        state = super().init(scene, u0)
+        stats = {"solves": 0, "iterations": 0, "refinements": 0, "single_changes": 0,
+                 "max_residual": 0.0, "events": 0}
+        return replace(state, data=ActiveSetData(plan, stats))
+
+    def step(self, scene, k, state):
+        data = state.data
+        stats = dict(data.stats)
+        u1, F1, s, dW = self._increment(data.plan, k, state.u, state.F, stats)
+        return StepState(u1, F1, s, dW, replace(data, stats=stats))
+
+    def cycle(self, scene, state):
+        data = state.data
+        plan = data.plan
+        steps = scene.steps
+        U = np.empty((steps + 1, plan.m))
+        Fs = np.empty_like(U)
+        S = np.empty((steps + 1, plan.n), dtype=np.int8)
+        U[0], Fs[0], S[0] = state.u, state.F, state.state
+        u, F = state.u, state.F
+        stats = dict(data.stats)
+        W = 0.0
+        for k in range(steps):
+            u, F, s, dW = self._increment(plan, k, u, F, stats)
+            U[k + 1], Fs[k + 1], S[k + 1] = u, F, s
+            W += dW
+        self._check_equilibrium(plan, U[1:], Fs[1:], np.arange(1, steps + 1))
+        end = StepState(U[-1].copy(), Fs[-1].copy(), S[-1].copy(), 0.0,
+                        replace(data, stats=stats))
+        return end, CycleResult(scene.t, U, Fs, S, W, self.stats(end))
+
+    def stats(self, state) -> dict:
+        out = dict(state.data.stats)
+        out.update(state.data.plan.block.stats)
+        return out
+
+    # -- one increment -----------------------------------------------------------------------
+    def _increment(self, plan, k, u, F, stats):
+        """Increment k: ``(u, F, states, dW)`` at t_{k+1}.
+
+        One projection to t_{k+1}; on a coupled d = 1 system whose answer is not the exact end
+        state (:func:`~lcpfric.backends.events.path_is_exact`), the increment is split at its
+        events as the convex backends do, the rates at an event from this backend's own pattern
+        iteration (:meth:`_rates`)."""
+        j = k + 1
+        b = plan.bound[j]
+        contact = plan.contact[j]
+        u1, Fc, limit = self._project(plan, u, F + (plan.Q[j] - plan.Q[k]), b, contact,
+                                      stats, k)
+        F1, s = self._finish(plan, u1 - u, Fc, b, contact, stats, k)
+        dW = increment_dissipation(F, F1, u1 - u, plan.dims)
+        if (not self.locate_events or plan.dims != 1 or plan.diagonal
+                or path_is_exact(F, plan.bound[k], F1, limit, plan.separating[j],
+                                 plan.force_scale)):
+            return u1, F1, s, dW
+        f = plan.friction
+        Qk, Nk = plan.Q[k], plan.N[k]
+        dQ, dN = plan.Q[j] - Qk, plan.N[j] - Nk
+        sep = (Nk + plan.N[j]) <= 0.0
+        inside = plan.contact[k] | contact
+        rates = self._rate_function(plan, stats, k)
+        a, ua, Fa = 0.0, u, F
+        dW = 0.0
+        for _ in range(4 * plan.n + 16):
+            tau = first_event(plan.K, f, Fa, Qk + a * dQ, Nk + a * dN, dQ, dN, sep, a,
+                              rates=rates)
+            if tau is None:
+                break
+            bt = f * (Nk + tau * dN)
+            ub, Fc, _ = self._project(plan, ua, Fa + (tau - a) * dQ, bt, inside, stats, k)
+            Fb, _ = self._finish(plan, ub - ua, Fc, bt, inside, stats, k)
+            stats["events"] += 1
+            dW += increment_dissipation(Fa, Fb, ub - ua)
+            a, ua, Fa = tau, ub, Fb
+            u1, Fc, limit = self._project(plan, ua, Fa + (1.0 - a) * dQ, b, contact, stats, k)
+            F1, s = self._finish(plan, u1 - ua, Fc, b, contact, stats, k)
+            if path_is_exact(Fa, f * (Nk + a * dN), F1, limit, plan.separating[j],
+                             plan.force_scale):
+                break
+        return u1, F1, s, dW + increment_dissipation(Fa, F1, u1 - ua)
+
+    def _rate_function(self, plan, stats, k):
+        """The rate problem at an instant inside increment k, for
+        :func:`~lcpfric.backends.events.first_event`: the same pattern iteration, on the rates.
+        A node on its upper limit may slip back (its force rate then the limit's, ``f dN``) or
+        stick below it; likewise on its lower limit; a node inside its limits sticks; a node
+        separated over the increment carries no force."""
+        inf = np.full(plan.n, np.inf)
+
+        def rates(F0, bound, dQ, dN, sep, touch_lo, touch_hi):
+            near = 1e-12 * (bound + np.abs(F0)) + 1e-300
+            on_hi = ~sep & ((F0 >= bound - near) | touch_hi)
+            on_lo = ~sep & ((F0 <= -bound + near) | touch_lo)
+            db = plan.friction * dN
+            hi = np.where(on_hi, db, inf)
+            lo = np.where(on_lo, -db, -inf)
+            du, _, (up, dn) = self._pattern(plan, dQ, lo, hi, sep, stats, k)
+            state = np.where(sep, SEPARATION, STICK).astype(np.int8)
+            state[up] = BACKWARD
+            state[dn] = FORWARD
+            return du, state
+
+        return rates
+
+    def _project(self, plan, u, F_tr, b, contact, stats, k):
+        """The increment's projection from the trial force: ``(u, Fc, limit)`` at its end,
+        ``Fc = Q + K u`` as computed and ``limit`` the nodes on a friction limit."""
+        if plan.dims != 1:
+            raise NotImplementedError
+        stats["solves"] += 1
+        delta, Fc, (up, dn) = self._pattern(plan, F_tr, -b, b, ~contact, stats, k)
+        return u + delta, Fc, up | dn
+
+    def _pattern(self, plan, F_tr, lo, hi, free_always, stats, k):
+        """The pattern iteration (d = 1): ``δ`` (zero on the sticking unknowns) and
+        ``F = F^tr + K δ`` with every node either sticking (``δ_i = 0``, ``lo_i <= F_i <=
+        hi_i``), on its upper bound with ``δ_i <= 0``, on its lower bound with ``δ_i >= 0``, or,
+        in ``free_always``, at ``F_i = 0``; also the final ``(upper, lower)`` masks."""
+        block = plan.block
+        kd = plan.kdiag
+        bounded = ~free_always
+        up = bounded & (F_tr > hi)
+        dn = bounded & (F_tr < lo)
+        seen = set()
+        single = False
+        for _ in range(self.max_iter):
+            free = up | dn | free_always
+            r = np.where(up, hi, np.where(dn, lo, 0.0))
+            idx = np.flatnonzero(free)
+            block.set(idx)
+            delta, F = self._solve(plan, F_tr, r, free, idx, stats)
+            z = F - delta * kd
+            nup = bounded & (z > hi)
+            ndn = bounded & (z < lo)
+            changed = (nup != up) | (ndn != dn)
+            stats["iterations"] += 1
+            if not changed.any():
+                return delta, F, (up, dn)
+            if not single:
+                key = np.packbits(nup).tobytes() + np.packbits(ndn).tobytes()
+                if key in seen:
+                    single = True
+                seen.add(key)
+            if single:  # least index: change only the first node whose state is wrong
+                i = int(np.flatnonzero(changed)[0])
+                up[i], dn[i] = nup[i], ndn[i]
+                stats["single_changes"] += 1
+            else:
+                up, dn = nup, ndn
+        raise SolverError(f"active-set: increment {k}: the pattern did not settle in "
+                          f"{self.max_iter} iterations; raise max_iter",
+                          backend=self.name, status="max_iter")
+
+    @staticmethod
+    def _solve(plan, F_tr, r, free, idx, stats):
+        """``δ`` (zero on the sticking unknowns) with ``(F^tr + K δ)_F = r_F``, refined on K
+        until the free forces are at round-off; returns ``(δ, F^tr + K δ)``."""
+        block = plan.block
+        delta = block.solve(np.where(free, r - F_tr, 0.0))
+        F = F_tr + _product(plan.K, delta, idx)
+        # round-off of the forces: a few ulps of the largest of the terms summed
+        floor = 8 * _EPS * (np.abs(F_tr[idx]) + np.abs(r[idx]) + plan.force_scale)
+        best = math.inf
+        for _ in range(4):
+            e = r[idx] - F[idx]
+            size = float(np.max(np.abs(e) / floor, initial=0.0))
+            if size <= 1.0 or size >= 0.5 * best:
+                break
+            best = size
+            corr = np.zeros(plan.m)
+            corr[idx] = e
+            d = block.solve(corr)
+            delta += d
+            F += _product(plan.K, d, idx)
+            stats["refinements"] += 1
+        return delta, F
+
+    def _finish(self, plan, du, Fc, b, contact, stats, k):
+        """Check the answer and put the slipping and separated forces exactly where they
+        belong; returns ``(F, node states)``."""
+        A = np.flatnonzero(contact)
+        res = residuals(Fc[A], du[A], b[A], plan.dims, plan.force_scale,
+                        plan.compliance_scale)
+        F = Fc.copy()
+        eps = self.check_tol * plan.compliance_scale * plan.force_scale
+        fwd = contact & (du > eps)
+        bwd = contact & (du < -eps)
+        F[fwd] = -b[fwd]
+        F[bwd] = b[bwd]
+        F[~contact] = 0.0
+        res["equilibrium"] = float(np.max(np.abs(F - Fc), initial=0.0)) / plan.force_scale
+        bad = worst(res)
+        stats["max_residual"] = max(stats["max_residual"], bad)
+        if not bad <= self.check_tol:
+            self._fail(k, res)
+        s = np.where(fwd, FORWARD, np.where(bwd, BACKWARD, STICK)).astype(np.int8)
+        s[~contact] = SEPARATION
+        return F, s
+
+    def _check_equilibrium(self, plan, U, Fs, rows):
+        """``max |Q + K u - F| / s_F`` over the increments ending at ``rows``: the forces carried
+        from step to step (``Fc + ΔQ``) must not drift from ``Q + K u``."""
+        R = (plan.K @ U.T).T
+        R += plan.Q[rows]
+        R -= Fs
+        eq = np.abs(R).max(axis=1) / plan.force_scale
+        bad = np.flatnonzero(~(eq <= self.check_tol))
+        if bad.size:
+            self._fail(int(rows[bad[0]]) - 1, {"equilibrium": float(eq[bad[0]])})
+
+    def _fail(self, k, res):
+        name = max(res, key=lambda r: math.inf if res[r] != res[r] else res[r])
+        raise SolverError(f"active-set: increment {k}: the answer fails lcpfric's residual "
+                          f"check ({name} {res[name]:.3g} > check_tol {self.check_tol:g})",
+                          backend=self.name, status="residual", residuals=res)
+
+
+def _product(K, x, idx):
+    """``K x`` for an x that is zero off ``idx``: by the rows of the unknowns in idx when they
+    are few (K symmetric), else whole."""
+    if idx.size * 3 < x.size and not hasattr(K, "tocsr"):
+        return x[idx] @ K[idx]
+    return K @ x
