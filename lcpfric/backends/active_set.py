@@ -60,9 +60,10 @@ import numpy as np
 
 from .._checks import boolean, positive, positive_int
 from ..errors import InputError, SolverError
-from ..results import CycleResult, State, StepState
-from ..steppers.base import Stepper
+from ..results import State, StepState
+from ..steppers.base import Recorder, Stepper
 from ..steppers.dissipation import increment_dissipation
+from ..scene import column_reduce
 from .blocks import make_block
 from .checks import residuals, worst
 from .events import first_event, path_is_exact
@@ -73,10 +74,14 @@ STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
                                         int(State.BACKWARD), int(State.SEPARATION))
 BLOCKS = ("auto", "dense", "banded", "sparse")
 _EPS = np.finfo(float).eps
+_CHECK_ROWS = 64  # increments checked together for equilibrium
 
 
 class _Plan:
-    """What every step of a scene needs: K and its block, the loads, the limits, the scales."""
+    """What every step of a scene needs: K and its block, the loads, the limits, the scales.
+
+    The loads are read one instant at a time (:meth:`row`), so that a scene whose Q and N are
+    :class:`~lcpfric.scene.Rows` (1e5 nodes) is never built whole."""
 
     def __init__(self, scene, block: str):
         system = scene.system
@@ -85,30 +90,31 @@ class _Plan:
         self.K = K
         self.block = make_block(K, block)
         self.kdiag = np.asarray(K.diagonal(), dtype=float).copy()
-        self.Q = np.asarray(scene.Q, dtype=float)
-        self.N = np.asarray(scene.N, dtype=float)
-        if not (np.all(np.isfinite(self.Q)) and np.all(np.isfinite(self.N))):
+        self.Q, self.N = scene.Q, scene.N
+        self.friction = np.asarray(system.friction, dtype=float)
+        f = self.friction
+        sizes = column_reduce(self.Q, lambda x: float(np.max(np.abs(x), initial=0.0)))
+        sizes += column_reduce(self.N, lambda x: float(np.max(x * f, initial=0.0)))
+        if not all(np.isfinite(sizes)):
             raise InputError("scene", "the tangential loads and normal reactions on the grid "
                                       "must be finite; found NaN or inf")
-        self.friction = np.asarray(system.friction, dtype=float)
-        self.bound = self.N * self.friction
-        self.contact = np.asarray(scene.contact, dtype=bool)
-        scale = max(float(np.max(self.bound, initial=0.0)),
-                    float(np.max(np.abs(self.Q), initial=0.0)))
+        scale = max(sizes, default=0.0)
         self.force_scale = scale if scale > 0 else 1.0
         # the compliance scale of the residuals: 1/min k_ii (max C_ii for a diagonal K; C is
         # never formed)
         self.compliance_scale = float(1.0 / np.min(self.kdiag))
         self.diagonal = system.is_diagonal()
-        # per grid instant j, the nodes in contact at t_{j-1} that separate at t_j (None if none)
-        leaving = np.zeros_like(self.contact)
-        leaving[1:] = self.contact[:-1] & ~self.contact[1:]
-        self.separating = [row if row.any() else None for row in leaving]
+        self._rows: dict[int, tuple] = {}
 
-    def dof_mask(self, nodes: np.ndarray) -> np.ndarray:
-        """Node mask -> unknown mask."""
-        return np.repeat(nodes, self.dims) if self.dims > 1 else nodes
-
+    def row(self, k: int) -> tuple:
+        """``(Q, N, b = f N, in contact)`` at grid instant k (the last few are kept)."""
+        out = self._rows.get(k)
+        if out is None:
+            if len(self._rows) >= 4:
+                self._rows.clear()
+            N = self.N[k]
+            out = self._rows[k] = (self.Q[k], N, N * self.friction, N > 0.0)
+        return out
 
 @dataclass(frozen=True)
 class ActiveSetData:
@@ -172,25 +178,31 @@ class ActiveSetStepper(Stepper):
         u1, F1, s, dW = self._increment(data.plan, k, state.u, state.F, stats)
         return StepState(u1, F1, s, dW, replace(data, stats=stats))
 
-    def cycle(self, scene, state):
+    def cycle(self, scene, state, history: bool = True):
         data = state.data
         plan = data.plan
-        steps = scene.steps
-        U = np.empty((steps + 1, plan.m))
-        Fs = np.empty_like(U)
-        S = np.empty((steps + 1, plan.n), dtype=np.int8)
-        U[0], Fs[0], S[0] = state.u, state.F, state.state
+        record = Recorder(scene, state, history)
         u, F = state.u, state.F
         stats = dict(data.stats)
         W = 0.0
-        for k in range(steps):
+        # the equilibrium check runs on blocks of rows (one matrix-matrix product per block)
+        block = min(scene.steps, _CHECK_ROWS)
+        Ub, Fb, Qb = (np.empty((block, plan.m)) for _ in range(3))
+        rows = np.empty(block, dtype=np.intp)
+        filled = 0
+        for k in range(scene.steps):
             u, F, s, dW = self._increment(plan, k, u, F, stats)
-            U[k + 1], Fs[k + 1], S[k + 1] = u, F, s
+            record(k + 1, u, F, s)
             W += dW
-        self._check_equilibrium(plan, U[1:], Fs[1:], np.arange(1, steps + 1))
-        end = StepState(U[-1].copy(), Fs[-1].copy(), S[-1].copy(), 0.0,
-                        replace(data, stats=stats))
-        return end, CycleResult(scene.t, U, Fs, S, W, self.stats(end))
+            Ub[filled], Fb[filled], Qb[filled], rows[filled] = u, F, plan.row(k + 1)[0], k + 1
+            filled += 1
+            if filled == block:
+                self._check_equilibrium(plan, Ub, Fb, Qb, rows)
+                filled = 0
+        if filled:
+            self._check_equilibrium(plan, Ub[:filled], Fb[:filled], Qb[:filled], rows[:filled])
+        end = StepState(u.copy(), F.copy(), s.copy(), 0.0, replace(data, stats=stats))
+        return end, record.result(W, self.stats(end))
 
     def stats(self, state) -> dict:
         out = dict(state.data.stats)
@@ -199,28 +211,30 @@ class ActiveSetStepper(Stepper):
 
     # -- one increment -----------------------------------------------------------------------
     def _increment(self, plan, k, u, F, stats):
-        """Increment k: ``(u, F, states, dW)`` at t_{k+1}.
+        """Increment k: ``(u, F, states, dW)`` at t_{k+1}. The trial force ``Q_{k+1} + K u_k``
+        is ``F_k + ΔQ`` (no product with K); the round-off this carries over the sticking
+        nodes is bounded by the equilibrium check of every cycle.
 
         One projection to t_{k+1}; on a coupled d = 1 system whose answer is not the exact end
         state (:func:`~lcpfric.backends.events.path_is_exact`), the increment is split at its
         events as the convex backends do, the rates at an event from this backend's own pattern
-        iteration (:meth:`_rates`)."""
-        j = k + 1
-        b = plan.bound[j]
-        contact = plan.contact[j]
-        u1, Fc, limit = self._project(plan, u, F + (plan.Q[j] - plan.Q[k]), b, contact,
-                                      stats, k)
+        iteration (:meth:`_rate_function`)."""
+        Qk, Nk, bk, ck = plan.row(k)
+        Qj, Nj, b, contact = plan.row(k + 1)
+        dQ = Qj - Qk
+        u1, Fc, limit = self._project(plan, u, F + dQ, b, contact, stats, k)
         F1, s = self._finish(plan, u1 - u, Fc, b, contact, stats, k)
         dW = increment_dissipation(F, F1, u1 - u, plan.dims)
-        if (not self.locate_events or plan.dims != 1 or plan.diagonal
-                or path_is_exact(F, plan.bound[k], F1, limit, plan.separating[j],
-                                 plan.force_scale)):
+        if not self.locate_events or plan.dims != 1 or plan.diagonal:
+            return u1, F1, s, dW
+        leaving = ck & ~contact
+        separating = leaving if leaving.any() else None
+        if path_is_exact(F, bk, F1, limit, separating, plan.force_scale):
             return u1, F1, s, dW
         f = plan.friction
-        Qk, Nk = plan.Q[k], plan.N[k]
-        dQ, dN = plan.Q[j] - Qk, plan.N[j] - Nk
-        sep = (Nk + plan.N[j]) <= 0.0
-        inside = plan.contact[k] | contact
+        dN = Nj - Nk
+        sep = (Nk + Nj) <= 0.0
+        inside = ck | contact
         rates = self._rate_function(plan, stats, k)
         a, ua, Fa = 0.0, u, F
         dW = 0.0
@@ -237,8 +251,7 @@ class ActiveSetStepper(Stepper):
             a, ua, Fa = tau, ub, Fb
             u1, Fc, limit = self._project(plan, ua, Fa + (1.0 - a) * dQ, b, contact, stats, k)
             F1, s = self._finish(plan, u1 - ua, Fc, b, contact, stats, k)
-            if path_is_exact(Fa, f * (Nk + a * dN), F1, limit, plan.separating[j],
-                             plan.force_scale):
+            if path_is_exact(Fa, f * (Nk + a * dN), F1, limit, separating, plan.force_scale):
                 break
         return u1, F1, s, dW + increment_dissipation(Fa, F1, u1 - ua)
 
@@ -278,20 +291,36 @@ class ActiveSetStepper(Stepper):
         """The pattern iteration (d = 1): ``δ`` (zero on the sticking unknowns) and
         ``F = F^tr + K δ`` with every node either sticking (``δ_i = 0``, ``lo_i <= F_i <=
         hi_i``), on its upper bound with ``δ_i <= 0``, on its lower bound with ``δ_i >= 0``, or,
-        in ``free_always``, at ``F_i = 0``; also the final ``(upper, lower)`` masks."""
+        in ``free_always``, at ``F_i = 0``; also the final ``(upper, lower)`` masks.
+
+        Each iteration corrects the previous one rather than solving afresh: the nodes that
+        stop are put back (``δ_i = 0``), and ``K_FF Δ = (r - F)_F`` is solved for the nodes
+        whose force is off its target by more than round-off, so that a block that can solve
+        locally (:class:`~lcpfric.backends.blocks.BandedBlock`) touches only the parts of the
+        free set that changed. The first iteration starts from everything stuck (``δ = 0``,
+        ``F = F^tr``), whose update is the one-node guess."""
         block = plan.block
         kd = plan.kdiag
         bounded = ~free_always
-        up = bounded & (F_tr > hi)
-        dn = bounded & (F_tr < lo)
+        delta = np.zeros(plan.m)
+        F = F_tr.copy()
+        free = np.zeros(plan.m, dtype=bool)
+        up = dn = free
+        nup = bounded & (F_tr > hi)
+        ndn = bounded & (F_tr < lo)
         seen = set()
         single = False
         for _ in range(self.max_iter):
-            free = up | dn | free_always
+            nfree = nup | ndn | free_always
+            stop = np.flatnonzero(free & ~nfree)
+            if stop.size:  # nodes that stick again keep their start displacement
+                d = np.zeros(plan.m)
+                d[stop] = -delta[stop]
+                delta[stop] = 0.0
+                F += _product(plan.K, d, stop)
+            up, dn, free = nup, ndn, nfree
             r = np.where(up, hi, np.where(dn, lo, 0.0))
-            idx = np.flatnonzero(free)
-            block.set(idx)
-            delta, F = self._solve(plan, F_tr, r, free, idx, stats)
+            self._correct(plan, F_tr, r, free, delta, F, stats)
             z = F - delta * kd
             nup = bounded & (z > hi)
             ndn = bounded & (z < lo)
@@ -306,37 +335,40 @@ class ActiveSetStepper(Stepper):
                 seen.add(key)
             if single:  # least index: change only the first node whose state is wrong
                 i = int(np.flatnonzero(changed)[0])
-                up[i], dn[i] = nup[i], ndn[i]
+                nup, ndn = up.copy(), dn.copy()
+                nup[i], ndn[i] = (z[i] > hi[i]) & bounded[i], (z[i] < lo[i]) & bounded[i]
                 stats["single_changes"] += 1
-            else:
-                up, dn = nup, ndn
         raise SolverError(f"active-set: increment {k}: the pattern did not settle in "
                           f"{self.max_iter} iterations; raise max_iter",
                           backend=self.name, status="max_iter")
 
     @staticmethod
-    def _solve(plan, F_tr, r, free, idx, stats):
-        """``δ`` (zero on the sticking unknowns) with ``(F^tr + K δ)_F = r_F``, refined on K
-        until the free forces are at round-off; returns ``(δ, F^tr + K δ)``."""
+    def _correct(plan, F_tr, r, free, delta, F, stats):
+        """Correct ``δ`` and ``F = F^tr + K δ`` (in place) so that ``F_F = r_F`` on the free
+        set, solving ``K_FF Δ_F = (r - F)_F`` where the forces are off by more than round-off,
+        then refining on K (iterative refinement) until they are at round-off."""
         block = plan.block
-        delta = block.solve(np.where(free, r - F_tr, 0.0))
-        F = F_tr + _product(plan.K, delta, idx)
+        idx = np.flatnonzero(free)
+        block.set(idx)
         # round-off of the forces: a few ulps of the largest of the terms summed
         floor = 8 * _EPS * (np.abs(F_tr[idx]) + np.abs(r[idx]) + plan.force_scale)
         best = math.inf
-        for _ in range(4):
+        for it in range(5):
             e = r[idx] - F[idx]
-            size = float(np.max(np.abs(e) / floor, initial=0.0))
-            if size <= 1.0 or size >= 0.5 * best:
-                break
+            off = np.abs(e) > floor
+            if not off.any():
+                return
+            size = float(np.max(np.abs(e) / floor))
+            if it and size >= 0.5 * best:
+                return  # refinement no longer gains: at the attainable accuracy
             best = size
-            corr = np.zeros(plan.m)
-            corr[idx] = e
-            d = block.solve(corr)
+            rhs = np.zeros(plan.m)
+            rhs[idx] = e
+            d = block.solve(rhs, idx[off])
             delta += d
-            F += _product(plan.K, d, idx)
-            stats["refinements"] += 1
-        return delta, F
+            F += _product(plan.K, d, block.touched)
+            if it:
+                stats["refinements"] += 1
 
     def _finish(self, plan, du, Fc, b, contact, stats, k):
         """Check the answer and put the slipping and separated forces exactly where they
@@ -360,11 +392,11 @@ class ActiveSetStepper(Stepper):
         s[~contact] = SEPARATION
         return F, s
 
-    def _check_equilibrium(self, plan, U, Fs, rows):
-        """``max |Q + K u - F| / s_F`` over the increments ending at ``rows``: the forces carried
-        from step to step (``Fc + ΔQ``) must not drift from ``Q + K u``."""
+    def _check_equilibrium(self, plan, U, Fs, Qs, rows):
+        """``max |Q + K u - F| / s_F`` over the increments ending at ``rows`` (loads ``Qs``):
+        the forces carried from step to step (``F + ΔQ``) must not drift from ``Q + K u``."""
         R = (plan.K @ U.T).T
-        R += plan.Q[rows]
+        R += Qs
         R -= Fs
         eq = np.abs(R).max(axis=1) / plan.force_scale
         bad = np.flatnonzero(~(eq <= self.check_tol))
