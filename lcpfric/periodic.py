@@ -73,8 +73,9 @@ def load_scales(scene, compliance) -> tuple[float, float]:
     """The loads' displacement and force scales of a scene: ``(c r, b)`` with r the largest
     range of a tangential load over the cycle, c the largest diagonal compliance and b the
     largest friction limit f N."""
-    lo = np.min(column_reduce(scene.Q, lambda x: np.min(x, axis=0, initial=np.inf)), axis=0)
-    hi = np.max(column_reduce(scene.Q, lambda x: np.max(x, axis=0, initial=-np.inf)), axis=0)
+    parts = column_reduce(scene.Q, lambda x: (np.min(x, axis=0), np.max(x, axis=0)))
+    lo = np.min([p[0] for p in parts], axis=0)
+    hi = np.max([p[1] for p in parts], axis=0)
     r = float(np.max(hi - lo, initial=0.0))
     return compliance * r, _largest_limit(scene)
 

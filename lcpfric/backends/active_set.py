@@ -185,8 +185,9 @@ class ActiveSetStepper(Stepper):
         u, F = state.u, state.F
         stats = dict(data.stats)
         W = 0.0
-        # the equilibrium check runs on blocks of rows (one matrix-matrix product per block)
-        block = min(scene.steps, _CHECK_ROWS)
+        # the equilibrium check: for a dense K on blocks of rows (one matrix-matrix product
+        # per block), for a sparse K every step (a product costs O(nnz))
+        block = 1 if hasattr(plan.K, "tocsr") else min(scene.steps, _CHECK_ROWS)
         Ub, Fb, Qb = (np.empty((block, plan.m)) for _ in range(3))
         rows = np.empty(block, dtype=np.intp)
         filled = 0
@@ -281,11 +282,130 @@ class ActiveSetStepper(Stepper):
     def _project(self, plan, u, F_tr, b, contact, stats, k):
         """The increment's projection from the trial force: ``(u, Fc, limit)`` at its end,
         ``Fc = Q + K u`` as computed and ``limit`` the nodes on a friction limit."""
-        if plan.dims != 1:
-            raise NotImplementedError
         stats["solves"] += 1
+        if plan.dims == 2:
+            delta, Fc, slip = self._discs(plan, F_tr, b, contact, stats, k)
+            return u + delta, Fc, slip
         delta, Fc, (up, dn) = self._pattern(plan, F_tr, -b, b, ~contact, stats, k)
         return u + delta, Fc, up | dn
+
+    def _discs(self, plan, F_tr, b, contact, stats, k):
+        """The increment for d = 2 (see the module docstring): Newton's method on the
+        objective restricted to the free unknowns of a pattern, with a backtracking line
+        search, then the pattern updated; returns ``(δ, F, slipping nodes)``.
+
+        A slipping node that Newton's step would carry through ``Δu_i = 0`` (its slip reversed)
+        sticks; a sticking node whose force leaves its disc slips, starting from the slip it
+        would make alone."""
+        K, n = plan.K, plan.n
+        kn = plan.kdiag.reshape(n, 2).max(axis=1)
+        sep = ~contact
+        delta = np.zeros(plan.m)
+        F = F_tr.copy()
+        slip = np.zeros(n, dtype=bool)
+        tiny = 1e-14 * plan.force_scale * plan.compliance_scale
+        seen = set()
+        for _ in range(self.max_iter):
+            F2 = F.reshape(n, 2)
+            norm = np.hypot(F2[:, 0], F2[:, 1])
+            start = contact & ~slip & (norm > b * (1.0 + 4 * _EPS))
+            if start.any():  # the slip each would make alone, against its force
+                d2 = delta.reshape(n, 2)
+                d2[start] = -((norm[start] - b[start]) / (kn[start] * norm[start]))[:, None] \
+                    * F2[start]
+                F = F_tr + K @ delta
+            elif self._settled(plan, delta, F, b, slip, sep, tiny):
+                return delta, F, slip
+            slip = slip | start
+            key = np.packbits(slip).tobytes()
+            if key in seen and not start.any():
+                break
+            seen.add(key)
+            delta, F, slip = self._newton(plan, F_tr, delta, b, slip, sep, tiny, stats)
+            stats["iterations"] += 1
+        raise SolverError(f"active-set: increment {k}: the d = 2 pattern did not settle in "
+                          f"{self.max_iter} iterations; raise max_iter",
+                          backend=self.name, status="max_iter")
+
+    @staticmethod
+    def _settled(plan, delta, F, b, slip, sep, tiny):
+        """Whether the forces of the pattern's free nodes are at their targets."""
+        n = plan.n
+        F2, d2 = F.reshape(n, 2), delta.reshape(n, 2)
+        g = F2.copy()
+        nd = np.hypot(d2[:, 0], d2[:, 1])
+        g[slip] += (b[slip] / np.where(nd[slip] > 0, nd[slip], 1.0))[:, None] * d2[slip]
+        free = slip | sep
+        floor = 64 * _EPS * (plan.force_scale + np.abs(F2[free]).max(initial=0.0))
+        return float(np.abs(g[free]).max(initial=0.0)) <= floor
+
+    @staticmethod
+    def _newton(plan, F_tr, delta, b, slip, sep, tiny, stats):
+        """Newton's method on ``Φ(δ) = ½ δᵀKδ + F^trᵀδ + Σ_slip b_i ||δ_i||`` over the
+        unknowns of the slipping and separated nodes (the sticking ones fixed at 0)."""
+        import scipy.sparse as sp
+        from scipy.linalg import cho_factor, cho_solve
+        from scipy.sparse.linalg import splu
+
+        K, n = plan.K, plan.n
+        sparse = hasattr(K, "tocsc")
+        for _ in range(100):
+            free = slip | sep
+            dofs = np.flatnonzero(np.repeat(free, 2))
+            if dofs.size == 0:
+                return delta, F_tr + K @ delta, slip
+            d2 = delta.reshape(n, 2)
+            nd = np.hypot(d2[:, 0], d2[:, 1])
+            F = F_tr + K @ delta
+            g = F.reshape(n, 2).copy()
+            w = np.zeros(n)
+            w[slip] = b[slip] / nd[slip]
+            nu = d2 / np.where(nd > 0, nd, 1.0)[:, None]
+            g += w[:, None] * d2
+            gf = g.reshape(-1)[dofs]
+            floor = 64 * _EPS * (plan.force_scale + float(np.abs(F[dofs]).max(initial=0.0)))
+            if float(np.abs(gf).max(initial=0.0)) <= floor:
+                return delta, F, slip
+            # the curvature of b ||δ_i|| across the slip direction
+            blocks = w[:, None, None] * (np.eye(2)[None] - nu[:, :, None] * nu[:, None, :])
+            fn = np.flatnonzero(free)
+            Dff = sp.block_diag(list(blocks[fn]), format="csc") if sparse else None
+            if sparse:
+                H = K[dofs][:, dofs] + Dff
+                step = -splu(H.tocsc()).solve(gf)
+            else:
+                H = K[np.ix_(dofs, dofs)]
+                for i, node in enumerate(fn):
+                    H[2 * i:2 * i + 2, 2 * i:2 * i + 2] += blocks[node]
+                step = -cho_solve(cho_factor(H), gf)
+            full = np.zeros(plan.m)
+            full[dofs] = step
+            s2 = full.reshape(n, 2)
+            # the step stops where a slipping node's slip would vanish (its radial part
+            # reaches zero): that node sticks from there
+            radial = np.einsum("ij,ij->i", s2, nu)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                reach = np.where(slip & (radial < 0.0), nd / -radial, np.inf)
+            tmax = min(1.0, float(reach.min(initial=np.inf)))
+            phi0 = _objective(plan, F_tr, delta, b, slip)
+            slope = float(gf @ step)
+            t = tmax
+            # below round-off of Φ the decrease cannot be seen: Newton's full step is taken
+            # (it converges quadratically there)
+            noise = 64 * _EPS * (abs(phi0) + float(np.abs(full) @ np.abs(F)))
+            for _ in range(60):
+                trial = delta + t * full
+                if (-slope * t <= noise or _objective(plan, F_tr, trial, b, slip)
+                        <= phi0 + 1e-4 * t * slope):
+                    break
+                t *= 0.5
+            delta = trial
+            if t == tmax and tmax < 1.0:
+                stop = slip & (reach <= tmax * (1.0 + 1e-12))
+                delta.reshape(n, 2)[stop] = 0.0
+                slip = slip & ~stop
+            stats["refinements"] += 1
+        return delta, F_tr + K @ delta, slip
 
     def _pattern(self, plan, F_tr, lo, hi, free_always, stats, k):
         """The pattern iteration (d = 1): ``δ`` (zero on the sticking unknowns) and
@@ -314,10 +434,8 @@ class ActiveSetStepper(Stepper):
             nfree = nup | ndn | free_always
             stop = np.flatnonzero(free & ~nfree)
             if stop.size:  # nodes that stick again keep their start displacement
-                d = np.zeros(plan.m)
-                d[stop] = -delta[stop]
+                F += _product(plan.K, stop, -delta[stop])
                 delta[stop] = 0.0
-                F += _product(plan.K, d, stop)
             up, dn, free = nup, ndn, nfree
             r = np.where(up, hi, np.where(dn, lo, 0.0))
             self._correct(plan, F_tr, r, free, delta, F, stats)
@@ -364,25 +482,37 @@ class ActiveSetStepper(Stepper):
             best = size
             rhs = np.zeros(plan.m)
             rhs[idx] = e
-            d = block.solve(rhs, idx[off])
-            delta += d
-            F += _product(plan.K, d, block.touched)
+            cols, y = block.solve(rhs, idx[off])
+            delta[cols] += y
+            F += _product(plan.K, cols, y)
             if it:
                 stats["refinements"] += 1
 
     def _finish(self, plan, du, Fc, b, contact, stats, k):
         """Check the answer and put the slipping and separated forces exactly where they
         belong; returns ``(F, node states)``."""
-        A = np.flatnonzero(contact)
-        res = residuals(Fc[A], du[A], b[A], plan.dims, plan.force_scale,
-                        plan.compliance_scale)
-        F = Fc.copy()
         eps = self.check_tol * plan.compliance_scale * plan.force_scale
-        fwd = contact & (du > eps)
-        bwd = contact & (du < -eps)
-        F[fwd] = -b[fwd]
-        F[bwd] = b[bwd]
-        F[~contact] = 0.0
+        F = Fc.copy()
+        if plan.dims == 2:
+            A = np.flatnonzero(contact)
+            dofs = (2 * A[:, None] + np.arange(2)).ravel()
+            res = residuals(Fc[dofs], du[dofs], b[A], 2, plan.force_scale,
+                            plan.compliance_scale)
+            d2, F2 = du.reshape(-1, 2), F.reshape(-1, 2)
+            nd = np.hypot(d2[:, 0], d2[:, 1])
+            fwd = contact & (nd > eps)
+            bwd = np.zeros_like(fwd)
+            F2[fwd] = -(b[fwd] / nd[fwd])[:, None] * d2[fwd]
+            F2[~contact] = 0.0
+        else:
+            every = contact.all()
+            A = slice(None) if every else np.flatnonzero(contact)
+            res = residuals(Fc[A], du[A], b[A], 1, plan.force_scale, plan.compliance_scale)
+            fwd = contact & (du > eps)
+            bwd = contact & (du < -eps)
+            F[fwd] = -b[fwd]
+            F[bwd] = b[bwd]
+            F[~contact] = 0.0
         res["equilibrium"] = float(np.max(np.abs(F - Fc), initial=0.0)) / plan.force_scale
         bad = worst(res)
         stats["max_residual"] = max(stats["max_residual"], bad)
@@ -410,9 +540,20 @@ class ActiveSetStepper(Stepper):
                           backend=self.name, status="residual", residuals=res)
 
 
-def _product(K, x, idx):
-    """``K x`` for an x that is zero off ``idx``: by the rows of the unknowns in idx when they
-    are few (K symmetric), else whole."""
-    if idx.size * 3 < x.size and not hasattr(K, "tocsr"):
-        return x[idx] @ K[idx]
+def _objective(plan, F_tr, delta, b, slip) -> float:
+    """``½ δᵀKδ + F^trᵀδ + Σ_slip b_i ||δ_i||`` (d = 2), the function Newton descends."""
+    d2 = delta.reshape(-1, 2)
+    Kd = plan.K @ delta
+    return float(0.5 * delta @ Kd + F_tr @ delta
+                 + b[slip] @ np.hypot(d2[slip, 0], d2[slip, 1]))
+
+
+def _product(K, cols, y):
+    """``K x`` for the x that is ``y`` on the unknowns ``cols`` and zero elsewhere: from those
+    columns (rows: K is symmetric) when they are few, else with the whole K."""
+    m = K.shape[0]
+    if 8 * cols.size < m:
+        return K[:, cols] @ y if hasattr(K, "tocsc") else y @ K[cols]
+    x = np.zeros(m)
+    x[cols] = y
     return K @ x

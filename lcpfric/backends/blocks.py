@@ -50,7 +50,6 @@ class _Block:
         self.K = K
         self.m = K.shape[0]
         self.index = np.empty(0, dtype=np.intp)
-        self.touched = self.index  # the unknowns the last solve changed
         self.stats = {"factorizations": 0, "updates": 0}
 
     @property
@@ -153,14 +152,11 @@ class DenseBlock(_Block):
         self.G = G
         self.order = np.concatenate([o, join])
 
-    def solve(self, r: np.ndarray, support=None) -> np.ndarray:
-        """``x`` (size m, zero off the set) with ``K_FF x_F = r_F`` (``support``, the unknowns
-        where r is not negligible, is not used: a dense K couples everything)."""
-        x = np.zeros(self.m)
-        if self.order.size:
-            x[self.order] = self.G @ r[self.order]
-        self.touched = self.order
-        return x
+    def solve(self, r: np.ndarray, support=None):
+        """``(unknowns, x)``: the solution of ``K_FF x_F = r_F`` on the unknowns of F
+        (``support``, the unknowns where r is not negligible, is not used: a dense K couples
+        everything)."""
+        return self.order, self.G @ r[self.order]
 
 
 class BandedBlock(_Block):
@@ -175,6 +171,7 @@ class BandedBlock(_Block):
         import scipy.sparse as sp
 
         self.perm = perm
+        self.natural = bool(np.array_equal(perm, np.arange(perm.size)))
         self.rank = np.empty_like(perm)
         self.rank[perm] = np.arange(perm.size)
         self.width = width
@@ -194,20 +191,19 @@ class BandedBlock(_Block):
         if np.array_equal(free, self.index):
             return
         self.index = free
-        pos = np.sort(self.rank[free])
+        pos = free if self.natural else np.sort(self.rank[free])
         self.pos = pos
         cut = np.flatnonzero(np.diff(pos) > self.width) + 1
         self.starts = np.concatenate([[0], cut]).astype(np.intp)
         self.stops = np.concatenate([cut, [pos.size]]).astype(np.intp)
 
-    def solve(self, r: np.ndarray, support=None) -> np.ndarray:
-        """``x`` with ``K_FF x_F = r_F``, computed on the segments that hold an unknown of
-        ``support`` (all when None): r must be negligible on the others, where x is zero."""
-        x = np.zeros(self.m)
+    def solve(self, r: np.ndarray, support=None):
+        """``(unknowns, x)`` with ``K_FF x_F = r_F``, computed on the segments that hold an
+        unknown of ``support`` (all when None): r must be negligible on the others, where the
+        solution is zero (and not returned)."""
         pos = self.pos
         if pos.size == 0:
-            self.touched = self.index
-            return x
+            return pos, np.zeros(0)
         if support is None or 2 * len(support) > pos.size:
             sel = pos
         else:
@@ -222,11 +218,9 @@ class BandedBlock(_Block):
                 sel = pos[np.arange(lengths.sum()) + offs]
         if self.factor is None or not np.array_equal(sel, self.sel):
             self._factor(sel)
-        unknowns = self.perm[sel]
+        unknowns = sel if self.natural else self.perm[sel]
         y, info = lapack.dpbtrs(self.factor, r[unknowns], lower=0)
-        x[unknowns] = y
-        self.touched = unknowns
-        return x
+        return unknowns, y
 
     def _factor(self, sel: np.ndarray) -> None:
         """Banded Cholesky of ``K`` on the band positions ``sel`` (sorted)."""
@@ -275,12 +269,10 @@ class SparseBlock(_Block):
             raise _not_spd(f"K_FF ({exc})") from None
         self.stats["factorizations"] += 1
 
-    def solve(self, r: np.ndarray, support=None) -> np.ndarray:
-        x = np.zeros(self.m)
-        if self.lu is not None:
-            x[self.index] = self.lu.solve(r[self.index])
-        self.touched = self.index
-        return x
+    def solve(self, r: np.ndarray, support=None):
+        if self.lu is None:
+            return self.index, np.zeros(0)
+        return self.index, self.lu.solve(r[self.index])
 
 
 def make_block(K, kind: str = "auto"):

@@ -280,7 +280,7 @@ class LoadSet:
                 amps[:len(p.amplitudes), col] = p.amplitudes
                 phases[:len(p.phases), col] = p.phases
             mean = np.array([p.mean for p in members])
-            self.groups.append((np.asarray(idx), omega, mean, amps * np.cos(phases),
+            self.groups.append((np.asarray(idx, dtype=np.intp), omega, mean, amps * np.cos(phases),
                                 amps * np.sin(phases)))
 
     def __len__(self) -> int:
@@ -291,11 +291,16 @@ class LoadSet:
         out = np.empty(t.shape + (len(self.loads),))
         tt = t[..., None]
         for idx, omega, mean, sin_coef, cos_coef in self.groups:
-            x = np.broadcast_to(mean, t.shape + mean.shape)
+            whole = idx.size == len(self.loads)  # one group in order: write in place
+            x = out if whole else np.empty(t.shape + mean.shape)
+            x[...] = mean
+            tmp = np.empty_like(x)
             for k in range(sin_coef.shape[0]):
                 angle = (k + 1) * omega * tt
-                x = x + sin_coef[k] * np.sin(angle) + cos_coef[k] * np.cos(angle)
-            out[..., idx] = x
+                x += np.multiply(sin_coef[k], np.sin(angle), out=tmp)
+                x += np.multiply(cos_coef[k], np.cos(angle), out=tmp)
+            if not whole:
+                out[..., idx] = x
         for i in self.others:
             out[..., i] = self.loads[i](t)
         return out
