@@ -104,6 +104,7 @@ class _Plan:
         # never formed)
         self.compliance_scale = float(1.0 / np.min(self.kdiag))
         self.diagonal = system.is_diagonal()
+        self.row_norm = float(abs(K).sum(axis=1).max())  # ||K||_inf
         self._rows: dict[int, tuple] = {}
 
     def row(self, k: int) -> tuple:
@@ -127,10 +128,25 @@ class ActiveSetData:
         round-off, which the checks bound), the loads and limits on the grid.
     stats : dict
         ``solves``, ``iterations``, ``refinements``, ``single_changes``, ``max_residual``.
+    u_lo : (m,) ndarray
+        What the float64 displacements could not hold of the slips added to them (compensated
+        summation): on a weakly grounded system u is 1e12 times the slips, and adding them
+        step after step would otherwise random-walk u away from the forces.
+    Fc, u_of_Fc : (m,) ndarray
+        The forces as computed (``Q + K u`` before the slipping ones are put on their limits),
+        and the displacement array they belong to.
     """
 
     plan: _Plan
     stats: dict
+    u_lo: np.ndarray
+    Fc: np.ndarray
+    u_of_Fc: np.ndarray
+
+    def computed_forces(self, state) -> np.ndarray:
+        """``Fc`` if it belongs to ``state.u``, else ``state.F`` (a state whose displacement
+        was replaced, by the driver's extrapolation for instance)."""
+        return self.Fc if state.u is self.u_of_Fc else state.F
 
 
 class ActiveSetStepper(Stepper):
@@ -170,19 +186,22 @@ class ActiveSetStepper(Stepper):
         state = super().init(scene, u0)
         stats = {"solves": 0, "iterations": 0, "refinements": 0, "single_changes": 0,
                  "max_residual": 0.0, "events": 0}
-        return replace(state, data=ActiveSetData(plan, stats))
+        return replace(state, data=ActiveSetData(plan, stats, np.zeros(plan.m), state.F,
+                                                 state.u))
 
     def step(self, scene, k, state):
         data = state.data
         stats = dict(data.stats)
-        u1, F1, s, dW = self._increment(data.plan, k, state.u, state.F, stats)
-        return StepState(u1, F1, s, dW, replace(data, stats=stats))
+        du, F1, Fc, s, dW = self._increment(data.plan, k, state.F,
+                                            data.computed_forces(state), stats)
+        u1, lo = _accumulate(state.u, data.u_lo, du)
+        return StepState(u1, F1, s, dW, replace(data, stats=stats, u_lo=lo, Fc=Fc, u_of_Fc=u1))
 
     def cycle(self, scene, state, history: bool = True):
         data = state.data
         plan = data.plan
         record = Recorder(scene, state, history)
-        u, F = state.u, state.F
+        u, F, lo, Fc = state.u, state.F, data.u_lo, data.computed_forces(state)
         stats = dict(data.stats)
         W = 0.0
         # the equilibrium check: for a dense K on blocks of rows (one matrix-matrix product
@@ -191,18 +210,24 @@ class ActiveSetStepper(Stepper):
         Ub, Fb, Qb = (np.empty((block, plan.m)) for _ in range(3))
         rows = np.empty(block, dtype=np.intp)
         filled = 0
+        peak = float(np.max(np.abs(u), initial=0.0))
         for k in range(scene.steps):
-            u, F, s, dW = self._increment(plan, k, u, F, stats)
+            du, F, Fc, s, dW = self._increment(plan, k, F, Fc, stats)
+            u, lo = _accumulate(u, lo, du)
+            peak = max(peak, float(np.max(np.abs(u), initial=0.0)))
             record(k + 1, u, F, s)
             W += dW
             Ub[filled], Fb[filled], Qb[filled], rows[filled] = u, F, plan.row(k + 1)[0], k + 1
             filled += 1
             if filled == block:
-                self._check_equilibrium(plan, Ub, Fb, Qb, rows)
+                self._check_equilibrium(plan, Ub, Fb, Qb, rows, peak)
                 filled = 0
         if filled:
-            self._check_equilibrium(plan, Ub[:filled], Fb[:filled], Qb[:filled], rows[:filled])
-        end = StepState(u.copy(), F.copy(), s.copy(), 0.0, replace(data, stats=stats))
+            self._check_equilibrium(plan, Ub[:filled], Fb[:filled], Qb[:filled], rows[:filled],
+                                    peak)
+        u = u.copy()
+        end = StepState(u, F.copy(), s.copy(), 0.0,
+                        replace(data, stats=stats, u_lo=lo.copy(), Fc=Fc, u_of_Fc=u))
         return end, record.result(W, self.stats(end))
 
     def stats(self, state) -> dict:
@@ -211,10 +236,12 @@ class ActiveSetStepper(Stepper):
         return out
 
     # -- one increment -----------------------------------------------------------------------
-    def _increment(self, plan, k, u, F, stats):
-        """Increment k: ``(u, F, states, dW)`` at t_{k+1}. The trial force ``Q_{k+1} + K u_k``
-        is ``F_k + ΔQ`` (no product with K); the round-off this carries over the sticking
-        nodes is bounded by the equilibrium check of every cycle.
+    def _increment(self, plan, k, F, Fc0, stats):
+        """Increment k from the forces at t_k (``F`` on their limits, ``Fc0 = Q + K u`` as
+        computed): ``(Δu, F, Fc, states, dW)`` at t_{k+1}. The trial force ``Q_{k+1} + K u_k``
+        is ``Fc0 + ΔQ`` (no product with K): the computed forces are carried, not the ones put
+        on the limits, so that the round-off of each solve is not dropped into a drift between
+        u and F (the equilibrium check of every cycle bounds what remains).
 
         One projection to t_{k+1}; on a coupled d = 1 system whose answer is not the exact end
         state (:func:`~lcpfric.backends.events.path_is_exact`), the increment is split at its
@@ -223,21 +250,21 @@ class ActiveSetStepper(Stepper):
         Qk, Nk, bk, ck = plan.row(k)
         Qj, Nj, b, contact = plan.row(k + 1)
         dQ = Qj - Qk
-        u1, Fc, limit = self._project(plan, u, F + dQ, b, contact, stats, k)
-        F1, s = self._finish(plan, u1 - u, Fc, b, contact, stats, k)
-        dW = increment_dissipation(F, F1, u1 - u, plan.dims)
+        du, Fc, limit = self._project(plan, Fc0 + dQ, b, contact, stats, k)
+        F1, s = self._finish(plan, du, Fc, b, contact, stats, k)
+        dW = increment_dissipation(F, F1, du, plan.dims)
         if not self.locate_events or plan.dims != 1 or plan.diagonal:
-            return u1, F1, s, dW
+            return du, F1, Fc, s, dW
         leaving = ck & ~contact
         separating = leaving if leaving.any() else None
         if path_is_exact(F, bk, F1, limit, separating, plan.force_scale):
-            return u1, F1, s, dW
+            return du, F1, Fc, s, dW
         f = plan.friction
         dN = Nj - Nk
         sep = (Nk + Nj) <= 0.0
         inside = ck | contact
         rates = self._rate_function(plan, stats, k)
-        a, ua, Fa = 0.0, u, F
+        a, moved, Fa, Fca = 0.0, np.zeros(plan.m), F, Fc0
         dW = 0.0
         for _ in range(4 * plan.n + 16):
             tau = first_event(plan.K, f, Fa, Qk + a * dQ, Nk + a * dN, dQ, dN, sep, a,
@@ -245,16 +272,17 @@ class ActiveSetStepper(Stepper):
             if tau is None:
                 break
             bt = f * (Nk + tau * dN)
-            ub, Fc, _ = self._project(plan, ua, Fa + (tau - a) * dQ, bt, inside, stats, k)
-            Fb, _ = self._finish(plan, ub - ua, Fc, bt, inside, stats, k)
+            dua, Fc, _ = self._project(plan, Fca + (tau - a) * dQ, bt, inside, stats, k)
+            Fb, _ = self._finish(plan, dua, Fc, bt, inside, stats, k)
             stats["events"] += 1
-            dW += increment_dissipation(Fa, Fb, ub - ua)
-            a, ua, Fa = tau, ub, Fb
-            u1, Fc, limit = self._project(plan, ua, Fa + (1.0 - a) * dQ, b, contact, stats, k)
-            F1, s = self._finish(plan, u1 - ua, Fc, b, contact, stats, k)
+            dW += increment_dissipation(Fa, Fb, dua)
+            a, Fa, Fca = tau, Fb, Fc
+            moved += dua
+            du, Fc, limit = self._project(plan, Fca + (1.0 - a) * dQ, b, contact, stats, k)
+            F1, s = self._finish(plan, du, Fc, b, contact, stats, k)
             if path_is_exact(Fa, f * (Nk + a * dN), F1, limit, separating, plan.force_scale):
                 break
-        return u1, F1, s, dW + increment_dissipation(Fa, F1, u1 - ua)
+        return moved + du, F1, Fc, s, dW + increment_dissipation(Fa, F1, du)
 
     def _rate_function(self, plan, stats, k):
         """The rate problem at an instant inside increment k, for
@@ -279,15 +307,19 @@ class ActiveSetStepper(Stepper):
 
         return rates
 
-    def _project(self, plan, u, F_tr, b, contact, stats, k):
-        """The increment's projection from the trial force: ``(u, Fc, limit)`` at its end,
-        ``Fc = Q + K u`` as computed and ``limit`` the nodes on a friction limit."""
+    def _project(self, plan, F_tr, b, contact, stats, k):
+        """The increment's projection from the trial force: ``(Δu, Fc, limit)``, with
+        ``Fc = F^tr + K Δu`` as computed and ``limit`` the nodes on a friction limit.
+
+        The slip Δu is returned as solved, not as a difference of displacements: on a weakly
+        grounded system u can be 1e12 times the slips, and ``u_{k+1} - u_k`` would keep only
+        the last digits of Δu (the dissipation is computed from Δu)."""
         stats["solves"] += 1
         if plan.dims == 2:
             delta, Fc, slip = self._discs(plan, F_tr, b, contact, stats, k)
-            return u + delta, Fc, slip
+            return delta, Fc, slip
         delta, Fc, (up, dn) = self._pattern(plan, F_tr, -b, b, ~contact, stats, k)
-        return u + delta, Fc, up | dn
+        return delta, Fc, up | dn
 
     def _discs(self, plan, F_tr, b, contact, stats, k):
         """The increment for d = 2 (see the module docstring): Newton's method on the
@@ -489,15 +521,20 @@ class ActiveSetStepper(Stepper):
                 stats["refinements"] += 1
 
     def _finish(self, plan, du, Fc, b, contact, stats, k):
-        """Check the answer and put the slipping and separated forces exactly where they
-        belong; returns ``(F, node states)``."""
+        """Put the slipping and separated forces exactly where they belong, check the answer,
+        and return ``(F, node states)``.
+
+        The residuals of the other backends (cone, complementarity, stationarity) are computed
+        on these forces and the slips, and the equilibrium residual ``|F - Fc|`` compares them
+        with the forces computed from K: a node whose pattern put it on the wrong limit, or a
+        solve that lost digits, shows there. Its floor is the round-off of ``K Δu``,
+        ``16 ε ||K||_∞ max |Δu|``: on a weakly grounded system the slips of a gross slip are
+        1e12 times the forces' scale over the stiffness and float64 holds no more."""
         eps = self.check_tol * plan.compliance_scale * plan.force_scale
         F = Fc.copy()
         if plan.dims == 2:
             A = np.flatnonzero(contact)
-            dofs = (2 * A[:, None] + np.arange(2)).ravel()
-            res = residuals(Fc[dofs], du[dofs], b[A], 2, plan.force_scale,
-                            plan.compliance_scale)
+            cols = (2 * A[:, None] + np.arange(2)).ravel()
             d2, F2 = du.reshape(-1, 2), F.reshape(-1, 2)
             nd = np.hypot(d2[:, 0], d2[:, 1])
             fwd = contact & (nd > eps)
@@ -505,15 +542,18 @@ class ActiveSetStepper(Stepper):
             F2[fwd] = -(b[fwd] / nd[fwd])[:, None] * d2[fwd]
             F2[~contact] = 0.0
         else:
-            every = contact.all()
-            A = slice(None) if every else np.flatnonzero(contact)
-            res = residuals(Fc[A], du[A], b[A], 1, plan.force_scale, plan.compliance_scale)
+            A = cols = slice(None) if contact.all() else np.flatnonzero(contact)
             fwd = contact & (du > eps)
             bwd = contact & (du < -eps)
             F[fwd] = -b[fwd]
             F[bwd] = b[bwd]
             F[~contact] = 0.0
-        res["equilibrium"] = float(np.max(np.abs(F - Fc), initial=0.0)) / plan.force_scale
+        res = residuals(F[cols], du[cols], b[A], plan.dims, plan.force_scale,
+                        plan.compliance_scale)
+        floor = 16 * _EPS * (plan.row_norm * float(np.max(np.abs(du), initial=0.0))
+                             + float(np.max(np.abs(Fc), initial=0.0)))
+        off = float(np.max(np.abs(F - Fc), initial=0.0))
+        res["equilibrium"] = max(off - floor, 0.0) / plan.force_scale
         bad = worst(res)
         stats["max_residual"] = max(stats["max_residual"], bad)
         if not bad <= self.check_tol:
@@ -522,13 +562,19 @@ class ActiveSetStepper(Stepper):
         s[~contact] = SEPARATION
         return F, s
 
-    def _check_equilibrium(self, plan, U, Fs, Qs, rows):
+    def _check_equilibrium(self, plan, U, Fs, Qs, rows, peak):
         """``max |Q + K u - F| / s_F`` over the increments ending at ``rows`` (loads ``Qs``):
-        the forces carried from step to step (``F + ΔQ``) must not drift from ``Q + K u``."""
+        the forces carried from step to step (``F + ΔQ``) must not drift from ``Q + K u``.
+
+        Its floor is what float64 resolves: ``64 ε ||K||_∞ max |u|``, the largest |u| of the
+        cycle so far (``peak``). On a weakly grounded system in gross slip u is huge (1e10
+        times the loads' scale over the stiffness) and the forces are its small differences:
+        the displacements then fix the forces only to that floor, whatever the method."""
         R = (plan.K @ U.T).T
         R += Qs
         R -= Fs
-        eq = np.abs(R).max(axis=1) / plan.force_scale
+        floor = 64 * _EPS * plan.row_norm * peak
+        eq = np.maximum(np.abs(R).max(axis=1) - floor, 0.0) / plan.force_scale
         bad = np.flatnonzero(~(eq <= self.check_tol))
         if bad.size:
             self._fail(int(rows[bad[0]]) - 1, {"equilibrium": float(eq[bad[0]])})
@@ -538,6 +584,13 @@ class ActiveSetStepper(Stepper):
         raise SolverError(f"active-set: increment {k}: the answer fails lcpfric's residual "
                           f"check ({name} {res[name]:.3g} > check_tol {self.check_tol:g})",
                           backend=self.name, status="residual", residuals=res)
+
+
+def _accumulate(u, lo, du):
+    """``u + du`` by compensated (Kahan) summation; ``lo`` carries what u could not hold."""
+    y = du - lo
+    t = u + y
+    return t, (t - u) - y
 
 
 def _objective(plan, F_tr, delta, b, slip) -> float:

@@ -95,6 +95,10 @@ class Stepper:
             W += state.dW
         return state, record.result(W, self.stats(state))
 
+    def stats(self, state: StepState) -> dict:
+        """Backend statistics for the result (iterations, refinements, ...)."""
+        return {}
+
 
 class Recorder:
     """Collects a cycle's series: every instant (``history=True``), or only the first and the
@@ -124,7 +128,3 @@ class Recorder:
     def result(self, W: float, stats: dict) -> CycleResult:
         span = None if self.history else self.hi - self.lo
         return CycleResult(self.t, self.U, self.F, self.S, W, stats, span)
-
-    def stats(self, state: StepState) -> dict:
-        """Backend statistics for the result (iterations, refinements, ...)."""
-        return {}
