@@ -36,6 +36,8 @@ __all__ = ["DenseBlock", "BandedBlock", "SparseBlock", "make_block"]
 #: largest bandwidth (after reordering) for which the banded Cholesky is used: beyond it the
 #: band holds more than a sparse factor would
 MAX_BANDWIDTH = 64
+#: rank of the dense block's low-rank correction at which it is folded into its inverse
+FOLD_RANK = 48
 
 
 def _not_spd(what: str) -> SolverError:
@@ -62,16 +64,23 @@ class _Block:
 
 
 class DenseBlock(_Block):
-    """``K_FF⁻¹`` of a dense K, updated by blocks of joining and leaving unknowns.
+    """``K_FF⁻¹`` of a dense K, kept as the inverse ``G0 = K_BB⁻¹`` of a base set B and a
+    low-rank correction for the unknowns that joined (J) and left (R) since.
 
-    ``G`` holds the inverse in the order of ``index`` (sorted on a rebuild, new unknowns
-    appended on an update: the order is internal, :meth:`solve` takes and returns full-size
-    vectors)."""
+    With ``X = G0 K_BJ`` and ``S = K_JJ - K_JB X``, ``H = K_AA⁻¹`` on ``A = B ∪ J`` is applied
+    as ``y = G0 r_B``, ``v = S⁻¹ (Xᵀ r_B - r_J)``, ``H r = (y + X v, -v)``; leaving unknowns
+    are removed with ``K_FF⁻¹ = H_FF - H_FR H_RR⁻¹ H_RF``. A solve then costs one product with
+    G0 and O(|B| (|J| + |R|)); a change of the set, one product with G0 per joining unknown.
+    When ``|J| + |R|`` reaches :data:`FOLD_RANK` the correction is folded into G0 (two
+    matrix-matrix products of rank ``|J| + |R|``), and when a quarter of the set changes at
+    once G0 is rebuilt from a Cholesky factorization (LAPACK ``potrf``/``potri``)."""
 
     def __init__(self, K):
         super().__init__(np.ascontiguousarray(K, dtype=float))
-        self.G = np.zeros((0, 0))
-        self.order = np.empty(0, dtype=np.intp)  # G's row order (the unknowns)
+        self.base = np.empty(0, dtype=np.intp)  # B, in G0's order
+        self.G0 = np.zeros((0, 0))
+        self._where = np.full(self.m, -1, dtype=np.intp)  # position in B, or -1
+        self._correction(np.empty(0, dtype=np.intp), np.empty(0, dtype=np.intp))
 
     def set(self, free: np.ndarray) -> None:
         """Make ``free`` (sorted unknowns) the current set."""
@@ -79,84 +88,133 @@ class DenseBlock(_Block):
             return
         inside = np.zeros(self.m, dtype=bool)
         inside[free] = True
-        keep = inside[self.order]
-        was = np.zeros(self.m, dtype=bool)
-        was[self.order] = True
-        join = free[~was[free]]
-        changes = int((~keep).sum()) + join.size
-        if self.order.size == 0 or 4 * changes > free.size or changes > 256:
+        left = np.flatnonzero(~inside[self.base])       # positions in B
+        joined = free[self._where[free] < 0]             # unknowns not in B
+        rank = left.size + joined.size
+        if self.base.size == 0 or 4 * (rank - self.rank) > max(free.size, 1):
             self._rebuild(free)
+        elif rank > max(FOLD_RANK, self.base.size // 16):
+            self._correction(left, joined)
+            self._fold(free)
         else:
-            if not keep.all():
-                self._leave(keep)
-            if join.size:
-                self._join(join)
+            self._correction(left, joined)
             self.stats["updates"] += 1
         self.index = free
 
+    @property
+    def order(self) -> np.ndarray:
+        """The unknowns of the current set in the order :meth:`solve` returns them."""
+        keep = np.ones(self.base.size, dtype=bool)
+        keep[self.left] = False
+        return np.concatenate([self.base[keep], self.joined])
+
     def _rebuild(self, free: np.ndarray) -> None:
-        self.order = free.copy()
-        if free.size == 0:
-            self.G = np.zeros((0, 0))
-            return
-        A = self.K[np.ix_(free, free)]
-        c, info = lapack.dpotrf(A, lower=False, clean=True, overwrite_a=True)
-        if info != 0:
-            raise _not_spd("K_FF")
-        G, info = lapack.dpotri(c, lower=False, overwrite_c=True)
-        if info != 0:
-            raise _not_spd("K_FF")
-        iu = np.tril_indices(free.size, -1)
-        G[iu] = G.T[iu]
-        self.G = G
+        self._where[self.base] = -1
+        self.base = free.copy()
+        self._where[free] = np.arange(free.size)
+        if free.size:
+            self.G0 = _spd_inverse(self.K[np.ix_(free, free)], "K_FF")
+        else:
+            self.G0 = np.zeros((0, 0))
+        self._correction(np.empty(0, dtype=np.intp), np.empty(0, dtype=np.intp))
         self.stats["factorizations"] += 1
 
-    def _leave(self, keep: np.ndarray) -> None:
-        """Downdate: the inverse of the kept block is ``G_kk - G_kr G_rr⁻¹ G_rk``."""
-        G = self.G
-        k, r = np.flatnonzero(keep), np.flatnonzero(~keep)
-        Gkr = G[np.ix_(k, r)]
-        Grr = G[np.ix_(r, r)]
-        try:
-            X = sla.solve(Grr, Gkr.T, assume_a="pos", check_finite=False)
-        except (np.linalg.LinAlgError, sla.LinAlgError):
-            raise _not_spd("the block of leaving unknowns") from None
-        Gk = G[np.ix_(k, k)]
-        Gk -= Gkr @ X
-        self.G = Gk
-        self.order = self.order[k]
+    def _correction(self, left: np.ndarray, joined: np.ndarray) -> None:
+        """The low-rank terms for the leaving positions ``left`` and the joining ``joined``."""
+        K, B, G0 = self.K, self.base, self.G0
+        old = getattr(self, "joined", np.empty(0, dtype=np.intp))
+        if joined.size:
+            # X = G0 K_BJ, reusing the columns of unknowns that had joined already
+            X = np.empty((B.size, joined.size))
+            known = {int(u): c for c, u in enumerate(old)}
+            fresh = [c for c, u in enumerate(joined) if int(u) not in known]
+            for c, u in enumerate(joined):
+                if int(u) in known:
+                    X[:, c] = self.X[:, known[int(u)]]
+            if fresh:
+                X[:, fresh] = G0 @ K[np.ix_(B, joined[fresh])]
+            S = K[np.ix_(joined, joined)] - K[np.ix_(joined, B)] @ X
+            Sinv = _spd_inverse(0.5 * (S + S.T), "the Schur complement of the joining unknowns")
+        else:
+            X, Sinv = np.zeros((B.size, 0)), np.zeros((0, 0))
+        self.joined, self.X, self.Sinv, self.left = joined, X, Sinv, left
+        self.rank = left.size + joined.size
+        if left.size:
+            # H[:, R]: columns of H = K_AA⁻¹ at the leaving positions
+            XR = X[left]                                    # (k, j)
+            top = G0[:, left] + X @ (Sinv @ XR.T)           # (|B|, k)
+            HR = np.vstack([top, -(Sinv @ XR.T)])           # (|B| + j, k)
+            self.HR = HR
+            self.M = _spd_inverse(0.5 * (HR[left] + HR[left].T), "H_RR")
+        else:
+            self.HR, self.M = np.zeros((B.size + joined.size, 0)), np.zeros((0, 0))
 
-    def _join(self, join: np.ndarray) -> None:
-        """Bordering: with ``X = G K_oj`` and the Schur complement ``S = K_jj - K_jo X``,
-        ``[[G + X S⁻¹ Xᵀ, -X S⁻¹], [-S⁻¹ Xᵀ, S⁻¹]]``."""
-        o = self.order
-        K = self.K
-        Koj = K[np.ix_(o, join)]
-        X = self.G @ Koj
-        S = K[np.ix_(join, join)] - Koj.T @ X
-        S = 0.5 * (S + S.T)
-        c, info = lapack.dpotrf(S, lower=False, clean=True)
-        if info != 0:
-            raise _not_spd("the Schur complement of the joining unknowns")
-        Si, info = lapack.dpotri(c, lower=False)
-        iu = np.tril_indices(join.size, -1)
-        Si[iu] = Si.T[iu]
-        XS = X @ Si
-        s, j = o.size, join.size
-        G = np.empty((s + j, s + j))
-        G[:s, :s] = self.G
-        G[:s, :s] += XS @ X.T
-        G[:s, s:] = -XS
-        G[s:, :s] = -XS.T
-        G[s:, s:] = Si
-        self.G = G
-        self.order = np.concatenate([o, join])
+    def _apply(self, rB: np.ndarray, rJ: np.ndarray) -> np.ndarray:
+        """``H (r_B, r_J)`` with ``H = K_AA⁻¹``, then the leaving positions removed."""
+        y = self.G0 @ rB
+        if self.joined.size:
+            v = self.Sinv @ (self.X.T @ rB - rJ)
+            z = np.concatenate([y + self.X @ v, -v])
+        else:
+            z = y
+        if self.left.size:
+            z -= self.HR @ (self.M @ z[self.left])
+        return z
+
+    def _fold(self, free: np.ndarray) -> None:
+        """Fold the correction into a new G0 for the current set."""
+        B, X, Sinv, left = self.base, self.X, self.Sinv, self.left
+        s, j = B.size, self.joined.size
+        GA = np.empty((s + j, s + j))
+        GA[:s, :s] = self.G0
+        if j:
+            XS = X @ Sinv
+            GA[:s, :s] += XS @ X.T
+            GA[:s, s:] = -XS
+            GA[s:, :s] = -XS.T
+            GA[s:, s:] = Sinv
+        unknowns = np.concatenate([B, self.joined])
+        keep = np.ones(s + j, dtype=bool)
+        keep[left] = False
+        G = GA[np.ix_(keep, keep)]
+        if left.size:
+            HRk = self.HR[keep]
+            G -= HRk @ (self.M @ HRk.T)
+        self._where[B] = -1
+        self.base = unknowns[keep]
+        self._where[self.base] = np.arange(self.base.size)
+        self.G0 = 0.5 * (G + G.T)
+        self._correction(np.empty(0, dtype=np.intp), np.empty(0, dtype=np.intp))
+        self.stats["updates"] += 1
 
     def solve(self, r: np.ndarray, support=None):
         """``(unknowns, x)``: the solution of ``K_FF x_F = r_F`` on the unknowns of F
         (``support``, the unknowns where r is not negligible, is not used: a dense K couples
         everything)."""
-        return self.order, self.G @ r[self.order]
+        if self.base.size + self.joined.size == 0:
+            return self.base, np.zeros(0)
+        rB = r[self.base]
+        if self.left.size:
+            rB[self.left] = 0.0
+        z = self._apply(rB, r[self.joined])
+        keep = np.ones(z.size, dtype=bool)
+        keep[self.left] = False
+        return np.concatenate([self.base, self.joined])[keep], z[keep]
+
+
+def _spd_inverse(A: np.ndarray, what: str) -> np.ndarray:
+    """The inverse of a symmetric positive definite A (Cholesky, LAPACK potrf/potri)."""
+    if A.size == 0:
+        return np.zeros((0, 0))
+    c, info = lapack.dpotrf(A, lower=False, clean=True)
+    if info != 0:
+        raise _not_spd(what)
+    G, info = lapack.dpotri(c, lower=False, overwrite_c=True)
+    if info != 0:
+        raise _not_spd(what)
+    iu = np.tril_indices(A.shape[0], -1)
+    G[iu] = G.T[iu]
+    return G
 
 
 class BandedBlock(_Block):
