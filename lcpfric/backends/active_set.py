@@ -496,29 +496,30 @@ class ActiveSetStepper(Stepper):
     def _correct(plan, F_tr, r, free, delta, F, stats):
         """Correct ``δ`` and ``F = F^tr + K δ`` (in place) so that ``F_F = r_F`` on the free
         set, solving ``K_FF Δ_F = (r - F)_F`` where the forces are off by more than round-off,
-        then refining on K (iterative refinement) until they are at round-off."""
+        then refining on K (iterative refinement) until they are at round-off. After a solve
+        only the unknowns it changed are checked again (the others were at round-off)."""
         block = plan.block
-        idx = np.flatnonzero(free)
-        block.set(idx)
-        # round-off of the forces: a few ulps of the largest of the terms summed
-        floor = 8 * _EPS * (np.abs(F_tr[idx]) + np.abs(r[idx]) + plan.force_scale)
+        sel = np.flatnonzero(free)
+        block.set(sel)
         best = math.inf
-        for it in range(5):
-            e = r[idx] - F[idx]
+        for it in range(6):
+            e = r[sel] - F[sel]
+            # round-off of the forces: a few ulps of the largest of the terms summed
+            floor = 8 * _EPS * (np.abs(F_tr[sel]) + np.abs(r[sel]) + plan.force_scale)
             off = np.abs(e) > floor
             if not off.any():
                 return
-            size = float(np.max(np.abs(e) / floor))
-            if it and size >= 0.5 * best:
-                return  # refinement no longer gains: at the attainable accuracy
-            best = size
-            rhs = np.zeros(plan.m)
-            rhs[idx] = e
-            cols, y = block.solve(rhs, idx[off])
-            delta[cols] += y
-            F += _product(plan.K, cols, y)
             if it:
+                size = float(np.max(np.abs(e) / floor))
+                if size >= 0.5 * best:
+                    return  # refinement no longer gains: at the attainable accuracy
+                best = size
                 stats["refinements"] += 1
+            rhs = np.zeros(plan.m)
+            rhs[sel] = e
+            sel, y = block.solve(rhs, sel[off])
+            delta[sel] += y
+            F += _product(plan.K, sel, y)
 
     def _finish(self, plan, du, Fc, b, contact, stats, k):
         """Put the slipping and separated forces exactly where they belong, check the answer,
