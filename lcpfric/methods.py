@@ -12,6 +12,9 @@ name                     kind           d       what it is                      
                                                 K; batched over grids of points)
 ``clarabel``             time-stepper   1, 2    Clarabel's direct API, updated in place     clarabel
 ``osqp``                 time-stepper   1       OSQP, set up once, warm-started             osqp
+``active-set``           time-stepper   1, 2    problem (P) on K by a primal-dual active-set  -
+                                                method, blocks of K updated (many nodes,
+                                                sparse K, stiff K)
 ``qpsolvers:<solver>``   time-stepper   1       any solver qpsolvers has installed          qpsolvers
 ``cvxpy:<SOLVER>``       time-stepper   1, 2    one DPP-parametrized cvxpy problem          cvxpy
 =======================  =============  ======  ==========================================  ========

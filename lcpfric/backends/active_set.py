@@ -335,7 +335,6 @@ class ActiveSetStepper(Stepper):
         delta = np.zeros(plan.m)
         F = F_tr.copy()
         slip = np.zeros(n, dtype=bool)
-        tiny = 1e-14 * plan.force_scale * plan.compliance_scale
         seen = set()
         for _ in range(self.max_iter):
             F2 = F.reshape(n, 2)
@@ -346,21 +345,19 @@ class ActiveSetStepper(Stepper):
                 d2[start] = -((norm[start] - b[start]) / (kn[start] * norm[start]))[:, None] \
                     * F2[start]
                 F = F_tr + K @ delta
-            elif self._settled(plan, delta, F, b, slip, sep, tiny):
+            elif self._settled(plan, delta, F, b, slip, sep):
                 return delta, F, slip
             slip = slip | start
             key = np.packbits(slip).tobytes()
             if key in seen and not start.any():
                 break
             seen.add(key)
-            delta, F, slip = self._newton(plan, F_tr, delta, b, slip, sep, tiny, stats)
+            delta, F, slip = self._newton(plan, F_tr, delta, b, slip, sep, stats)
             stats["iterations"] += 1
-        raise SolverError(f"active-set: increment {k}: the d = 2 pattern did not settle in "
-                          f"{self.max_iter} iterations; raise max_iter",
-                          backend=self.name, status="max_iter")
+        raise self._unsettled(k, "the d = 2 pattern")
 
     @staticmethod
-    def _settled(plan, delta, F, b, slip, sep, tiny):
+    def _settled(plan, delta, F, b, slip, sep):
         """Whether the forces of the pattern's free nodes are at their targets."""
         n = plan.n
         F2, d2 = F.reshape(n, 2), delta.reshape(n, 2)
@@ -372,7 +369,7 @@ class ActiveSetStepper(Stepper):
         return float(np.abs(g[free]).max(initial=0.0)) <= floor
 
     @staticmethod
-    def _newton(plan, F_tr, delta, b, slip, sep, tiny, stats):
+    def _newton(plan, F_tr, delta, b, slip, sep, stats):
         """Newton's method on ``Φ(δ) = ½ δᵀKδ + F^trᵀδ + Σ_slip b_i ||δ_i||`` over the
         unknowns of the slipping and separated nodes (the sticking ones fixed at 0)."""
         import scipy.sparse as sp
@@ -451,7 +448,6 @@ class ActiveSetStepper(Stepper):
         locally (:class:`~lcpfric.backends.blocks.BandedBlock`) touches only the parts of the
         free set that changed. The first iteration starts from everything stuck (``δ = 0``,
         ``F = F^tr``), whose update is the one-node guess."""
-        block = plan.block
         kd = plan.kdiag
         bounded = ~free_always
         delta = np.zeros(plan.m)
@@ -488,9 +484,7 @@ class ActiveSetStepper(Stepper):
                 nup, ndn = up.copy(), dn.copy()
                 nup[i], ndn[i] = (z[i] > hi[i]) & bounded[i], (z[i] < lo[i]) & bounded[i]
                 stats["single_changes"] += 1
-        raise SolverError(f"active-set: increment {k}: the pattern did not settle in "
-                          f"{self.max_iter} iterations; raise max_iter",
-                          backend=self.name, status="max_iter")
+        raise self._unsettled(k, "the pattern")
 
     @staticmethod
     def _correct(plan, F_tr, r, free, delta, F, stats):
@@ -579,6 +573,11 @@ class ActiveSetStepper(Stepper):
         bad = np.flatnonzero(~(eq <= self.check_tol))
         if bad.size:
             self._fail(int(rows[bad[0]]) - 1, {"equilibrium": float(eq[bad[0]])})
+
+    def _unsettled(self, k, what):
+        return SolverError(f"active-set: increment {k}: {what} did not settle in "
+                           f"{self.max_iter} iterations; raise max_iter",
+                           backend=self.name, status="max_iter")
 
     def _fail(self, k, res):
         name = max(res, key=lambda r: math.inf if res[r] != res[r] else res[r])

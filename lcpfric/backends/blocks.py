@@ -26,7 +26,6 @@ not positive definite raises :class:`~lcpfric.errors.SolverError` (``status="not
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg as sla
 from scipy.linalg import lapack
 
 from ..errors import SolverError

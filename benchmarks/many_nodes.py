@@ -1,0 +1,151 @@
+"""The many-node goals of the active-set backend, measured side by side in one run.
+
+``OPENBLAS_NUM_THREADS=1 python benchmarks/many_nodes.py [--quick] [--out benchmarks/results]``
+
+1. **n = 400, dense K** (the chain of the issue: k_coupling = 0.5, P1 per node in [1.2, 2] so
+   every node separates, Q1 in [0.5, 2], random phases; 500 steps per cycle plus the 800
+   separation instants placed on the grid): CPU seconds per step of one cycle of ``active-set``,
+   ``osqp`` and ``clarabel`` on the same scene (events located: the default of all three),
+   their ratios, and the largest relative difference of W.
+2. **n = 4000, dense SPD K** (``K = A Aᵀ/n + I``, full contact, 500 steps per cycle, events
+   not located: one problem per step, first order): CPU seconds per step of the third cycle
+   (the steady regime), and the same in products of the dense compliance C with a vector (the
+   floor), timed in the same run.
+3. **n = 1e5, sparse chain** (common normal load P = 1 + 1.5 sin ωt, so the grid keeps its 2000
+   steps; Q1 and phases per node): a full steady state with ``history=False``, in a child
+   process: wall seconds, cycles, peak resident memory.
+
+``--quick`` runs n = 100 and 1000 and 1e4 instead (about a minute). The results are written to
+``many-nodes.md``. CPU times are taken with ``time.process_time`` (the machine is shared).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+import lcpfric
+from lcpfric.methods import get_stepper
+from lcpfric.scene import make_scene
+
+
+def separating_chain(n, seed=0):
+    rng = np.random.default_rng(seed)
+    return lcpfric.chain(n, k_coupling=0.5, P1=rng.uniform(1.2, 2.0, n),
+                         Q1=rng.uniform(0.5, 2.0, n), phi=rng.uniform(0, 2 * np.pi, n))
+
+
+def dense_spd(n, seed=0):
+    from lcpfric.model import ContactSystem, Harmonic, IndependentSprings
+
+    rng = np.random.default_rng(seed)
+    A = rng.standard_normal((n, n)) / np.sqrt(n)
+    K = A @ A.T + np.eye(n)
+    P1, Q1, phi = rng.uniform(0.1, 0.8, n), rng.uniform(0.5, 2.0, n), rng.uniform(0, 6.3, n)
+    return ContactSystem(K, np.ones(n), tuple(Harmonic(0.0, Q1[i], phi[i]) for i in range(n)),
+                         IndependentSprings(tuple(Harmonic(1.0, P1[i]) for i in range(n))))
+
+
+def cycle_seconds(method, scene, cycles=1, **options):
+    """CPU seconds per step of the last of ``cycles`` cycles, and its W."""
+    stepper = get_stepper(method, **options)
+    state = stepper.init(scene)
+    for _ in range(cycles):
+        t = time.process_time()
+        state, cyc = stepper.cycle(scene, state)
+        dt = time.process_time() - t
+    return dt / scene.steps, cyc.W
+
+
+def product_seconds(M, reps=20):
+    x = np.random.default_rng(1).standard_normal(M.shape[0])
+    M @ x
+    t = time.process_time()
+    for _ in range(reps):
+        M @ x
+    return (time.process_time() - t) / reps
+
+
+def goal_ratios(n, steps=500):
+    scene = make_scene(separating_chain(n), steps)
+    out = {"n": n, "steps": scene.steps}
+    for m in ("active-set", "osqp", "clarabel"):
+        out[m] = cycle_seconds(m, scene)
+    return out
+
+
+def goal_products(n, steps=500):
+    system = dense_spd(n)
+    scene = make_scene(system, steps)
+    sec, W = cycle_seconds("active-set", scene, cycles=3, locate_events=False)
+    floor = product_seconds(np.linalg.inv(system.stiffness))
+    return {"n": n, "steps": scene.steps, "seconds": sec, "floor": floor, "W": W}
+
+
+def goal_sparse(n, steps=2000):
+    code = f"""
+import json, resource, time
+import numpy as np, lcpfric
+t0 = time.perf_counter()
+rng = np.random.default_rng(0)
+s = lcpfric.chain({n}, k_coupling=0.5, P0=1.0, P1=1.5, Q1=rng.uniform(0.5, 2.0, {n}),
+                  phi=rng.uniform(0, 2 * np.pi, {n}), sparse=True)
+r = lcpfric.steady_state(s, "active-set", {steps}, history=False, locate_events=False)
+print(json.dumps({{"seconds": time.perf_counter() - t0, "cycles": r.cycles, "W": r.W,
+                  "converged": r.converged, "steps": r.steps_used,
+                  "rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}}))
+"""
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    return {"n": n, **json.loads(res.stdout.strip().splitlines()[-1])}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--out", default="benchmarks/results")
+    args = ap.parse_args(argv)
+    n1, n2, n3 = (100, 1000, 10_000) if args.quick else (400, 4000, 100_000)
+    lines = ["# Many nodes: the active-set backend's goals", "",
+             f"Reproduce: `OPENBLAS_NUM_THREADS=1 python benchmarks/many_nodes.py"
+             f"{' --quick' if args.quick else ''}` (CPU seconds; wall seconds for the sparse "
+             f"steady state).", ""]
+    r = goal_ratios(n1)
+    Ws = [r[m][1] for m in ("active-set", "osqp", "clarabel")]
+    spread = (max(Ws) - min(Ws)) / max(abs(w) for w in Ws)
+    a, o, c = (r[m][0] for m in ("active-set", "osqp", "clarabel"))
+    lines += [f"## Dense chain, n = {n1} ({r['steps']} steps in the cycle, events located)", "",
+              "| method | ms per step | active-set faster by | W |", "|---|---|---|---|",
+              f"| active-set | {1e3 * a:.3g} | 1 | {Ws[0]!r} |",
+              f"| osqp | {1e3 * o:.3g} | {o / a:.1f}x | {Ws[1]!r} |",
+              f"| clarabel | {1e3 * c:.3g} | {c / a:.1f}x | {Ws[2]!r} |", "",
+              f"Largest relative difference of W: {spread:.1e}.", ""]
+    print("\n".join(lines[-9:]), flush=True)
+    p = goal_products(n2)
+    lines += [f"## Dense SPD K, n = {n2} (full contact, {p['steps']} steps, third cycle, "
+              f"events not located)", "",
+              f"{1e3 * p['seconds']:.3g} ms per step; one product with C: "
+              f"{1e3 * p['floor']:.3g} ms; **{p['seconds'] / p['floor']:.1f} products per "
+              f"step**.", ""]
+    print("\n".join(lines[-3:]), flush=True)
+    s = goal_sparse(n3)
+    lines += [f"## Sparse chain, n = {n3:g} (2000 steps per cycle, history=False)", "",
+              f"Full steady state (build, scene, cycles): {s['seconds']:.1f} s wall, "
+              f"{s['cycles']} cycles (converged: {s['converged']}), {s['steps']} steps per "
+              f"cycle, peak resident memory {s['rss_mb']:.0f} MB, W = {s['W']!r}.", ""]
+    print("\n".join(lines[-3:]), flush=True)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    name = "many-nodes-quick.md" if args.quick else "many-nodes.md"
+    (out / name).write_text("\n".join(lines))
+    print(f"wrote {out / name}")
+
+
+if __name__ == "__main__":
+    main()
