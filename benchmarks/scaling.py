@@ -488,7 +488,9 @@ def write(rows: list[dict], settings: Settings, out_dir: Path) -> list[Path]:
 
 
 MARKERS = {"explicit": "o", "clarabel": "s", "osqp": "^", "active-set": "D"}
-LINES = {"chain": "-", "dense-spd": "--", "chain-sparse": ":", "chain-sparse-common": "-."}
+#: line style per system (dashes are the floors')
+LINES = {"chain": "-", "dense-spd": ":", "chain-sparse": (0, (4, 1, 1, 1, 1, 1)),
+         "chain-sparse-common": "-."}
 
 
 def plot(rows: list[dict], out_dir: Path) -> list[Path]:
