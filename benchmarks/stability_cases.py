@@ -23,7 +23,16 @@ The matrix:
 * dimensional scales: k11 from 1e-3 to 1e12 and P0 from 1e-6 to 1e6 at fixed (P̂1, Q̂1, φ);
 * multi-node: uncoupled nodes with stiffnesses spread by up to 1e8 (exact: the sum of the
   nodes' answers), and, reported separately as agreement between methods (no closed form
-  exists), a coupled chain with a stiffness ratio up to 1e8.
+  exists), a coupled chain with a stiffness ratio up to 1e8;
+* stiff: coupled systems with stiffness ratios 1 to 1e12 (``benchmarks/stiff_cases.py``: a
+  weakly grounded chain, a nearly rigid chain, a dense K = D K0 D). Their reference is not the
+  continuous-time W but the discretization itself, the periodic steady state of the
+  incremental projection on the case's grid, computed in mpmath
+  (``benchmarks/stiff_reference.py``, pinned in ``benchmarks/stiff_references.py``). Only the
+  methods that compute that discretization are judged (the convex backends and any method taking
+  ``locate_events``, run with ``locate_events=False``, ``tol=1e-13``), at the grid's steps and
+  to STIFF_RTOL = 1e-8 relative (every case's W moves by at most 6e-15 when its float64 inputs
+  move by 1e-15: the tolerance asks nothing beyond float64).
 
 References: every Ŵ comes from the independent high-precision solution
 (``benchmarks/exact_reference.py``, mpmath), pinned in ``benchmarks/stability_references.py``
@@ -34,12 +43,13 @@ pinned values agree with the analytical Eqs. (11)/(12) (a test checks it).
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, replace
 
 import numpy as np
 
-__all__ = ["Scenario", "scenarios", "run_scenario", "STEPPING_TOL"]
+__all__ = ["Scenario", "scenarios", "run_scenario", "applies", "STEPPING_TOL", "STIFF_RTOL"]
 
 PI = math.pi
 EXTREMES = (1e-6, 1e-3, 1.0, 1e3, 1e6)
@@ -48,6 +58,10 @@ PHASES = (0.0, 1e-9, PI / 2, PI - 1e-9)
 # discretization error at 4000 contact steps is below 1e-5 on every benchmark case)
 STEPPING_TOL = 1e-4
 EXACT_RTOL = 1e-9  # lcpfric.exact's stated accuracy where Ŵ is well-conditioned
+STIFF_RTOL = 1e-8  # the stiff group: the discretization itself, against its mpmath reference
+# the driver's options for the stiff group: no events (the reference's discretization), a tight
+# cycle test, room for the cycles a weakly contracting cycle map needs
+STIFF_OPTIONS = dict(locate_events=False, tol=1e-13, max_cycles=200)
 
 
 @dataclass(frozen=True)
@@ -60,6 +74,8 @@ class Scenario:
     scale: float | None = None  # size of typical values (None: the reference's own size)
     point: tuple | None = None  # (P̂1, Q̂1, φ) of a single-node scenario
     spread: float = 0.0  # change of the exact value under 16-ulp input changes (conditioning)
+    steps: int | None = None  # a fixed grid whose discretization is the reference (stiff group)
+    options: dict | None = None  # the driver's and the method's options (stiff group)
 
 
 def _node(P1, Q1, phi):
@@ -129,7 +145,46 @@ def scenarios(quick: bool = False) -> list[Scenario]:
             lambda ratio=ratio: _spread_nodes(ratio)[0],
             lambda ratio=ratio: (_spread_nodes(ratio)[1], "sum of the nodes' mpmath answers"),
             lambda r: r.W))
+    return out + stiff_scenarios()
+
+
+def stiff_scenarios() -> list[Scenario]:
+    """The stiff group: every case of benchmarks/stiff_cases.py with its pinned reference."""
+    from stiff_cases import stiff_cases
+    from stiff_references import STIFF_REFERENCE
+
+    out = []
+    for name, (system, steps) in stiff_cases().items():
+        W, pinned_steps = STIFF_REFERENCE[name][:2]
+        assert pinned_steps == steps, name  # the reference is of this grid
+        out.append(Scenario("stiff", name, lambda system=system: system,
+                            lambda W=W: (W, "mpmath reference of the discretization "
+                                            "(benchmarks/stiff_reference.py)"),
+                            lambda r: r.W, steps=steps, options=STIFF_OPTIONS))
     return out
+
+
+@functools.lru_cache(maxsize=None)
+def _takes_locate_events(method: str) -> bool:
+    from lcpfric.errors import LcpfricError
+    from lcpfric.methods import get_stepper
+
+    try:
+        get_stepper(method, locate_events=False)
+    except LcpfricError:
+        return False
+    return True
+
+
+def applies(scenario: Scenario, method: str) -> bool:
+    """Whether ``method`` is judged on ``scenario``: ``exact`` has no multi-node form here, and
+    the stiff group's reference is the discretization that only the methods taking
+    ``locate_events`` (run with False) compute."""
+    if scenario.group == "multi-node":
+        return method != "exact"
+    if scenario.group == "stiff":
+        return _takes_locate_events(method)
+    return True
 
 
 def boundary_cases() -> list[tuple[float, float, float]]:
@@ -201,15 +256,18 @@ def _spread_nodes(ratio):
     return system, exact
 
 
-def _judge(method, val, ref, scale, spread=0.0):
+def _judge(method, val, ref, scale, spread=0.0, fixed_grid=False):
     """(ok, relative error or None for a zero reference, error on the scale).
 
     ``exact`` must be within 1e-9 relative, or within ``spread`` (the change of the exact value
     under 16-ulp input changes) where the problem is ill-conditioned; a time-stepping method
-    within STEPPING_TOL relative or 1e-9 of the scale.
+    within STEPPING_TOL relative or 1e-9 of the scale; on a ``fixed_grid`` (the stiff group,
+    whose reference is the discretization) within STIFF_RTOL relative.
     """
     err = abs(val - ref)
-    if method == "exact":
+    if fixed_grid:
+        ok = err <= STIFF_RTOL * abs(ref)
+    elif method == "exact":
         ok = err <= EXACT_RTOL * abs(ref) + spread
     else:
         ok = err <= STEPPING_TOL * abs(ref) + 1e-9 * scale
@@ -221,7 +279,8 @@ def run_scenario(scenario: Scenario, method: str, steps: int = 4000, refine: int
 
     A time-stepping method that misses the tolerance at ``steps`` is run again at
     ``refine * steps``: if it then meets it, the verdict is ``correct`` with a note that it needs
-    more steps (a discretization error, converging); if not, ``wrong``.
+    more steps (a discretization error, converging); if not, ``wrong``. A scenario with its own
+    ``steps`` (the stiff group) is run on that grid only, with its ``options``.
     """
     from lcpfric.errors import LcpfricError
     from lcpfric.periodic import steady_state
@@ -234,13 +293,15 @@ def run_scenario(scenario: Scenario, method: str, steps: int = 4000, refine: int
                scaled_error=None, verdict="", message="")
     try:
         model = scenario.build()
-        val = scenario.value(steady_state(model, method, steps))
+        fixed = scenario.steps is not None
+        val = scenario.value(steady_state(model, method, scenario.steps or steps,
+                                          **(scenario.options or {})))
         if not math.isfinite(val):
             row.update(value=val, verdict="wrong", message="non-finite result")
             return row
-        ok, rel, scaled = _judge(method, val, ref, scenario.scale, scenario.spread)
+        ok, rel, scaled = _judge(method, val, ref, scenario.scale, scenario.spread, fixed)
         row.update(value=val, rel_error=rel, scaled_error=scaled)
-        if not ok and method != "exact" and refine > 1:
+        if not ok and not fixed and method != "exact" and refine > 1:
             val2 = scenario.value(steady_state(model, method, steps * refine))
             ok, rel2, scaled2 = _judge(method, val2, ref, scenario.scale, scenario.spread)
             row["message"] = (f"error on the scale {scaled:.2e} at {steps} steps, "

@@ -100,6 +100,23 @@ def positive(name: str, value) -> float:
     return x
 
 
+def byte_budget(name: str, value, minimum: float = 1.0) -> float:
+    """A number of bytes: a real >= ``minimum``, or ``math.inf`` for no bound; strings and
+    booleans are refused."""
+    x = math.nan
+    if not (_not_a_number(value) or isinstance(value, (complex, np.complexfloating))):
+        try:
+            x = float(value)
+        except OverflowError:
+            x = math.inf
+        except (TypeError, ValueError):
+            pass
+    if not x >= minimum:  # NaN fails too
+        raise InputError(name, f"must be a number of bytes in [{minimum:g}, inf] (inf: no "
+                               f"bound), got {_short(value)}")
+    return x
+
+
 def boolean(name: str, value) -> bool:
     """Return ``value`` as a bool; only ``True``/``False`` (or numpy booleans) are accepted, not
     ``"yes"``, 1 or None."""

@@ -11,6 +11,7 @@ warning by ``on_nonconvergence``), never returned as converged.
 from __future__ import annotations
 
 import difflib
+import inspect
 import time
 import warnings
 from dataclasses import replace
@@ -22,12 +23,13 @@ from .errors import ConvergenceError, ConvergenceWarning, InputError
 from .methods import CLOSED_FORM, get_stepper
 from .model import ContactSystem, SingleNode
 from .results import CycleResult, State, SteadyState
-from .scene import Scene, make_scene
+from .scene import Scene, column_reduce, make_scene
 
 __all__ = ["steady_state", "cycle_change", "load_scales", "DRIVER_OPTIONS"]
 
 #: The driver's own keyword options (everything else goes to the method).
-DRIVER_OPTIONS = ("steps_per_cycle", "tol", "max_cycles", "on_nonconvergence", "placement", "u0")
+DRIVER_OPTIONS = ("steps_per_cycle", "tol", "max_cycles", "on_nonconvergence", "placement", "u0",
+                  "history")
 
 
 def cycle_change(du, v_span, dW, W, load_span):
@@ -71,14 +73,24 @@ def load_scales(scene, compliance) -> tuple[float, float]:
     """The loads' displacement and force scales of a scene: ``(c r, b)`` with r the largest
     range of a tangential load over the cycle, c the largest diagonal compliance and b the
     largest friction limit f N."""
-    r = float(np.max(np.ptp(scene.Q, axis=0), initial=0.0))
-    b = float(np.max(scene.N * scene.system.friction, initial=0.0))
-    return compliance * r, b
+    parts = column_reduce(scene.Q, lambda x: (np.min(x, axis=0), np.max(x, axis=0)))
+    lo = np.min([p[0] for p in parts], axis=0)
+    hi = np.max([p[1] for p in parts], axis=0)
+    r = float(np.max(hi - lo, initial=0.0))
+    return compliance * r, _largest_limit(scene)
+
+
+def _largest_limit(scene) -> float:
+    """The largest friction limit f N over the scene (chunk by chunk: Q and N may be
+    :class:`~lcpfric.scene.Rows`)."""
+    f = scene.system.friction
+    return float(max(column_reduce(scene.N, lambda x: float(np.max(x * f, initial=0.0)))))
 
 
 def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
                  tol: float = 1e-10, max_cycles: int = 100, on_nonconvergence: str = "raise",
-                 placement: str = "contact", u0=None, **options) -> SteadyState:
+                 placement: str = "contact", u0=None, history: bool = True,
+                 **options) -> SteadyState:
     """The periodic steady state and its dissipation per cycle.
 
     Parameters
@@ -110,6 +122,14 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
         separated.
     u0 : array_like, optional
         Initial tangential displacement (default zero).
+    history : bool
+        Keep every instant of the last cycle in the result (default). ``False`` keeps its
+        first and last instants only (``t``, ``v``, ``F``, ``N``, ``state`` then have two rows),
+        so that memory does not grow with steps x unknowns (1e5 nodes at 2000 steps would be
+        1.6 GB per series); convergence is then judged on the state at the cycle's start,
+        which determines the whole cycle, and on each unknown's range over the cycle. Time
+        steppers whose ``cycle`` takes ``history`` support it (``active-set``, ``explicit``,
+        ``projection``); the others raise InputError.
     **options
         The method's own options (solver tolerances and settings). An option that neither the
         driver nor the method takes raises :class:`InputError` naming the valid ones.
@@ -122,10 +142,17 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
                                                                 on_nonconvergence)
     solver = _method(method, options)
+    history = _checks.boolean("history", history)
+    if not history and (solver.kind == CLOSED_FORM
+                        or "history" not in inspect.signature(solver.cycle).parameters):
+        raise InputError("history", f"history=False is not supported by {solver.label!r} (it "
+                                    f"keeps the whole cycle); use 'active-set', 'explicit' or "
+                                    f"'projection', or history=True")
     if not isinstance(model, Scene):
         steps = _checks.positive_int("steps_per_cycle", steps_per_cycle, 4)
         size = model.m if isinstance(model, ContactSystem) else 1
-        memory.check(memory.steady_state_bytes(steps, getattr(solver, "label", ""), size),
+        memory.check(memory.steady_state_bytes(steps if history else 1,
+                                               getattr(solver, "label", ""), size),
                      "steps_per_cycle", f"a steady state with {steps} steps per cycle")
     if solver.kind == CLOSED_FORM:
         return solver.steady_state(model, steps_per_cycle, max_cycles=max_cycles)
@@ -150,10 +177,11 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     starts = [state.u]
     extrapolations = 0
     for _ in range(max_cycles):
-        state, cyc = solver.cycle(work, state)
+        state, cyc = (solver.cycle(work, state) if history
+                      else solver.cycle(work, state, history=False))
         W_cycles.append(cyc.W * scale * scale)
         if prev is not None:
-            change = cycle_change(np.max(np.abs(cyc.u - prev)), np.max(np.ptp(cyc.u, axis=0)),
+            change = cycle_change(np.max(np.abs(cyc.u - prev)), np.max(cyc.u_span),
                                   (cyc.W - prev_W), cyc.W, loads)
             if change <= tol:
                 break
@@ -167,7 +195,7 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     shakedown = _shakedown(cyc)
     if scale != 1.0:
         cyc = CycleResult(cyc.t, cyc.u * scale, cyc.F * scale, cyc.state, cyc.W * scale * scale,
-                          cyc.stats)
+                          cyc.stats, None if cyc.span is None else cyc.span * scale)
     converged = bool(change <= tol)
     result = _assemble(scene, solver, cyc, np.asarray(W_cycles), converged, change,
                        _requested(model, steps_per_cycle), time.perf_counter() - start)
@@ -219,14 +247,22 @@ def _extrapolate(starts: list, scene: Scene):
         shrink = np.where(norm > bound, bound / np.where(norm > 0, norm, 1.0), 1.0)
         Fp = (F2 * shrink[:, None]).ravel()
     if np.any(Fp != F):
-        u = u + system.compliance_matrix() @ (Fp - F)
+        u = u + system.solve(Fp - F)
     return u, Fp
 
 
+#: beyond this many unknowns the compliance scale is estimated (C is not formed)
+_COMPLIANCE_DENSE = 2000
+
+
 def _compliance_scale(system) -> float:
-    """The largest diagonal compliance (C = K⁻¹; 1/k for a diagonal K)."""
-    if system.is_diagonal():
-        return float(1.0 / np.min(np.diag(system.dense_stiffness())))
+    """The largest diagonal compliance, max C_ii (C = K⁻¹; 1/k for a diagonal K). Beyond
+    :data:`_COMPLIANCE_DENSE` unknowns C is not formed and the estimate
+    from below 1/min K_ii is used (a scale for the convergence test only)."""
+    K = system.stiffness
+    kdiag = np.asarray(K.diagonal(), dtype=float)
+    if system.is_diagonal() or system.m > _COMPLIANCE_DENSE:
+        return float(1.0 / np.min(kdiag))
     return float(np.max(np.diag(system.compliance_matrix())))
 
 
@@ -265,7 +301,7 @@ def _unit_scaled(scene: Scene) -> tuple[Scene, float]:
     two is exact in floating point, so the closed-form steppers give the same bits either way.
     """
     # the answer F lies within ±f N: its size is the largest friction limit
-    size = float(np.max(scene.N * scene.system.friction, initial=0.0))
+    size = _largest_limit(scene)
     if not np.isfinite(size) or size == 0.0:
         return scene, 1.0
     scale = float(2.0 ** np.round(np.log2(size)))
@@ -279,13 +315,14 @@ def _assemble(scene, solver, cyc, W_cycles, converged, change, requested,
               seconds) -> SteadyState:
     model = scene.model
     common = dict(cycles=len(W_cycles), converged=converged, method=solver.label,
-                  steps_requested=requested, steps_used=scene.steps, t=scene.t,
+                  steps_requested=requested, steps_used=scene.steps, t=cyc.t,
                   state=cyc.state if model is None else cyc.state[:, 0], seconds=seconds,
                   change=change, message="converged" if converged else "",
                   solver_stats=cyc.stats)
     if model is None:
+        N = scene.N if cyc.t.size == scene.t.size else scene.N[[0, -1]]
         return SteadyState(W=float(W_cycles[-1]), W_cycles=W_cycles, v=cyc.u, F=cyc.F,
-                           N=scene.N, **common)
+                           N=np.asarray(N), **common)
     # a single node is advanced in the units f P0 (force), f P0/k11 (displacement): J = Q̂1 Ŵ
     q1 = model.Q1_hat
     W_hat_cycles = W_cycles / q1 if q1 > 0 else np.zeros_like(W_cycles)

@@ -70,6 +70,11 @@ class CycleResult:
     ``u`` and ``F`` have shape (N+1, m); ``state`` (N+1, n). ``W`` is ``-∮ F · du``
     (:func:`lcpfric.steppers.dissipation.increment_dissipation` summed over the increments, or
     the exact integral between a stepper's events).
+
+    A cycle run without its history (``history=False``, for systems too large to keep every
+    instant) holds only the first and last instants in ``t``, ``u``, ``F`` and ``state``, and
+    in ``span`` each unknown's range (max - min) over the whole cycle; with the history
+    ``span`` is None (it is ``np.ptp(u, axis=0)``).
     """
 
     t: np.ndarray
@@ -78,6 +83,12 @@ class CycleResult:
     state: np.ndarray
     W: float
     stats: dict = field(default_factory=dict)
+    span: np.ndarray | None = None
+
+    @property
+    def u_span(self) -> np.ndarray:
+        """Each unknown's range over the cycle."""
+        return np.ptp(self.u, axis=0) if self.span is None else self.span
 
 
 @dataclass(frozen=True)

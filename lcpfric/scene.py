@@ -29,7 +29,7 @@ from . import _checks
 from .errors import InputError
 from .model import ContactSystem, SingleNode
 
-__all__ = ["Scene", "make_scene", "increments"]
+__all__ = ["Scene", "Rows", "make_scene", "increments", "column_reduce"]
 
 PLACEMENTS = ("contact", "uniform")
 
@@ -46,9 +46,10 @@ class Scene:
         The model the scene came from, for normalization of the results.
     t : (N+1,) ndarray
         The grid, ``t[0]`` to ``t[0] + period``.
-    Q : (N+1, m) ndarray
-        Tangential loads on the grid.
-    N : (N+1, n) ndarray
+    Q : (N+1, m) ndarray or Rows
+        Tangential loads on the grid (:class:`Rows`, computed when asked for, when Q and N
+        would take more than :data:`LAZY_BYTES`).
+    N : (N+1, n) ndarray or Rows
         Normal reactions on the grid (``max(P, 0)`` for independent springs).
     transitions : ndarray
         The separation / re-contact instants placed on the grid.
@@ -81,7 +82,9 @@ class Scene:
     def contact(self) -> np.ndarray:
         """(N+1, n) bool: node in contact (N > 0) at each grid instant."""
         if "contact" not in self._cache:
-            self._cache["contact"] = self.N > 0.0
+            N = self.N
+            self._cache["contact"] = (Rows(lambda t, fn=N.fn: fn(t) > 0.0, N.t, N.width)
+                                      if isinstance(N, Rows) else N > 0.0)
         return self._cache["contact"]
 
 
@@ -139,15 +142,89 @@ def make_scene(system_or_model, steps_per_cycle: int = 1000, *, placement: str =
         inner = transitions[(transitions > start + 1e-9 * h) & (transitions < end - 1e-9 * h)]
         grid = np.union1d(grid[~near], inner)
     grid[0], grid[-1] = start, end  # the cycle is exactly one period
-    Q = system.tangential(grid)
-    N = system.normal.reactions(grid)
     # Normal reactions within round-off of zero are zero: at the transition instants the loads'
     # roots are machine-precise, and the cycle's end (start + period) may be a root whose
     # evaluation leaves ~1e-13; treated as contact, that would turn a separated increment into a
     # contact one. The threshold is a few ulps of each node's load scale.
-    scale = np.max(system.normal.scale(grid), axis=0)
-    N[N <= 64 * np.finfo(float).eps * scale] = 0.0
+    zero = 64 * np.finfo(float).eps * _column_max(system.normal.scale, grid, system.n)
+
+    def reactions(t):
+        N = system.normal.reactions(t)
+        N[N <= zero] = 0.0
+        return N
+
+    if 8.0 * grid.size * (system.m + system.n) <= LAZY_BYTES:
+        Q, N = system.tangential(grid), reactions(grid)
+    else:
+        Q, N = Rows(system.tangential, grid, system.m), Rows(reactions, grid, system.n)
     return Scene(system, model, grid, Q, N, transitions, placement, steps)
+
+
+#: a scene whose Q and N would take more bytes than this keeps them as :class:`Rows`
+LAZY_BYTES = 256 * 2**20
+_CHUNK_BYTES = 32 * 2**20
+
+
+class Rows:
+    """The rows of Q or N on the grid, computed when asked for: a large scene (1e5 nodes, 2000
+    steps: 1.6 GB each as arrays) keeps its loads as functions of time.
+
+    ``rows[k]`` is the row at ``t[k]`` (1-D), ``rows[ks]`` (a slice or an index array) the rows
+    at those instants (2-D); ``rows / s`` scales the values; ``np.asarray(rows)`` builds the
+    whole array (what a method that needs it does; its memory is then checked like any
+    other). A method written for large systems asks for rows one instant at a time.
+    """
+
+    ndim = 2
+
+    def __init__(self, fn, t: np.ndarray, width: int, divisor: float = 1.0):
+        self.fn, self.t, self.width, self.divisor = fn, t, int(width), float(divisor)
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (self.t.size, self.width)
+
+    def __len__(self) -> int:
+        return self.t.size
+
+    def __getitem__(self, key):
+        rest = ()
+        if isinstance(key, tuple):
+            key, rest = key[0], key[1:]
+        x = self.fn(self.t[key])
+        if self.divisor != 1.0:
+            x = x / self.divisor
+        return x[(slice(None),) * (x.ndim - 1) + rest] if rest else x
+
+    def __truediv__(self, divisor):
+        return Rows(self.fn, self.t, self.width, self.divisor * float(divisor))
+
+    def __array__(self, dtype=None, copy=None):
+        from . import memory
+
+        memory.check(8.0 * self.t.size * self.width, "steps_per_cycle",
+                     f"the loads of the whole cycle ({self.t.size} instants x {self.width})")
+        out = np.concatenate([self[a:b] for a, b in chunks(self.t.size, self.width)])
+        return out if dtype is None else out.astype(dtype)
+
+
+def chunks(rows: int, width: int):
+    """``(start, stop)`` row ranges of about :data:`_CHUNK_BYTES` each."""
+    step = max(1, int(_CHUNK_BYTES // (8 * max(1, width))))
+    for a in range(0, rows, step):
+        yield a, min(rows, a + step)
+
+
+def column_reduce(x, fn) -> list:
+    """``fn`` of each chunk of rows of an array or of :class:`Rows` (for reductions over the
+    cycle that must not build the whole array)."""
+    return [fn(x[a:b]) for a, b in chunks(x.shape[0], x.shape[1])]
+
+
+def _column_max(fn, grid, width):
+    """Per column, the largest value of ``fn(t)`` over the grid, chunk by chunk."""
+    parts = [np.max(fn(grid[a:b]), axis=0) for a, b in chunks(grid.size, width)]
+    return np.max(parts, axis=0)
 
 
 def increments(x):

@@ -10,7 +10,7 @@ import math
 import pytest
 
 from lcpfric.methods import available_methods
-from stability_cases import node_points, run_scenario, scenarios  # benchmarks/, on the path
+from stability_cases import applies, node_points, run_scenario, scenarios  # benchmarks/
 from stability_references import MP_REFERENCE
 
 QUICK = scenarios(quick=True)
@@ -38,6 +38,12 @@ ALLOWED_ERRORS = {
     ("ratio:P1=0.5 Q1=5e+14 phi=1", "osqp"),
     ("ratio:P1=0.5 Q1=5e+19 phi=1", "clarabel"),
     ("ratio:P1=0.5 Q1=5e+19 phi=1", "osqp"),
+    # the float64 force-form backends (C = K⁻¹) stop with a solver status, or fail the residual
+    # check, at stiffness ratios 1e8 to 1e12 (Clarabel already on the weakly grounded chain at
+    # 1e4); with that check relaxed OSQP's W is off by 8e-2 to 1.1 on the rigid chain
+    ("stiff:chain-r1e4", "clarabel"),
+    *((f"stiff:{family}-r1e{e}", method) for family in ("chain", "stiff-chain", "dense")
+      for e in (8, 10, 12) for method in ("clarabel", "osqp")),
 }
 
 # Wrong numbers a method is known to give, as strict xfails (a fix makes them XPASS, and the
@@ -56,7 +62,7 @@ def _check(scenario, method, row):
 def _cases(scenario_list, methods):
     out = []
     for scenario, method in itertools.product(scenario_list, methods):
-        if method == "exact" and scenario.group == "multi-node":
+        if not applies(scenario, method):
             continue
         key = (_id(scenario), method)
         marks = ([pytest.mark.xfail(strict=True, reason=KNOWN_WRONG[key])]
@@ -80,6 +86,13 @@ BACKEND_SCENARIOS = ([s for s in QUICK if s.group == "boundary"][:12]
 @pytest.mark.parametrize("scenario,method", _cases(BACKEND_SCENARIOS, BACKENDS))
 def test_backends_never_wrong(scenario, method):
     _check(scenario, method, run_scenario(scenario, method, steps=1000, refine=4))
+
+
+@pytest.mark.parametrize("scenario,method",
+                         _cases([s for s in QUICK if s.group == "stiff"], BACKENDS))
+def test_backends_never_wrong_on_stiff_systems(scenario, method):
+    # the discretization against its mpmath reference, to 1e-8 relative
+    _check(scenario, method, run_scenario(scenario, method))
 
 
 def test_allowed_errors_name_real_runs():
@@ -107,7 +120,7 @@ def test_exact_correct_on_every_scenario():
     # the full matrix (extreme, boundary, extreme ratios 1e-20..1e20, dimensional): exact within
     # 1e-9 relative, or within the 16-ulp input spread where Ŵ is ill-conditioned
     for scenario in scenarios(quick=False):
-        if scenario.group == "multi-node":
+        if not applies(scenario, "exact"):
             continue
         row = run_scenario(scenario, "exact")
         assert row["verdict"] == "correct", row

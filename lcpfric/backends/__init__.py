@@ -3,8 +3,9 @@
 Every increment is the maximum-dissipation projection of the trial force onto the friction cone
 in the metric of K⁻¹, problem (P). The shared parts, in the order a step uses them:
 
-``problem``    the derivation of (P); :class:`IncrementProblem` (one per contact set) and
-               :class:`ScenePlan` (everything a scene's steps need, built once)
+``problem``    the derivation of (P); :class:`IncrementProblem` (one per contact set),
+               :class:`ScenePlan` (everything a scene's steps need, built once) and its
+               :class:`ProblemCache` (the sets' problems, under the byte budget ``plan_budget``)
 ``settings``   lcpfric's tight default settings per solver
 ``status``     lcpfric's solver outcomes and the advice for each
 ``checks``     the independent residual checks of every answer, and its acceptance
@@ -24,13 +25,13 @@ package is imported only when the method is used.
 
 from .base import ConvexData, ConvexStepper, quiet
 from .checks import accept, residuals
-from .problem import IncrementProblem, ScenePlan, triu_csc
+from .problem import DEFAULT_PLAN_BUDGET, IncrementProblem, ProblemCache, ScenePlan, triu_csc
 from .refine import refine_box, refine_disc
 from .settings import CONIC_METHODS, TIGHT_SETTINGS
 from .status import (INACCURATE, INFEASIBLE, MAX_ITER, NUMERICAL, SOLVED, TIME_LIMIT, UNKNOWN,
                      advice)
 
 __all__ = ["ConvexStepper", "ConvexData", "quiet", "accept", "residuals", "IncrementProblem",
-           "ScenePlan", "triu_csc", "refine_box", "refine_disc", "CONIC_METHODS",
-           "TIGHT_SETTINGS", "SOLVED", "INACCURATE", "INFEASIBLE", "MAX_ITER", "TIME_LIMIT",
-           "NUMERICAL", "UNKNOWN", "advice"]
+           "ProblemCache", "ScenePlan", "DEFAULT_PLAN_BUDGET", "triu_csc", "refine_box",
+           "refine_disc", "CONIC_METHODS", "TIGHT_SETTINGS", "SOLVED", "INACCURATE", "INFEASIBLE",
+           "MAX_ITER", "TIME_LIMIT", "NUMERICAL", "UNKNOWN", "advice"]

@@ -60,9 +60,10 @@ import numpy as np
 
 from .._checks import boolean, positive, positive_int
 from ..errors import InputError, SolverError
-from ..results import CycleResult, State, StepState
-from ..steppers.base import Stepper
+from ..results import State, StepState
+from ..steppers.base import Recorder, Stepper
 from ..steppers.dissipation import increment_dissipation
+from ..scene import column_reduce
 from .blocks import make_block
 from .checks import residuals, worst
 from .events import first_event, path_is_exact
@@ -73,10 +74,14 @@ STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
                                         int(State.BACKWARD), int(State.SEPARATION))
 BLOCKS = ("auto", "dense", "banded", "sparse")
 _EPS = np.finfo(float).eps
+_CHECK_ROWS = 64  # increments checked together for equilibrium
 
 
 class _Plan:
-    """What every step of a scene needs: K and its block, the loads, the limits, the scales."""
+    """What every step of a scene needs: K and its block, the loads, the limits, the scales.
+
+    The loads are read one instant at a time (:meth:`row`), so that a scene whose Q and N are
+    :class:`~lcpfric.scene.Rows` (1e5 nodes) is never built whole."""
 
     def __init__(self, scene, block: str):
         system = scene.system
@@ -85,30 +90,32 @@ class _Plan:
         self.K = K
         self.block = make_block(K, block)
         self.kdiag = np.asarray(K.diagonal(), dtype=float).copy()
-        self.Q = np.asarray(scene.Q, dtype=float)
-        self.N = np.asarray(scene.N, dtype=float)
-        if not (np.all(np.isfinite(self.Q)) and np.all(np.isfinite(self.N))):
+        self.Q, self.N = scene.Q, scene.N
+        self.friction = np.asarray(system.friction, dtype=float)
+        f = self.friction
+        sizes = column_reduce(self.Q, lambda x: float(np.max(np.abs(x), initial=0.0)))
+        sizes += column_reduce(self.N, lambda x: float(np.max(x * f, initial=0.0)))
+        if not all(np.isfinite(sizes)):
             raise InputError("scene", "the tangential loads and normal reactions on the grid "
                                       "must be finite; found NaN or inf")
-        self.friction = np.asarray(system.friction, dtype=float)
-        self.bound = self.N * self.friction
-        self.contact = np.asarray(scene.contact, dtype=bool)
-        scale = max(float(np.max(self.bound, initial=0.0)),
-                    float(np.max(np.abs(self.Q), initial=0.0)))
+        scale = max(sizes, default=0.0)
         self.force_scale = scale if scale > 0 else 1.0
         # the compliance scale of the residuals: 1/min k_ii (max C_ii for a diagonal K; C is
         # never formed)
         self.compliance_scale = float(1.0 / np.min(self.kdiag))
         self.diagonal = system.is_diagonal()
-        # per grid instant j, the nodes in contact at t_{j-1} that separate at t_j (None if none)
-        leaving = np.zeros_like(self.contact)
-        leaving[1:] = self.contact[:-1] & ~self.contact[1:]
-        self.separating = [row if row.any() else None for row in leaving]
+        self.row_norm = float(abs(K).sum(axis=1).max())  # ||K||_inf
+        self._rows: dict[int, tuple] = {}
 
-    def dof_mask(self, nodes: np.ndarray) -> np.ndarray:
-        """Node mask -> unknown mask."""
-        return np.repeat(nodes, self.dims) if self.dims > 1 else nodes
-
+    def row(self, k: int) -> tuple:
+        """``(Q, N, b = f N, in contact)`` at grid instant k (the last few are kept)."""
+        out = self._rows.get(k)
+        if out is None:
+            if len(self._rows) >= 4:
+                self._rows.clear()
+            N = self.N[k]
+            out = self._rows[k] = (self.Q[k], N, N * self.friction, N > 0.0)
+        return out
 
 @dataclass(frozen=True)
 class ActiveSetData:
@@ -121,10 +128,25 @@ class ActiveSetData:
         round-off, which the checks bound), the loads and limits on the grid.
     stats : dict
         ``solves``, ``iterations``, ``refinements``, ``single_changes``, ``max_residual``.
+    u_lo : (m,) ndarray
+        What the float64 displacements could not hold of the slips added to them (compensated
+        summation): on a weakly grounded system u is 1e12 times the slips, and adding them
+        step after step would otherwise random-walk u away from the forces.
+    Fc, u_of_Fc : (m,) ndarray
+        The forces as computed (``Q + K u`` before the slipping ones are put on their limits),
+        and the displacement array they belong to.
     """
 
     plan: _Plan
     stats: dict
+    u_lo: np.ndarray
+    Fc: np.ndarray
+    u_of_Fc: np.ndarray
+
+    def computed_forces(self, state) -> np.ndarray:
+        """``Fc`` if it belongs to ``state.u``, else ``state.F`` (a state whose displacement
+        was replaced, by the driver's extrapolation for instance)."""
+        return self.Fc if state.u is self.u_of_Fc else state.F
 
 
 class ActiveSetStepper(Stepper):
@@ -164,33 +186,49 @@ class ActiveSetStepper(Stepper):
         state = super().init(scene, u0)
         stats = {"solves": 0, "iterations": 0, "refinements": 0, "single_changes": 0,
                  "max_residual": 0.0, "events": 0}
-        return replace(state, data=ActiveSetData(plan, stats))
+        return replace(state, data=ActiveSetData(plan, stats, np.zeros(plan.m), state.F,
+                                                 state.u))
 
     def step(self, scene, k, state):
         data = state.data
         stats = dict(data.stats)
-        u1, F1, s, dW = self._increment(data.plan, k, state.u, state.F, stats)
-        return StepState(u1, F1, s, dW, replace(data, stats=stats))
+        du, F1, Fc, s, dW = self._increment(data.plan, k, state.F,
+                                            data.computed_forces(state), stats)
+        u1, lo = _accumulate(state.u, data.u_lo, du)
+        return StepState(u1, F1, s, dW, replace(data, stats=stats, u_lo=lo, Fc=Fc, u_of_Fc=u1))
 
-    def cycle(self, scene, state):
+    def cycle(self, scene, state, history: bool = True):
         data = state.data
         plan = data.plan
-        steps = scene.steps
-        U = np.empty((steps + 1, plan.m))
-        Fs = np.empty_like(U)
-        S = np.empty((steps + 1, plan.n), dtype=np.int8)
-        U[0], Fs[0], S[0] = state.u, state.F, state.state
-        u, F = state.u, state.F
+        record = Recorder(scene, state, history)
+        u, F, lo, Fc = state.u, state.F, data.u_lo, data.computed_forces(state)
         stats = dict(data.stats)
         W = 0.0
-        for k in range(steps):
-            u, F, s, dW = self._increment(plan, k, u, F, stats)
-            U[k + 1], Fs[k + 1], S[k + 1] = u, F, s
+        # the equilibrium check: for a dense K on blocks of rows (one matrix-matrix product
+        # per block), for a sparse K every step (a product costs O(nnz))
+        block = 1 if hasattr(plan.K, "tocsr") else min(scene.steps, _CHECK_ROWS)
+        Ub, Fb, Qb = (np.empty((block, plan.m)) for _ in range(3))
+        rows = np.empty(block, dtype=np.intp)
+        filled = 0
+        peak = float(np.max(np.abs(u), initial=0.0))
+        for k in range(scene.steps):
+            du, F, Fc, s, dW = self._increment(plan, k, F, Fc, stats)
+            u, lo = _accumulate(u, lo, du)
+            peak = max(peak, float(np.max(np.abs(u), initial=0.0)))
+            record(k + 1, u, F, s)
             W += dW
-        self._check_equilibrium(plan, U[1:], Fs[1:], np.arange(1, steps + 1))
-        end = StepState(U[-1].copy(), Fs[-1].copy(), S[-1].copy(), 0.0,
-                        replace(data, stats=stats))
-        return end, CycleResult(scene.t, U, Fs, S, W, self.stats(end))
+            Ub[filled], Fb[filled], Qb[filled], rows[filled] = u, F, plan.row(k + 1)[0], k + 1
+            filled += 1
+            if filled == block:
+                self._check_equilibrium(plan, Ub, Fb, Qb, rows, peak)
+                filled = 0
+        if filled:
+            self._check_equilibrium(plan, Ub[:filled], Fb[:filled], Qb[:filled], rows[:filled],
+                                    peak)
+        u = u.copy()
+        end = StepState(u, F.copy(), s.copy(), 0.0,
+                        replace(data, stats=stats, u_lo=lo.copy(), Fc=Fc, u_of_Fc=u))
+        return end, record.result(W, self.stats(end))
 
     def stats(self, state) -> dict:
         out = dict(state.data.stats)
@@ -198,31 +236,35 @@ class ActiveSetStepper(Stepper):
         return out
 
     # -- one increment -----------------------------------------------------------------------
-    def _increment(self, plan, k, u, F, stats):
-        """Increment k: ``(u, F, states, dW)`` at t_{k+1}.
+    def _increment(self, plan, k, F, Fc0, stats):
+        """Increment k from the forces at t_k (``F`` on their limits, ``Fc0 = Q + K u`` as
+        computed): ``(Δu, F, Fc, states, dW)`` at t_{k+1}. The trial force ``Q_{k+1} + K u_k``
+        is ``Fc0 + ΔQ`` (no product with K): the computed forces are carried, not the ones put
+        on the limits, so that the round-off of each solve is not dropped into a drift between
+        u and F (the equilibrium check of every cycle bounds what remains).
 
         One projection to t_{k+1}; on a coupled d = 1 system whose answer is not the exact end
         state (:func:`~lcpfric.backends.events.path_is_exact`), the increment is split at its
         events as the convex backends do, the rates at an event from this backend's own pattern
-        iteration (:meth:`_rates`)."""
-        j = k + 1
-        b = plan.bound[j]
-        contact = plan.contact[j]
-        u1, Fc, limit = self._project(plan, u, F + (plan.Q[j] - plan.Q[k]), b, contact,
-                                      stats, k)
-        F1, s = self._finish(plan, u1 - u, Fc, b, contact, stats, k)
-        dW = increment_dissipation(F, F1, u1 - u, plan.dims)
-        if (not self.locate_events or plan.dims != 1 or plan.diagonal
-                or path_is_exact(F, plan.bound[k], F1, limit, plan.separating[j],
-                                 plan.force_scale)):
-            return u1, F1, s, dW
+        iteration (:meth:`_rate_function`)."""
+        Qk, Nk, bk, ck = plan.row(k)
+        Qj, Nj, b, contact = plan.row(k + 1)
+        dQ = Qj - Qk
+        du, Fc, limit = self._project(plan, Fc0 + dQ, b, contact, stats, k)
+        F1, s = self._finish(plan, du, Fc, b, contact, stats, k)
+        dW = increment_dissipation(F, F1, du, plan.dims)
+        if not self.locate_events or plan.dims != 1 or plan.diagonal:
+            return du, F1, Fc, s, dW
+        leaving = ck & ~contact
+        separating = leaving if leaving.any() else None
+        if path_is_exact(F, bk, F1, limit, separating, plan.force_scale):
+            return du, F1, Fc, s, dW
         f = plan.friction
-        Qk, Nk = plan.Q[k], plan.N[k]
-        dQ, dN = plan.Q[j] - Qk, plan.N[j] - Nk
-        sep = (Nk + plan.N[j]) <= 0.0
-        inside = plan.contact[k] | contact
+        dN = Nj - Nk
+        sep = (Nk + Nj) <= 0.0
+        inside = ck | contact
         rates = self._rate_function(plan, stats, k)
-        a, ua, Fa = 0.0, u, F
+        a, moved, Fa, Fca = 0.0, np.zeros(plan.m), F, Fc0
         dW = 0.0
         for _ in range(4 * plan.n + 16):
             tau = first_event(plan.K, f, Fa, Qk + a * dQ, Nk + a * dN, dQ, dN, sep, a,
@@ -230,17 +272,17 @@ class ActiveSetStepper(Stepper):
             if tau is None:
                 break
             bt = f * (Nk + tau * dN)
-            ub, Fc, _ = self._project(plan, ua, Fa + (tau - a) * dQ, bt, inside, stats, k)
-            Fb, _ = self._finish(plan, ub - ua, Fc, bt, inside, stats, k)
+            dua, Fc, _ = self._project(plan, Fca + (tau - a) * dQ, bt, inside, stats, k)
+            Fb, _ = self._finish(plan, dua, Fc, bt, inside, stats, k)
             stats["events"] += 1
-            dW += increment_dissipation(Fa, Fb, ub - ua)
-            a, ua, Fa = tau, ub, Fb
-            u1, Fc, limit = self._project(plan, ua, Fa + (1.0 - a) * dQ, b, contact, stats, k)
-            F1, s = self._finish(plan, u1 - ua, Fc, b, contact, stats, k)
-            if path_is_exact(Fa, f * (Nk + a * dN), F1, limit, plan.separating[j],
-                             plan.force_scale):
+            dW += increment_dissipation(Fa, Fb, dua)
+            a, Fa, Fca = tau, Fb, Fc
+            moved += dua
+            du, Fc, limit = self._project(plan, Fca + (1.0 - a) * dQ, b, contact, stats, k)
+            F1, s = self._finish(plan, du, Fc, b, contact, stats, k)
+            if path_is_exact(Fa, f * (Nk + a * dN), F1, limit, separating, plan.force_scale):
                 break
-        return u1, F1, s, dW + increment_dissipation(Fa, F1, u1 - ua)
+        return moved + du, F1, Fc, s, dW + increment_dissipation(Fa, F1, du)
 
     def _rate_function(self, plan, stats, k):
         """The rate problem at an instant inside increment k, for
@@ -265,33 +307,170 @@ class ActiveSetStepper(Stepper):
 
         return rates
 
-    def _project(self, plan, u, F_tr, b, contact, stats, k):
-        """The increment's projection from the trial force: ``(u, Fc, limit)`` at its end,
-        ``Fc = Q + K u`` as computed and ``limit`` the nodes on a friction limit."""
-        if plan.dims != 1:
-            raise NotImplementedError
+    def _project(self, plan, F_tr, b, contact, stats, k):
+        """The increment's projection from the trial force: ``(Δu, Fc, limit)``, with
+        ``Fc = F^tr + K Δu`` as computed and ``limit`` the nodes on a friction limit.
+
+        The slip Δu is returned as solved, not as a difference of displacements: on a weakly
+        grounded system u can be 1e12 times the slips, and ``u_{k+1} - u_k`` would keep only
+        the last digits of Δu (the dissipation is computed from Δu)."""
         stats["solves"] += 1
+        if plan.dims == 2:
+            delta, Fc, slip = self._discs(plan, F_tr, b, contact, stats, k)
+            return delta, Fc, slip
         delta, Fc, (up, dn) = self._pattern(plan, F_tr, -b, b, ~contact, stats, k)
-        return u + delta, Fc, up | dn
+        return delta, Fc, up | dn
+
+    def _discs(self, plan, F_tr, b, contact, stats, k):
+        """The increment for d = 2 (see the module docstring): Newton's method on the
+        objective restricted to the free unknowns of a pattern, with a backtracking line
+        search, then the pattern updated; returns ``(δ, F, slipping nodes)``.
+
+        A slipping node that Newton's step would carry through ``Δu_i = 0`` (its slip reversed)
+        sticks; a sticking node whose force leaves its disc slips, starting from the slip it
+        would make alone."""
+        K, n = plan.K, plan.n
+        kn = plan.kdiag.reshape(n, 2).max(axis=1)
+        sep = ~contact
+        delta = np.zeros(plan.m)
+        F = F_tr.copy()
+        slip = np.zeros(n, dtype=bool)
+        tiny = 1e-14 * plan.force_scale * plan.compliance_scale
+        seen = set()
+        for _ in range(self.max_iter):
+            F2 = F.reshape(n, 2)
+            norm = np.hypot(F2[:, 0], F2[:, 1])
+            start = contact & ~slip & (norm > b * (1.0 + 4 * _EPS))
+            if start.any():  # the slip each would make alone, against its force
+                d2 = delta.reshape(n, 2)
+                d2[start] = -((norm[start] - b[start]) / (kn[start] * norm[start]))[:, None] \
+                    * F2[start]
+                F = F_tr + K @ delta
+            elif self._settled(plan, delta, F, b, slip, sep, tiny):
+                return delta, F, slip
+            slip = slip | start
+            key = np.packbits(slip).tobytes()
+            if key in seen and not start.any():
+                break
+            seen.add(key)
+            delta, F, slip = self._newton(plan, F_tr, delta, b, slip, sep, tiny, stats)
+            stats["iterations"] += 1
+        raise SolverError(f"active-set: increment {k}: the d = 2 pattern did not settle in "
+                          f"{self.max_iter} iterations; raise max_iter",
+                          backend=self.name, status="max_iter")
+
+    @staticmethod
+    def _settled(plan, delta, F, b, slip, sep, tiny):
+        """Whether the forces of the pattern's free nodes are at their targets."""
+        n = plan.n
+        F2, d2 = F.reshape(n, 2), delta.reshape(n, 2)
+        g = F2.copy()
+        nd = np.hypot(d2[:, 0], d2[:, 1])
+        g[slip] += (b[slip] / np.where(nd[slip] > 0, nd[slip], 1.0))[:, None] * d2[slip]
+        free = slip | sep
+        floor = 64 * _EPS * (plan.force_scale + np.abs(F2[free]).max(initial=0.0))
+        return float(np.abs(g[free]).max(initial=0.0)) <= floor
+
+    @staticmethod
+    def _newton(plan, F_tr, delta, b, slip, sep, tiny, stats):
+        """Newton's method on ``Φ(δ) = ½ δᵀKδ + F^trᵀδ + Σ_slip b_i ||δ_i||`` over the
+        unknowns of the slipping and separated nodes (the sticking ones fixed at 0)."""
+        import scipy.sparse as sp
+        from scipy.linalg import cho_factor, cho_solve
+        from scipy.sparse.linalg import splu
+
+        K, n = plan.K, plan.n
+        sparse = hasattr(K, "tocsc")
+        for _ in range(100):
+            free = slip | sep
+            dofs = np.flatnonzero(np.repeat(free, 2))
+            if dofs.size == 0:
+                return delta, F_tr + K @ delta, slip
+            d2 = delta.reshape(n, 2)
+            nd = np.hypot(d2[:, 0], d2[:, 1])
+            F = F_tr + K @ delta
+            g = F.reshape(n, 2).copy()
+            w = np.zeros(n)
+            w[slip] = b[slip] / nd[slip]
+            nu = d2 / np.where(nd > 0, nd, 1.0)[:, None]
+            g += w[:, None] * d2
+            gf = g.reshape(-1)[dofs]
+            floor = 64 * _EPS * (plan.force_scale + float(np.abs(F[dofs]).max(initial=0.0)))
+            if float(np.abs(gf).max(initial=0.0)) <= floor:
+                return delta, F, slip
+            # the curvature of b ||δ_i|| across the slip direction
+            blocks = w[:, None, None] * (np.eye(2)[None] - nu[:, :, None] * nu[:, None, :])
+            fn = np.flatnonzero(free)
+            Dff = sp.block_diag(list(blocks[fn]), format="csc") if sparse else None
+            if sparse:
+                H = K[dofs][:, dofs] + Dff
+                step = -splu(H.tocsc()).solve(gf)
+            else:
+                H = K[np.ix_(dofs, dofs)]
+                for i, node in enumerate(fn):
+                    H[2 * i:2 * i + 2, 2 * i:2 * i + 2] += blocks[node]
+                step = -cho_solve(cho_factor(H), gf)
+            full = np.zeros(plan.m)
+            full[dofs] = step
+            s2 = full.reshape(n, 2)
+            # the step stops where a slipping node's slip would vanish (its radial part
+            # reaches zero): that node sticks from there
+            radial = np.einsum("ij,ij->i", s2, nu)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                reach = np.where(slip & (radial < 0.0), nd / -radial, np.inf)
+            tmax = min(1.0, float(reach.min(initial=np.inf)))
+            phi0 = _objective(plan, F_tr, delta, b, slip)
+            slope = float(gf @ step)
+            t = tmax
+            # below round-off of Φ the decrease cannot be seen: Newton's full step is taken
+            # (it converges quadratically there)
+            noise = 64 * _EPS * (abs(phi0) + float(np.abs(full) @ np.abs(F)))
+            for _ in range(60):
+                trial = delta + t * full
+                if (-slope * t <= noise or _objective(plan, F_tr, trial, b, slip)
+                        <= phi0 + 1e-4 * t * slope):
+                    break
+                t *= 0.5
+            delta = trial
+            if t == tmax and tmax < 1.0:
+                stop = slip & (reach <= tmax * (1.0 + 1e-12))
+                delta.reshape(n, 2)[stop] = 0.0
+                slip = slip & ~stop
+            stats["refinements"] += 1
+        return delta, F_tr + K @ delta, slip
 
     def _pattern(self, plan, F_tr, lo, hi, free_always, stats, k):
         """The pattern iteration (d = 1): ``δ`` (zero on the sticking unknowns) and
         ``F = F^tr + K δ`` with every node either sticking (``δ_i = 0``, ``lo_i <= F_i <=
         hi_i``), on its upper bound with ``δ_i <= 0``, on its lower bound with ``δ_i >= 0``, or,
-        in ``free_always``, at ``F_i = 0``; also the final ``(upper, lower)`` masks."""
+        in ``free_always``, at ``F_i = 0``; also the final ``(upper, lower)`` masks.
+
+        Each iteration corrects the previous one rather than solving afresh: the nodes that
+        stop are put back (``δ_i = 0``), and ``K_FF Δ = (r - F)_F`` is solved for the nodes
+        whose force is off its target by more than round-off, so that a block that can solve
+        locally (:class:`~lcpfric.backends.blocks.BandedBlock`) touches only the parts of the
+        free set that changed. The first iteration starts from everything stuck (``δ = 0``,
+        ``F = F^tr``), whose update is the one-node guess."""
         block = plan.block
         kd = plan.kdiag
         bounded = ~free_always
-        up = bounded & (F_tr > hi)
-        dn = bounded & (F_tr < lo)
+        delta = np.zeros(plan.m)
+        F = F_tr.copy()
+        free = np.zeros(plan.m, dtype=bool)
+        up = dn = free
+        nup = bounded & (F_tr > hi)
+        ndn = bounded & (F_tr < lo)
         seen = set()
         single = False
         for _ in range(self.max_iter):
-            free = up | dn | free_always
+            nfree = nup | ndn | free_always
+            stop = np.flatnonzero(free & ~nfree)
+            if stop.size:  # nodes that stick again keep their start displacement
+                F += _product(plan.K, stop, -delta[stop])
+                delta[stop] = 0.0
+            up, dn, free = nup, ndn, nfree
             r = np.where(up, hi, np.where(dn, lo, 0.0))
-            idx = np.flatnonzero(free)
-            block.set(idx)
-            delta, F = self._solve(plan, F_tr, r, free, idx, stats)
+            self._correct(plan, F_tr, r, free, delta, F, stats)
             z = F - delta * kd
             nup = bounded & (z > hi)
             ndn = bounded & (z < lo)
@@ -306,52 +485,75 @@ class ActiveSetStepper(Stepper):
                 seen.add(key)
             if single:  # least index: change only the first node whose state is wrong
                 i = int(np.flatnonzero(changed)[0])
-                up[i], dn[i] = nup[i], ndn[i]
+                nup, ndn = up.copy(), dn.copy()
+                nup[i], ndn[i] = (z[i] > hi[i]) & bounded[i], (z[i] < lo[i]) & bounded[i]
                 stats["single_changes"] += 1
-            else:
-                up, dn = nup, ndn
         raise SolverError(f"active-set: increment {k}: the pattern did not settle in "
                           f"{self.max_iter} iterations; raise max_iter",
                           backend=self.name, status="max_iter")
 
     @staticmethod
-    def _solve(plan, F_tr, r, free, idx, stats):
-        """``δ`` (zero on the sticking unknowns) with ``(F^tr + K δ)_F = r_F``, refined on K
-        until the free forces are at round-off; returns ``(δ, F^tr + K δ)``."""
+    def _correct(plan, F_tr, r, free, delta, F, stats):
+        """Correct ``δ`` and ``F = F^tr + K δ`` (in place) so that ``F_F = r_F`` on the free
+        set, solving ``K_FF Δ_F = (r - F)_F`` where the forces are off by more than round-off,
+        then refining on K (iterative refinement) until they are at round-off."""
         block = plan.block
-        delta = block.solve(np.where(free, r - F_tr, 0.0))
-        F = F_tr + _product(plan.K, delta, idx)
+        idx = np.flatnonzero(free)
+        block.set(idx)
         # round-off of the forces: a few ulps of the largest of the terms summed
         floor = 8 * _EPS * (np.abs(F_tr[idx]) + np.abs(r[idx]) + plan.force_scale)
         best = math.inf
-        for _ in range(4):
+        for it in range(5):
             e = r[idx] - F[idx]
-            size = float(np.max(np.abs(e) / floor, initial=0.0))
-            if size <= 1.0 or size >= 0.5 * best:
-                break
+            off = np.abs(e) > floor
+            if not off.any():
+                return
+            size = float(np.max(np.abs(e) / floor))
+            if it and size >= 0.5 * best:
+                return  # refinement no longer gains: at the attainable accuracy
             best = size
-            corr = np.zeros(plan.m)
-            corr[idx] = e
-            d = block.solve(corr)
-            delta += d
-            F += _product(plan.K, d, idx)
-            stats["refinements"] += 1
-        return delta, F
+            rhs = np.zeros(plan.m)
+            rhs[idx] = e
+            cols, y = block.solve(rhs, idx[off])
+            delta[cols] += y
+            F += _product(plan.K, cols, y)
+            if it:
+                stats["refinements"] += 1
 
     def _finish(self, plan, du, Fc, b, contact, stats, k):
-        """Check the answer and put the slipping and separated forces exactly where they
-        belong; returns ``(F, node states)``."""
-        A = np.flatnonzero(contact)
-        res = residuals(Fc[A], du[A], b[A], plan.dims, plan.force_scale,
-                        plan.compliance_scale)
-        F = Fc.copy()
+        """Put the slipping and separated forces exactly where they belong, check the answer,
+        and return ``(F, node states)``.
+
+        The residuals of the other backends (cone, complementarity, stationarity) are computed
+        on these forces and the slips, and the equilibrium residual ``|F - Fc|`` compares them
+        with the forces computed from K: a node whose pattern put it on the wrong limit, or a
+        solve that lost digits, shows there. Its floor is the round-off of ``K Δu``,
+        ``16 ε ||K||_∞ max |Δu|``: on a weakly grounded system the slips of a gross slip are
+        1e12 times the forces' scale over the stiffness and float64 holds no more."""
         eps = self.check_tol * plan.compliance_scale * plan.force_scale
-        fwd = contact & (du > eps)
-        bwd = contact & (du < -eps)
-        F[fwd] = -b[fwd]
-        F[bwd] = b[bwd]
-        F[~contact] = 0.0
-        res["equilibrium"] = float(np.max(np.abs(F - Fc), initial=0.0)) / plan.force_scale
+        F = Fc.copy()
+        if plan.dims == 2:
+            A = np.flatnonzero(contact)
+            cols = (2 * A[:, None] + np.arange(2)).ravel()
+            d2, F2 = du.reshape(-1, 2), F.reshape(-1, 2)
+            nd = np.hypot(d2[:, 0], d2[:, 1])
+            fwd = contact & (nd > eps)
+            bwd = np.zeros_like(fwd)
+            F2[fwd] = -(b[fwd] / nd[fwd])[:, None] * d2[fwd]
+            F2[~contact] = 0.0
+        else:
+            A = cols = slice(None) if contact.all() else np.flatnonzero(contact)
+            fwd = contact & (du > eps)
+            bwd = contact & (du < -eps)
+            F[fwd] = -b[fwd]
+            F[bwd] = b[bwd]
+            F[~contact] = 0.0
+        res = residuals(F[cols], du[cols], b[A], plan.dims, plan.force_scale,
+                        plan.compliance_scale)
+        floor = 16 * _EPS * (plan.row_norm * float(np.max(np.abs(du), initial=0.0))
+                             + float(np.max(np.abs(Fc), initial=0.0)))
+        off = float(np.max(np.abs(F - Fc), initial=0.0))
+        res["equilibrium"] = max(off - floor, 0.0) / plan.force_scale
         bad = worst(res)
         stats["max_residual"] = max(stats["max_residual"], bad)
         if not bad <= self.check_tol:
@@ -360,13 +562,19 @@ class ActiveSetStepper(Stepper):
         s[~contact] = SEPARATION
         return F, s
 
-    def _check_equilibrium(self, plan, U, Fs, rows):
-        """``max |Q + K u - F| / s_F`` over the increments ending at ``rows``: the forces carried
-        from step to step (``Fc + ΔQ``) must not drift from ``Q + K u``."""
+    def _check_equilibrium(self, plan, U, Fs, Qs, rows, peak):
+        """``max |Q + K u - F| / s_F`` over the increments ending at ``rows`` (loads ``Qs``):
+        the forces carried from step to step (``F + ΔQ``) must not drift from ``Q + K u``.
+
+        Its floor is what float64 resolves: ``64 ε ||K||_∞ max |u|``, the largest |u| of the
+        cycle so far (``peak``). On a weakly grounded system in gross slip u is huge (1e10
+        times the loads' scale over the stiffness) and the forces are its small differences:
+        the displacements then fix the forces only to that floor, whatever the method."""
         R = (plan.K @ U.T).T
-        R += plan.Q[rows]
+        R += Qs
         R -= Fs
-        eq = np.abs(R).max(axis=1) / plan.force_scale
+        floor = 64 * _EPS * plan.row_norm * peak
+        eq = np.maximum(np.abs(R).max(axis=1) - floor, 0.0) / plan.force_scale
         bad = np.flatnonzero(~(eq <= self.check_tol))
         if bad.size:
             self._fail(int(rows[bad[0]]) - 1, {"equilibrium": float(eq[bad[0]])})
@@ -378,9 +586,27 @@ class ActiveSetStepper(Stepper):
                           backend=self.name, status="residual", residuals=res)
 
 
-def _product(K, x, idx):
-    """``K x`` for an x that is zero off ``idx``: by the rows of the unknowns in idx when they
-    are few (K symmetric), else whole."""
-    if idx.size * 3 < x.size and not hasattr(K, "tocsr"):
-        return x[idx] @ K[idx]
+def _accumulate(u, lo, du):
+    """``u + du`` by compensated (Kahan) summation; ``lo`` carries what u could not hold."""
+    y = du - lo
+    t = u + y
+    return t, (t - u) - y
+
+
+def _objective(plan, F_tr, delta, b, slip) -> float:
+    """``½ δᵀKδ + F^trᵀδ + Σ_slip b_i ||δ_i||`` (d = 2), the function Newton descends."""
+    d2 = delta.reshape(-1, 2)
+    Kd = plan.K @ delta
+    return float(0.5 * delta @ Kd + F_tr @ delta
+                 + b[slip] @ np.hypot(d2[slip, 0], d2[slip, 1]))
+
+
+def _product(K, cols, y):
+    """``K x`` for the x that is ``y`` on the unknowns ``cols`` and zero elsewhere: from those
+    columns (rows: K is symmetric) when they are few, else with the whole K."""
+    m = K.shape[0]
+    if 8 * cols.size < m:
+        return K[:, cols] @ y if hasattr(K, "tocsc") else y @ K[cols]
+    x = np.zeros(m)
+    x[cols] = y
     return K @ x

@@ -1,8 +1,9 @@
 """The public base of the convex-solver backends: :class:`ConvexStepper`.
 
 A backend solves problem (P) (:mod:`~lcpfric.backends.problem`) at every increment with its
-solver; this class does everything else: the scene's plan (one problem per contact set), the
-independent checks of every answer (:mod:`~lcpfric.backends.checks`), the active-set refinement
+solver; this class does everything else: the scene's plan (the problems of its contact sets,
+built on first use and held under the byte budget ``plan_budget``), the independent checks of
+every answer (:mod:`~lcpfric.backends.checks`), the active-set refinement
 (:mod:`~lcpfric.backends.refine`), the node states and the dissipation. Everything that depends
 on a scene lives in the state (:class:`ConvexData`), so one backend instance serves any number
 of scenes.
@@ -10,7 +11,8 @@ of scenes.
 Writing a backend (see also ``docs/architecture.md``): subclass :class:`ConvexStepper`, set
 ``name``, ``can_soc`` and ``STATUS_MAP`` (its statuses onto :mod:`~lcpfric.backends.status`),
 optionally ``settings_key`` (its entry in :data:`~lcpfric.backends.settings.TIGHT_SETTINGS`),
-and implement ``build``, ``solve`` and, if its bounds are not a box ``(-b, b)``, ``bounds``.
+and implement ``build``, ``solve`` and, if its bounds are not a box ``(-b, b)``, ``bounds``;
+``handle_bytes`` if the default estimate of its solver object's size does not fit.
 """
 
 from __future__ import annotations
@@ -21,14 +23,14 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .._checks import boolean, positive
+from .._checks import boolean, byte_budget, positive
 from ..errors import InputError, SolverError
 from ..results import CycleResult, State, StepState
 from ..steppers.base import Stepper
 from ..steppers.dissipation import increment_dissipation, scalar_share
 from .checks import accept, scalar_residuals, scalar_worst, worst
 from .events import first_event, path_is_exact
-from .problem import IncrementProblem, ScenePlan
+from .problem import DEFAULT_PLAN_BUDGET, IncrementProblem, ScenePlan
 from .settings import CONIC_METHODS, settings_for
 from .status import UNKNOWN, advice
 
@@ -42,12 +44,15 @@ class ConvexData:
     Attributes
     ----------
     plan : ScenePlan
-        The scene's plan, with one solver object per contact set (``prob.handle``).
+        The scene's plan: its problems, with their solver objects (``prob.handle``), are built
+        on first use and held under the backend's ``plan_budget``.
     bdata : list
-        Per grid instant, the bounds in the backend's own form (``bounds(prob, b)``).
+        Per grid instant, the bounds in the backend's own form (``bounds(prob, b)``), filled on
+        first use (None before).
     stats : dict
-        ``solves``, ``refined``, ``unrefined`` and ``max_residual`` so far (a new dict in
-        every state).
+        ``solves``, ``refined``, ``unrefined``, ``max_residual`` and ``events`` so far, and the
+        plan's ``plans_built``, ``plans_evicted`` and ``plan_peak_bytes`` (bytes) at the time of
+        the state (a new dict in every state).
     """
 
     plan: ScenePlan
@@ -63,14 +68,22 @@ class ConvexStepper(Stepper):
     :data:`~lcpfric.backends.settings.TIGHT_SETTINGS`), and implements:
 
     ``build(prob, settings)``
-        Build the solver object for an :class:`IncrementProblem` (called once per contact set,
-        with the settings for its d) and return it; it is stored as ``prob.handle``.
+        Build the solver object for an :class:`IncrementProblem` (called when the plan builds
+        the problem of a contact set, with the settings for its d) and return it; it is stored
+        as ``prob.handle``. A set whose problem was dropped from the plan is built again: the
+        object must not rely on an earlier one (it starts cold).
     ``bounds(prob, b)``
         Turn the limits ``b`` (one per node of the set) into whatever the backend's update
-        takes (called once per grid instant, in ``init``). Default: the box ``(-b, b)``.
+        takes (called once per grid instant, and kept: it must not refer to ``prob``).
+        Default: the box ``(-b, b)``.
     ``solve(prob, q, bdata) -> (x, status, ok)``
         Update the linear term and the bounds, solve, and return the forces, the backend's own
         status and whether that status means solved.
+    ``handle_size`` or ``handle_bytes(prob)`` (optional)
+        The estimated bytes of the solver object of ``prob``, counted in the plan's budget
+        before it is built: by default ``handle_size = (per entry of the upper triangle of P,
+        per object)``, measured for each solver; a backend whose object does not scale so
+        overrides ``handle_bytes``.
 
     Parameters
     ----------
@@ -84,6 +97,14 @@ class ConvexStepper(Stepper):
         On coupled d = 1 systems, split an increment at the instant where a node starts to
         slip when the single projection cannot be exact there (see :meth:`_increment`): one
         more convex problem per event, and second order instead of first.
+    plan_budget : float
+        Bytes the scene's plan may hold for its contact sets' problems (``C_AA``, ``C[:, A]``,
+        the refinement's operators and :meth:`handle_bytes` of each solver object), at least 1
+        (``math.inf``: no bound; default :data:`~lcpfric.backends.problem.DEFAULT_PLAN_BUDGET`,
+        256 MiB). The least recently used problems are dropped, and built again when their set
+        comes back (the solver starting cold), so a scene whose contact set changes at every
+        step runs in bounded memory; the problem in use is always kept. See
+        :mod:`~lcpfric.backends.problem`.
     **settings
         Solver settings, overriding lcpfric's tight defaults.
     """
@@ -92,14 +113,19 @@ class ConvexStepper(Stepper):
     can_soc = False
     STATUS_MAP: dict[str, str] = {}
     settings_key = ""  # key into TIGHT_SETTINGS (default: the name)
+    # the size of a solver object, for the plan's budget: bytes per entry of the upper triangle
+    # of P (its copies of P, its KKT system, the factor) and per object
+    handle_size: tuple[int, int] = (64, 128 * 1024)
     solver: str | None = None  # the solver of a ':<solver>' backend
 
     def __init__(self, *, refine: bool = True, check_tol: float = 1e-6,
-                 active_tol: float = 1e-6, locate_events: bool = True, **settings):
+                 active_tol: float = 1e-6, locate_events: bool = True,
+                 plan_budget: float = DEFAULT_PLAN_BUDGET, **settings):
         self.refine = boolean("refine", refine)
         self.locate_events = boolean("locate_events", locate_events)
         self.check_tol = positive("check_tol", check_tol)
         self.active_tol = positive("active_tol", active_tol)
+        self.plan_budget = byte_budget("plan_budget", plan_budget)
         self.user_settings = dict(settings)
 
     @property
@@ -127,6 +153,12 @@ class ConvexStepper(Stepper):
     def solve(self, prob: IncrementProblem, q: np.ndarray, bdata):  # pragma: no cover
         raise NotImplementedError
 
+    def handle_bytes(self, prob: IncrementProblem) -> int:
+        """Estimated bytes of the solver object of ``prob`` (counted in the plan's budget), from
+        ``handle_size``: bytes per entry of the upper triangle of P, and per object."""
+        per_entry, per_object = self.handle_size
+        return per_entry * prob.triu_nnz + per_object
+
     def status_category(self, status) -> str:
         """lcpfric's status (SOLVED, MAX_ITER, ...) for the backend's own ``status``."""
         return self.STATUS_MAP.get(str(status), UNKNOWN)
@@ -140,14 +172,26 @@ class ConvexStepper(Stepper):
 
     def init(self, scene, u0=None) -> StepState:
         self.check(scene.system)
-        plan = ScenePlan(scene)
-        for prob in plan.problems:
-            if prob is not None:
-                prob.handle = self.guarded(self.build, prob, self.settings_for(prob.dims))
-        bdata = [self.bounds(p, b) if p is not None else None
-                 for p, b in zip(plan.step_problem, plan.node_bounds)]
-        stats = {"solves": 0, "refined": 0, "unrefined": 0, "max_residual": 0.0, "events": 0}
-        return replace(super().init(scene, u0), data=ConvexData(plan, bdata, stats))
+        plan = ScenePlan(scene, self._build, self.handle_bytes, self.plan_budget)
+        # the first step's problem now: the backend's settings are checked before any step
+        first = np.flatnonzero(plan.contact[1:].any(axis=1))
+        if first.size:
+            plan.problem(int(first[0]) + 1)
+        stats = {"solves": 0, "refined": 0, "unrefined": 0, "max_residual": 0.0, "events": 0,
+                 **plan.problems.counts()}
+        data = ConvexData(plan, [None] * len(plan.node_bounds), stats)
+        return replace(super().init(scene, u0), data=data)
+
+    def _build(self, prob: IncrementProblem):
+        """The solver object of a new problem (the plan's ``build``)."""
+        return self.guarded(self.build, prob, self.settings_for(prob.dims))
+
+    def _bounds_at(self, data: ConvexData, prob: IncrementProblem, j: int):
+        """The bounds of grid instant j in the backend's form, made on first use."""
+        bdata = data.bdata[j]
+        if bdata is None:
+            bdata = data.bdata[j] = self.bounds(prob, data.plan.node_bounds[j])
+        return bdata
 
     def guarded(self, fn, *args):
         """Call a backend function, re-raising the backend's own exceptions as SolverError."""
@@ -163,6 +207,7 @@ class ConvexStepper(Stepper):
         data = state.data
         stats = dict(data.stats)
         u1, F1, extra = self._increment(data, scene, k, state.u, state.F, stats)
+        stats.update(data.plan.problems.counts())
         rows = np.array([k + 1])
         self._check_equilibrium(data.plan, scene, rows, u1[None, :], F1[None, :])
         du = u1 - state.u
@@ -189,6 +234,7 @@ class ConvexStepper(Stepper):
             U[k + 1] = u
             Fs[k + 1] = F
             extra += dW
+        stats.update(plan.problems.counts())
         # what needs no solver is done for the whole cycle at once: the equilibrium check of
         # every increment, the node states and the dissipation
         rows = np.arange(1, steps + 1)
@@ -250,15 +296,14 @@ class ConvexStepper(Stepper):
         plan = data.plan
         j = k + 1
         if frac is None:
-            prob = plan.step_problem[j]
+            prob = plan.problem(j)
             if prob is None:  # everything separated: F = 0, u = -C Q
                 return -plan.CQ[j], np.zeros(plan.m), None
-            neg_CQ, b, bdata = plan.neg_CQ[j], plan.node_bounds[j], data.bdata[j]
+            neg_CQ, b = plan.neg_CQ[j], plan.node_bounds[j]
+            bdata = self._bounds_at(data, prob, j)
             CQ = plan.CQ[j]
         else:
             prob = plan.interior_problem(k)
-            if prob.handle is None:
-                prob.handle = self.guarded(self.build, prob, self.settings_for(prob.dims))
             CQ = plan.CQ[k] + frac * (plan.CQ[j] - plan.CQ[k])
             neg_CQ = -(CQ if prob.full else CQ[prob.dofs])
             b = plan.bound[k, prob.nodes] + frac * (plan.bound[j, prob.nodes]
@@ -348,7 +393,9 @@ class ConvexStepper(Stepper):
         Q = plan.Q[:, 0].tolist()
         CQ = plan.CQ[:, 0].tolist()
         B = plan.bound[:, 0].tolist()
-        probs = plan.step_problem
+        # one unknown: a single contact set besides the empty one, its problem held throughout
+        contact = plan.contact[:, 0].tolist()
+        prob = plan.problem(contact.index(True)) if True in contact else None
         bdata = data.bdata
         solve, guarded = self.solve, self.guarded
         fs = plan.force_scale
@@ -367,15 +414,17 @@ class ConvexStepper(Stepper):
         nsolve = nref = 0
         worst_seen = stats["max_residual"]
         for j in range(1, steps + 1):
-            prob = probs[j]
-            if prob is None:
+            if not contact[j]:
                 F1, u1, st = 0.0, -CQ[j], State.SEPARATION
             else:
                 b = B[j]
                 qb = prob.q
                 qv = -(CQ[j] + u)
                 qb[0] = qv
-                x, status, ok = guarded(solve, prob, qb, bdata[j])
+                bd = bdata[j]
+                if bd is None:
+                    bd = self._bounds_at(data, prob, j)
+                x, status, ok = guarded(solve, prob, qb, bd)
                 nsolve += 1
                 if not ok:
                     self._fail(scene, j - 1, status, None)
@@ -428,6 +477,7 @@ class ConvexStepper(Stepper):
         stats["refined"] += nref
         stats["unrefined"] += nsolve - nref
         stats["max_residual"] = worst_seen
+        stats.update(plan.problems.counts())
         Ua = np.array(U)[:, None]
         Fa = np.array(Fs)[:, None]
         Sa = np.array(S, dtype=np.int8)[:, None]

@@ -152,12 +152,11 @@ class DenseBlock(_Block):
         self.G = G
         self.order = np.concatenate([o, join])
 
-    def solve(self, r: np.ndarray) -> np.ndarray:
-        """``x`` (size m, zero off the set) with ``K_FF x_F = r_F``."""
-        x = np.zeros(self.m)
-        if self.order.size:
-            x[self.order] = self.G @ r[self.order]
-        return x
+    def solve(self, r: np.ndarray, support=None):
+        """``(unknowns, x)``: the solution of ``K_FF x_F = r_F`` on the unknowns of F
+        (``support``, the unknowns where r is not negligible, is not used: a dense K couples
+        everything)."""
+        return self.order, self.G @ r[self.order]
 
 
 class BandedBlock(_Block):
@@ -172,6 +171,7 @@ class BandedBlock(_Block):
         import scipy.sparse as sp
 
         self.perm = perm
+        self.natural = bool(np.array_equal(perm, np.arange(perm.size)))
         self.rank = np.empty_like(perm)
         self.rank[perm] = np.arange(perm.size)
         self.width = width
@@ -181,42 +181,66 @@ class BandedBlock(_Block):
         for d in range(w + 1):
             band[w - d, d:] = Kp.diagonal(d)
         self.band = band
-        self.factor = None
+        self.factor = self.sel = None
+        self.pos = np.empty(0, dtype=np.intp)
 
     def set(self, free: np.ndarray) -> None:
-        if self.factor is not None and np.array_equal(free, self.index):
+        """Make ``free`` the current set: its positions in band order and its segments
+        (maximal runs whose consecutive positions are at most w apart; two segments are not
+        coupled by K, so each can be solved alone)."""
+        if np.array_equal(free, self.index):
             return
         self.index = free
-        if free.size == 0:
-            self.factor = None
-            return
-        pos = np.sort(self.rank[free])  # the set in band order
-        self.sorted_pos = pos
+        pos = free if self.natural else np.sort(self.rank[free])
+        self.pos = pos
+        cut = np.flatnonzero(np.diff(pos) > self.width) + 1
+        self.starts = np.concatenate([[0], cut]).astype(np.intp)
+        self.stops = np.concatenate([cut, [pos.size]]).astype(np.intp)
+
+    def solve(self, r: np.ndarray, support=None):
+        """``(unknowns, x)`` with ``K_FF x_F = r_F``, computed on the segments that hold an
+        unknown of ``support`` (all when None): r must be negligible on the others, where the
+        solution is zero (and not returned)."""
+        pos = self.pos
+        if pos.size == 0:
+            return pos, np.zeros(0)
+        if support is None or 2 * len(support) > pos.size:
+            sel = pos
+        else:
+            at = np.searchsorted(pos, self.rank[support])
+            seg = np.unique(np.searchsorted(self.starts, at, side="right") - 1)
+            lengths = self.stops[seg] - self.starts[seg]
+            if 2 * lengths.sum() > pos.size:
+                sel = pos
+            else:
+                offs = np.repeat(self.starts[seg] - np.concatenate([[0], np.cumsum(lengths)[:-1]]),
+                                 lengths)
+                sel = pos[np.arange(lengths.sum()) + offs]
+        if self.factor is None or not np.array_equal(sel, self.sel):
+            self._factor(sel)
+        unknowns = sel if self.natural else self.perm[sel]
+        y, info = lapack.dpbtrs(self.factor, r[unknowns], lower=0)
+        return unknowns, y
+
+    def _factor(self, sel: np.ndarray) -> None:
+        """Banded Cholesky of ``K`` on the band positions ``sel`` (sorted)."""
         w = self.width
-        f = pos.size
+        f = sel.size
         band = np.zeros((w + 1, f))
-        for d in range(w + 1):
+        for d in range(1, w + 1):
             if d >= f:
                 break
-            gap = pos[d:] - pos[:f - d]  # distance in band order of the pair (i, i + d)
+            gap = sel[d:] - sel[:f - d]  # distance in band order of the pair (i, i + d)
             ok = gap <= w
             vals = np.zeros(f - d)
-            vals[ok] = self.band[w - gap[ok], pos[d:][ok]]
+            vals[ok] = self.band[w - gap[ok], sel[d:][ok]]
             band[w - d, d:] = vals
+        band[w] = self.band[w, sel]
         c, info = lapack.dpbtrf(band, lower=0)
         if info != 0:
             raise _not_spd("K_FF")
-        self.factor = c
+        self.factor, self.sel = c, sel
         self.stats["factorizations"] += 1
-
-    def solve(self, r: np.ndarray) -> np.ndarray:
-        x = np.zeros(self.m)
-        if self.factor is None:
-            return x
-        unknowns = self.perm[self.sorted_pos]
-        y, info = lapack.dpbtrs(self.factor, r[unknowns], lower=0)
-        x[unknowns] = y
-        return x
 
 
 class SparseBlock(_Block):
@@ -245,11 +269,10 @@ class SparseBlock(_Block):
             raise _not_spd(f"K_FF ({exc})") from None
         self.stats["factorizations"] += 1
 
-    def solve(self, r: np.ndarray) -> np.ndarray:
-        x = np.zeros(self.m)
-        if self.lu is not None:
-            x[self.index] = self.lu.solve(r[self.index])
-        return x
+    def solve(self, r: np.ndarray, support=None):
+        if self.lu is None:
+            return self.index, np.zeros(0)
+        return self.index, self.lu.solve(r[self.index])
 
 
 def make_block(K, kind: str = "auto"):

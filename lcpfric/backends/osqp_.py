@@ -3,8 +3,9 @@
 Problem (P) of each contact set (see :mod:`lcpfric.backends.problem`) is handed to OSQP as
 ``min ½ Fᵀ C_AA F + qᵀ F`` subject to ``-fN <= I F <= fN``; each step calls
 ``OSQP.update(q=..., l=..., u=...)`` and ``solve()``, warm-started from the previous answer of the
-same contact set (OSQP's ``warm_starting``, on by default). OSQP expresses only boxes and
-polyhedra, so d = 2 (a disc per node) is refused, never approximated.
+same contact set (OSQP's ``warm_starting``, on by default; cold after the plan's budget dropped
+the set's solver). OSQP expresses only boxes and polyhedra, so d = 2 (a disc per node) is
+refused, never approximated.
 
 OSQP's own polishing is off: lcpfric's active-set refinement does the same job and is checked,
 whereas OSQP's polish can report success on a poor answer (and prints to stdout).
@@ -41,13 +42,15 @@ class OSQPStepper(ConvexStepper):
     """Problem (P) by OSQP (d = 1), set up once per contact set, updated and warm-started.
 
     ``**settings`` are OSQP's own (``eps_abs``, ``max_iter``, ``rho``, ...) and override
-    lcpfric's tight defaults; ``refine``, ``check_tol`` and ``active_tol`` are those of
-    :class:`~lcpfric.backends.ConvexStepper`.
+    lcpfric's tight defaults; ``refine``, ``check_tol``, ``active_tol``, ``locate_events`` and
+    ``plan_budget`` are those of :class:`~lcpfric.backends.ConvexStepper`.
     """
 
     name = "osqp"
     can_soc = False
     STATUS_MAP = STATUS_MAP
+    # measured (resident memory per solver object, dense P of 50 to 400 unknowns)
+    handle_size = (64, 128 * 1024)
 
     def __init__(self, **options):
         import osqp

@@ -3,8 +3,9 @@
 qpsolvers has no persistent problem object: each step builds a ``qpsolvers.Problem`` with the
 contact set's ``P = C_AA`` (prepared once, sparse or dense as the solver prefers), the step's
 ``q`` and the box ``lb = -fN``, ``ub = fN``, and calls ``solve_problem``, warm-started from the
-set's previous answer where the solver takes initial values. Success is judged by lcpfric's
-residual check (see :mod:`lcpfric.backends.problem`), not by ``Solution.found`` alone.
+set's previous answer where the solver takes initial values (cold after the plan's budget dropped
+the set). Success is judged by lcpfric's residual check (see :mod:`lcpfric.backends.problem`),
+not by ``Solution.found`` alone.
 """
 
 from __future__ import annotations
@@ -43,7 +44,7 @@ class QpsolversStepper(ConvexStepper):
     ----------
     solver : str
         A name in ``qpsolvers.available_solvers`` (``"proxqp"``, ``"osqp"``, ...).
-    refine, check_tol, active_tol
+    refine, check_tol, active_tol, locate_events, plan_budget
         See :class:`~lcpfric.backends.ConvexStepper`.
     **settings
         Passed to ``qpsolvers.solve_problem`` (the solver's own settings), overriding
@@ -79,6 +80,12 @@ class QpsolversStepper(ConvexStepper):
             prob.P.toarray() if sp.issparse(prob.P) else np.asarray(prob.P))
         settings = {k: v for k, v in settings.items() if k != "verbose"}
         return {"P": P, "x": None, "settings": settings}
+
+    def handle_bytes(self, prob: IncrementProblem) -> int:
+        """The bytes of its copy of P (a CSC matrix for a sparse solver, 12 bytes per entry; a
+        dense solver reads ``prob.P`` itself) and of the last answer (the warm start)."""
+        s = prob.size
+        return (12 * (s if prob.diagonal else s * s) if self._sparse else 0) + 8 * s
 
     def solve(self, prob: IncrementProblem, q: np.ndarray, bdata):
         handle = prob.handle

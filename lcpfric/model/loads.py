@@ -23,7 +23,7 @@ import numpy as np
 from .. import _checks
 from ..errors import InputError
 
-__all__ = ["Load", "Harmonic", "Fourier", "Periodic"]
+__all__ = ["Load", "Harmonic", "Fourier", "Periodic", "LoadSet"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -248,3 +248,59 @@ class Periodic(Load):
         if self.derivative_func is not None:
             return np.asarray(self.derivative_func(np.asarray(t, dtype=float)), dtype=float)
         return Load.derivative(self, t)
+
+
+class LoadSet:
+    """Many loads evaluated together: ``x(t)`` with shape ``t.shape + (L,)``.
+
+    The :class:`Fourier` loads (:class:`Harmonic` among them) of one fundamental frequency are
+    evaluated as one array expression, ``mean + Σ_k (a_k cos ψ_k) sin(kωt) + (a_k sin ψ_k)
+    cos(kωt)``: two products per harmonic and node, and the sines and cosines of the instants
+    only, so that 1e5 nodes take a few array operations, not 1e5 calls or 1e5 sines (the
+    values agree with each load's own ``__call__`` to a few units of round-off of its
+    amplitude). Any other load is evaluated by its own call.
+    """
+
+    def __init__(self, loads):
+        self.loads = tuple(loads)
+        groups: dict[float, list[int]] = {}
+        self.others = []
+        for i, load in enumerate(self.loads):
+            if isinstance(load, Fourier):
+                groups.setdefault(load.omega, []).append(i)
+            else:
+                self.others.append(i)
+        self.groups = []
+        for omega, idx in groups.items():
+            members = [self.loads[i] for i in idx]
+            h = max(len(p.amplitudes) for p in members)
+            amps = np.zeros((h, len(idx)))
+            phases = np.zeros((h, len(idx)))
+            for col, p in enumerate(members):
+                amps[:len(p.amplitudes), col] = p.amplitudes
+                phases[:len(p.phases), col] = p.phases
+            mean = np.array([p.mean for p in members])
+            self.groups.append((np.asarray(idx, dtype=np.intp), omega, mean, amps * np.cos(phases),
+                                amps * np.sin(phases)))
+
+    def __len__(self) -> int:
+        return len(self.loads)
+
+    def __call__(self, t) -> np.ndarray:
+        t = np.asarray(t, dtype=float)
+        out = np.empty(t.shape + (len(self.loads),))
+        tt = t[..., None]
+        for idx, omega, mean, sin_coef, cos_coef in self.groups:
+            whole = idx.size == len(self.loads)  # one group in order: write in place
+            x = out if whole else np.empty(t.shape + mean.shape)
+            x[...] = mean
+            tmp = np.empty_like(x)
+            for k in range(sin_coef.shape[0]):
+                angle = (k + 1) * omega * tt
+                x += np.multiply(sin_coef[k], np.sin(angle), out=tmp)
+                x += np.multiply(cos_coef[k], np.cos(angle), out=tmp)
+            if not whole:
+                out[..., idx] = x
+        for i in self.others:
+            out[..., i] = self.loads[i](t)
+        return out

@@ -37,7 +37,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from ..errors import InputError
-from .loads import Load
+from .loads import Load, LoadSet
 
 __all__ = ["NormalModel", "IndependentSprings", "check_normal_model"]
 
@@ -89,6 +89,7 @@ class IndependentSprings:
         if not loads or not all(isinstance(p, Load) for p in loads):
             raise InputError("normal_loads", "needs one Load object per node")
         object.__setattr__(self, "loads", loads)
+        object.__setattr__(self, "_set", LoadSet(loads))
 
     @property
     def n(self) -> int:
@@ -105,8 +106,7 @@ class IndependentSprings:
 
     def loads_at(self, t) -> np.ndarray:
         """P(t) with shape ``t.shape + (n,)`` (negative in separation)."""
-        t = np.asarray(t, dtype=float)
-        return np.stack([np.broadcast_to(p(t), t.shape) for p in self.loads], axis=-1)
+        return self._set(t)
 
     def reactions(self, t) -> np.ndarray:
         """N(t) = max(P(t), 0) with shape ``t.shape + (n,)``."""

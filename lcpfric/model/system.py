@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import _checks
 from ..errors import InputError
-from .loads import Load
+from .loads import Load, LoadSet
 from .normal import NormalModel, check_normal_model
 
 __all__ = ["ContactSystem"]
@@ -153,9 +153,36 @@ class ContactSystem:
 
     def tangential(self, t) -> np.ndarray:
         """Q(t) with shape ``t.shape + (m,)``."""
-        t = np.asarray(t, dtype=float)
-        return np.stack([np.broadcast_to(q(t), t.shape) for q in self.tangential_loads], axis=-1)
+        if "loads" not in self._cache:
+            self._cache["loads"] = LoadSet(self.tangential_loads)
+        return self._cache["loads"](t)
 
     def is_diagonal(self) -> bool:
-        K = self.dense_stiffness()
-        return bool(np.count_nonzero(K - np.diag(np.diag(K))) == 0)
+        """K has no off-diagonal entry (uncoupled unknowns)."""
+        if "diagonal" not in self._cache:
+            K = self.stiffness
+            if hasattr(K, "tocoo"):
+                coo = K.tocoo()
+                off = np.count_nonzero(coo.data[coo.row != coo.col])
+            else:
+                off = np.count_nonzero(K - np.diag(np.diag(K)))
+            self._cache["diagonal"] = bool(off == 0)
+        return self._cache["diagonal"]
+
+    def solve(self, r: np.ndarray) -> np.ndarray:
+        """``K⁻¹ r`` by a factorization of K kept for the next call (dense Cholesky, or SuperLU
+        for a sparse K): no compliance matrix is formed."""
+        fac = self._cache.get("factor")
+        if fac is None:
+            K = self.stiffness
+            if hasattr(K, "tocsc"):
+                from scipy.sparse.linalg import splu
+
+                lu = splu(K.tocsc())
+                fac = self._cache["factor"] = lu.solve
+            else:
+                from scipy.linalg import cho_factor, cho_solve
+
+                c = cho_factor(K)
+                fac = self._cache["factor"] = lambda x, c=c: cho_solve(c, x)
+        return fac(np.asarray(r, dtype=float))

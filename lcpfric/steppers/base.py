@@ -15,9 +15,11 @@ Whoever adds a time-stepping method implements a subclass of :class:`Stepper`:
    ``scene.t[k]``, without changing the state passed in. ``dW`` is the dissipation
    ``-∫ F · du`` of the increment (:mod:`~lcpfric.steppers.dissipation` for a stepper that
    knows only the increment's ends), and ``F = Q(t_{k+1}) + K u`` must hold.
-5. ``cycle(scene, state)`` (optional): run ``step`` for k = 0..N-1 and collect the cycle. The
-   default loops over ``step``; a stepper may override it with a faster loop of the same meaning
-   (tested equal to the step-by-step loop).
+5. ``cycle(scene, state, history=True)`` (optional): run ``step`` for k = 0..N-1 and collect
+   the cycle (with ``history=False`` only its ends and each unknown's range: see
+   :class:`~lcpfric.results.CycleResult`). The default loops over ``step``; a stepper may
+   override it with a faster loop of the same meaning (tested equal to the step-by-step loop);
+   one that cannot run without the history omits the parameter, and the driver says so.
 6. ``stats(state)``: the statistics to report (solves, events), from the state.
 
 The periodic driver (:mod:`lcpfric.periodic`) owns the loop over cycles. Options a stepper
@@ -34,7 +36,7 @@ import numpy as np
 from ..errors import InputError
 from ..results import CycleResult, State, StepState
 
-__all__ = ["Stepper", "StepState", "TIME_STEPPER", "check_options"]
+__all__ = ["Stepper", "StepState", "TIME_STEPPER", "check_options", "Recorder"]
 
 TIME_STEPPER = "time-stepper"
 
@@ -80,20 +82,49 @@ class Stepper:
     def step(self, scene, k: int, state: StepState) -> StepState:  # pragma: no cover - abstract
         raise NotImplementedError
 
-    def cycle(self, scene, state: StepState) -> tuple[StepState, CycleResult]:
-        """Run one cycle from ``state`` at ``scene.t[0]``."""
+    def cycle(self, scene, state: StepState,
+              history: bool = True) -> tuple[StepState, CycleResult]:
+        """Run one cycle from ``state`` at ``scene.t[0]`` (``history=False``: keep its ends
+        and ranges only)."""
         steps = scene.steps
-        U = np.empty((steps + 1, scene.system.m))
-        F = np.empty_like(U)
-        S = np.empty((steps + 1, scene.system.n), dtype=np.int8)
-        U[0], F[0], S[0] = state.u, state.F, state.state
+        record = Recorder(scene, state, history)
         W = 0.0
         for k in range(steps):
             state = self.step(scene, k, state)
-            U[k + 1], F[k + 1], S[k + 1] = state.u, state.F, state.state
+            record(k + 1, state.u, state.F, state.state)
             W += state.dW
-        return state, CycleResult(scene.t, U, F, S, W, self.stats(state))
+        return state, record.result(W, self.stats(state))
 
     def stats(self, state: StepState) -> dict:
         """Backend statistics for the result (iterations, refinements, ...)."""
         return {}
+
+
+class Recorder:
+    """Collects a cycle's series: every instant (``history=True``), or only the first and the
+    last with each unknown's running range (``history=False``: O(m) memory, whatever the
+    number of steps)."""
+
+    def __init__(self, scene, state: StepState, history: bool = True):
+        steps, m, n = scene.steps, scene.system.m, scene.system.n
+        self.history = history
+        rows = steps + 1 if history else 2
+        self.t = scene.t if history else scene.t[[0, -1]]
+        self.U = np.empty((rows, m))
+        self.F = np.empty_like(self.U)
+        self.S = np.empty((rows, n), dtype=np.int8)
+        self.U[0], self.F[0], self.S[0] = state.u, state.F, state.state
+        if not history:
+            self.lo, self.hi = state.u.copy(), state.u.copy()
+
+    def __call__(self, k: int, u, F, s) -> None:
+        if self.history:
+            self.U[k], self.F[k], self.S[k] = u, F, s
+            return
+        self.U[1], self.F[1], self.S[1] = u, F, s
+        np.minimum(self.lo, u, out=self.lo)
+        np.maximum(self.hi, u, out=self.hi)
+
+    def result(self, W: float, stats: dict) -> CycleResult:
+        span = None if self.history else self.hi - self.lo
+        return CycleResult(self.t, self.U, self.F, self.S, W, stats, span)

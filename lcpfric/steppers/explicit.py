@@ -179,9 +179,9 @@ class ExplicitStepper(Stepper):
                           backend="explicit", status="recontact_sign")
 
     # ------------------------------------------------------------------------------------------
-    def cycle(self, scene, state):
-        if scene.system.m != 1:
-            return super().cycle(scene, state)
+    def cycle(self, scene, state, history: bool = True):
+        if scene.system.m != 1 or not history:
+            return super().cycle(scene, state, history)
         return _single_node_cycle(scene, state)
 
     def stats(self, state):

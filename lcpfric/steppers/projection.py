@@ -67,9 +67,9 @@ class ProjectionStepper(Stepper):
         dW = increment_dissipation(state.F, F, u - state.u, system.dims)
         return StepState(u, F, node_state, dW, kdiag)
 
-    def cycle(self, scene, state):
-        if scene.system.m != 1:
-            return super().cycle(scene, state)
+    def cycle(self, scene, state, history: bool = True):
+        if scene.system.m != 1 or not history:
+            return super().cycle(scene, state, history)
         # One node, d = 1: the same clamp in scalar arithmetic (about 20x faster than numpy on
         # one-element arrays).
         k = float(state.data[0])
