@@ -6,17 +6,20 @@ Usage (from the repository root)::
         [--budget SECONDS] [--methods a,b] [--systems a,b]
 
 writes ``DIR/scaling.csv``, ``scaling.md``, ``scaling.png`` and ``scaling.pdf`` (default
-``benchmarks/results``) and prints each case as it finishes. ``--quick`` (about a minute of CPU:
-the dense chain to n = 400 with every method, the sparse chain to n = 1e4 with active-set only,
-100 steps per cycle, one cycle per case, 30 CPU s per case) is
-what ``tests/test_scaling_bench.py`` runs, in-process on n = 10 and 40.
+``benchmarks/results``) and prints each case as it finishes. ``--quick`` is about a minute of
+CPU: the dense chain to n = 400 with every method, the sparse chain to n = 1e4 with the two
+active-set variants only, 100 steps per cycle, one cycle per case, 20 CPU s per case; its core function is what
+``tests/test_scaling_bench.py`` runs, in-process, on n = 10 and 40.
 
 What is measured
 ----------------
 Methods ``explicit``, ``clarabel``, ``osqp`` and ``active-set``, each at its defaults; the three
 last locate the events inside an increment (``locate_events=True``) and so compute one and the
 same discretization; ``explicit`` always locates its events (its own discretization: its first
-cycle differs, its steady state agrees). Systems (d = 1, friction 1, P0 = 1, seeded loads):
+cycle differs, its steady state agrees). Also ``active-set-no-events`` (``locate_events=False``:
+one projection per step, first order on coupled systems, so a different W), timed only: on the
+sparse chain the event location costs a factorization per event and the events per cycle grow
+with n, so it is what reaches n = 1e5. Systems (d = 1, friction 1, P0 = 1, seeded loads):
 
 * ``chain``: ``lcpfric.chain(n, k_coupling=0.5, P1 ~ U(1.2, 2), Q1 ~ U(0.5, 2),
   phi ~ U(0, 2π))`` with K stored dense, n = 10 to 4000. Every node separates at its own two
@@ -36,11 +39,12 @@ runs ``cycles`` cycles (``max_cycles=3``, ``on_nonconvergence="ignore"``, one cy
 ``--quick``) and reports
 
 * **s/step**: CPU seconds of the child (``time.process_time``) over cycles × scene steps. The
-  driver forms the dense K⁻¹ of every coupled system, whatever the method and even for a sparse
-  K (it takes its displacement scale from ``diag K⁻¹``); the child forms it (cached on the
-  system) before the timed cycles and reports its CPU time apart (**K⁻¹ s**): O(n³) once, it
-  would otherwise be spread over the steps. Its memory, 8 n² bytes, is in the peak; n where
-  three such arrays exceed half the memory are skipped (n = 1e5: 240 GB);
+  dense K⁻¹ is formed by the convex backends (their problem is written in C) and by the driver
+  up to 2000 unknowns (``periodic._COMPLIANCE_DENSE``; its displacement scale, ``max diag
+  K⁻¹``), even for a sparse K. The child forms it (cached on the system) before the timed
+  cycles when the case would, and reports its CPU time apart (**K⁻¹ s**, blank when not
+  formed): O(n³) once, it would otherwise be spread over the steps. Its memory, 8 n² bytes, is
+  in the peak; a case that forms it where three such arrays exceed half the memory is skipped;
 * **floor s**: the time of one product with the compliance C = K⁻¹ (n x n, dense systems) or
   with the sparse K (sparse systems), median of 7 batches, measured by one child per (system, n)
   in the same run; **ratio** = s/step / floor;
@@ -54,7 +58,7 @@ runs ``cycles`` cycles (``max_cycles=3``, ``on_nonconvergence="ignore"``, one cy
   largest relative difference of that W among clarabel, osqp and active-set (target 1e-10), and
   separately explicit's largest difference to them.
 
-A case is skipped when its predicted CPU time exceeds ``--budget`` (default 600 s; 30 s with
+A case is skipped when its predicted CPU time exceeds ``--budget`` (default 600 s; 20 s with
 ``--quick``): the time per step extrapolated in n from the method's two largest finished sizes
 (log-log slope, between 0.5 and 3; slope 1 from one size) times the scene's steps and the cycles
 of the timed and converged runs, plus K⁻¹ (n³ from the last size measured). A child that runs
@@ -90,7 +94,12 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-METHODS = ("explicit", "clarabel", "osqp", "active-set")
+#: the rows' method -> (lcpfric method, options)
+METHODS = {"explicit": ("explicit", {}),
+           "clarabel": ("clarabel", {"locate_events": True}),
+           "osqp": ("osqp", {"locate_events": True}),
+           "active-set": ("active-set", {"locate_events": True}),
+           "active-set-no-events": ("active-set", {"locate_events": False})}
 #: methods with one discretization (events located inside the increment by the same rule)
 LOCATED = ("clarabel", "osqp", "active-set")
 AGREE_TOL = 1e-10
@@ -145,10 +154,6 @@ def history_option() -> bool:
             or "history" in inspect.signature(periodic.steady_state).parameters)
 
 
-def method_options(method: str) -> dict:
-    return {} if method == "explicit" else {"locate_events": True}
-
-
 # -- what one child measures --------------------------------------------------------------------
 def peak_mb() -> float:
     """This process's peak resident memory (MB): VmHWM (its own address space) on Linux,
@@ -195,19 +200,30 @@ def measure_floor(system: str, n: int, steps: int = 500) -> dict:
     if system in SPARSE:
         A = model.stiffness
     else:  # C = K⁻¹, which the cases form too
-        out["setup_s"] = inverse_seconds(model)
+        out["setup_s"] = inverse_seconds(model, None)
         A = model.compliance_matrix()
     x = np.random.default_rng(0).standard_normal(n)
     out["floor_s"] = median_seconds(lambda: A @ x)
     return out
 
 
-def inverse_seconds(model) -> float:
-    """Form the driver's dense K⁻¹ (cached on the system: the driver takes its displacement
-    scale from it); its CPU seconds."""
+def forms_inverse(m: int, method: str | None) -> bool:
+    """Whether a steady state of ``method`` (None: of any) on a coupled system with m unknowns
+    forms the dense K⁻¹: the convex backends always (their problem is written in C), the driver
+    up to ``periodic._COMPLIANCE_DENSE`` unknowns (its displacement scale, ``max diag K⁻¹``)."""
+    from lcpfric import periodic
+
+    return method in (None, "clarabel", "osqp") or m <= getattr(periodic, "_COMPLIANCE_DENSE",
+                                                                  math.inf)
+
+
+def inverse_seconds(model, method: str | None) -> float | None:
+    """Form the dense K⁻¹ (cached on the system) if ``method``'s steady state would; its CPU
+    seconds (None if it would not)."""
+    if model.is_diagonal() or not forms_inverse(model.m, method):
+        return None
     t = time.process_time()
-    if not model.is_diagonal():
-        model.compliance_matrix()
+    model.compliance_matrix()
     return time.process_time() - t
 
 
@@ -254,23 +270,23 @@ def measure_case(system: str, n: int, method: str, cycles: int, agree: bool,
 
     model = build(system, n)
     scene = lcpfric.make_scene(model, steps_per_cycle(n, steps))
-    opts = method_options(method)
+    name, opts = METHODS[method]
     extra = {"history": False} if n >= 100_000 else {}
     out = {"scene_steps": scene.steps}
-    lcpfric.steady_state(build("chain", 3), method, 50, max_cycles=1,
+    lcpfric.steady_state(build("chain", 3), name, 50, max_cycles=1,
                          on_nonconvergence="ignore", **opts)  # imports, first calls
     watch = Watchdog(budget) if budget is not None else None  # covers K⁻¹ and the runs
     t = time.process_time()
     try:
-        out["setup_s"] = inverse_seconds(model)
+        out["setup_s"] = inverse_seconds(model, method)
         t = time.process_time()
-        r = lcpfric.steady_state(scene, method, tol=1e-300, max_cycles=cycles,
+        r = lcpfric.steady_state(scene, name, tol=1e-300, max_cycles=cycles,
                                  on_nonconvergence="ignore", **opts, **extra)
         cpu = time.process_time() - t
         out.update(status="ok", cycles=r.cycles, cpu_s=cpu,
                    s_per_step=cpu / (r.cycles * scene.steps), W=r.W, peak_mb=peak_mb())
         if agree:
-            c = lcpfric.steady_state(scene, method, tol=1e-12, max_cycles=AGREE_CYCLES,
+            c = lcpfric.steady_state(scene, name, tol=1e-12, max_cycles=AGREE_CYCLES,
                                      on_nonconvergence="ignore", **opts, **extra)
             out.update(W_converged=c.W, converged=c.converged, cycles_converged=c.cycles)
     except OverBudget:
@@ -291,7 +307,7 @@ def measure_case(system: str, n: int, method: str, cycles: int, agree: bool,
 @dataclass
 class Settings:
     systems: dict
-    methods: tuple = METHODS
+    methods: tuple = tuple(METHODS)
     cycles: int = 3
     steps: int = 500  # per cycle (four times that at n >= 1e5)
     budget: float = 600.0
@@ -320,17 +336,17 @@ def child(kind: str, **spec) -> dict:
     return json.loads(p.stdout.strip().splitlines()[-1])
 
 
-def too_big(n: int) -> str:
-    """Why n cannot run here ('' if it can): the driver forms the dense K⁻¹ of every coupled
-    system (its displacement scale, ``max diag K⁻¹``), about three n x n arrays at once."""
+def too_big(n: int, method: str) -> str:
+    """Why ``method`` cannot run at n here ('' if it can): a steady state that forms the dense
+    K⁻¹ (:func:`forms_inverse`) holds about three n x n arrays at once."""
     from lcpfric import memory
 
     need = 3 * 8.0 * n * n
     have = memory.physical_memory() or math.inf
-    if need <= 0.5 * have:
+    if not forms_inverse(n, method) or need <= 0.5 * have:
         return ""
-    return (f"the driver forms the dense K⁻¹ ({memory.format_bytes(need)} at its peak; "
-            f"memory {memory.format_bytes(have)})")
+    return (f"it forms the dense K⁻¹ ({memory.format_bytes(need)} at its peak; memory "
+            f"{memory.format_bytes(have)})")
 
 
 def predict(done: list, n: int, steps: int, runs: float) -> float | None:
@@ -355,12 +371,11 @@ def run(settings: Settings) -> list[dict]:
         stopped = {}
         for n in sizes:
             base = dict(system=system, n=n)
-            why = ("the driver has no history=False yet" if n >= 100_000 and not has_history
-                   else too_big(n))
-            if why:
-                for m in settings.methods:
-                    rows.append(_row(settings, {**base, "method": m, "status": "skipped",
-                                                "note": why}))
+            fixed = {m: _fixed_reason(settings, system, n, m, stopped, has_history)
+                     for m in settings.methods}
+            if all(fixed.values()):
+                rows += [_row(settings, {**base, "method": m, "status": "skipped",
+                                         "note": fixed[m]}) for m in settings.methods]
                 continue
             floor = (child("floor", system=system, n=n, steps=settings.steps)
                      if settings.isolate else measure_floor(system, n, settings.steps))
@@ -376,16 +391,13 @@ def run(settings: Settings) -> list[dict]:
                        "scene_steps": floor["scene_steps"]}
                 guess = predict(done[m], n, floor["scene_steps"], runs)
                 inverse = (setups[-1][1] * (n / setups[-1][0]) ** 3  # K⁻¹: O(n³)
-                           if setups and setups[-1][0] >= 100 else 0.0)
-                if system in SPARSE and m not in (settings.sparse_methods or (m,)):
-                    row.update(status="skipped", note="the sparse systems run only "
-                                                      + ", ".join(settings.sparse_methods))
-                elif m in stopped:
-                    row.update(status="skipped", note=stopped[m])
+                           if setups and setups[-1][0] >= 100 and forms_inverse(n, m) else 0.0)
+                if fixed[m]:
+                    row.update(status="skipped", note=fixed[m])
                 elif guess is not None and guess + inverse > settings.budget:
-                    row.update(status="skipped", note=(
-                        f"predicted {guess + inverse:.3g} CPU s (K⁻¹ {inverse:.2g}) > budget "
-                        f"{settings.budget:g}"))
+                    part = f" (K⁻¹ {inverse:.2g})" if inverse else ""
+                    row.update(status="skipped", note=f"predicted {guess + inverse:.3g} CPU s"
+                                                      f"{part} > budget {settings.budget:g}")
                 else:
                     spec = dict(system=system, n=n, method=m, cycles=settings.cycles,
                                 agree=agree, budget=settings.budget, steps=settings.steps)
@@ -403,6 +415,16 @@ def run(settings: Settings) -> list[dict]:
                         stopped[m] = f"over budget at n = {n}"
                 rows.append(_row(settings, row))
     return rows
+
+
+def _fixed_reason(settings, system: str, n: int, method: str, stopped: dict,
+                  has_history: bool) -> str:
+    """Why (system, n, method) is not run, before any measurement ('' if it may be)."""
+    if system in SPARSE and method not in (settings.sparse_methods or (method,)):
+        return "the sparse systems run only " + ", ".join(settings.sparse_methods)
+    if n >= 100_000 and not has_history:
+        return "the driver has no history=False yet"
+    return stopped.get(method) or too_big(n, method)
 
 
 def _row(settings, row: dict) -> dict:
@@ -468,8 +490,9 @@ def write(rows: list[dict], settings: Settings, out_dir: Path) -> list[Path]:
         "Systems: " + "; ".join(f"**{k}**: {SYSTEMS[k][0]}"
                                 for k in settings.systems) + ".", "",
         "Floor: one product with C = K⁻¹ (dense systems) or with the sparse K, median of 7; "
-        "ratio = s/step / floor. K⁻¹ s: the driver's dense K⁻¹ (it takes its displacement "
-        "scale from it), formed once per system before the timed cycles and so not in s/step. "
+        "ratio = s/step / floor. K⁻¹ s: the dense K⁻¹ that the case's steady state forms (the "
+        "convex backends; the driver up to 2000 unknowns), formed before the timed cycles and "
+        "so not in s/step. "
         "Peak MB: the case's child over a child that only builds the system.", "",
         "| system | n | method | scene steps | cycles | K⁻¹ s | s/step | floor s "
         "| ratio to floor | peak MB | W |", "|---|---|---|---|---|---|---|---|---|---|---|",
@@ -487,7 +510,8 @@ def write(rows: list[dict], settings: Settings, out_dir: Path) -> list[Path]:
     return [out_dir / "scaling.csv", out_dir / "scaling.md", *plot(rows, out_dir)]
 
 
-MARKERS = {"explicit": "o", "clarabel": "s", "osqp": "^", "active-set": "D"}
+MARKERS = {"explicit": "o", "clarabel": "s", "osqp": "^", "active-set": "D",
+           "active-set-no-events": "v"}
 #: line style per system (dashes are the floors')
 LINES = {"chain": "-", "dense-spd": ":", "chain-sparse": (0, (4, 1, 1, 1, 1, 1)),
          "chain-sparse-common": "-."}
@@ -504,7 +528,7 @@ def plot(rows: list[dict], out_dir: Path) -> list[Path]:
     from matplotlib.lines import Line2D
 
     ok = [r for r in rows if r["status"] == "ok"]
-    colors = dict(zip(METHODS, ("#1b9e77", "#d95f02", "#7570b3", "#e7298a")))
+    colors = dict(zip(METHODS, ("#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e")))
     with plotting.style():
         ax = fig.add_subplot()
         systems = [s for s in SYSTEMS if any(r["system"] == s for r in rows)]
@@ -542,11 +566,11 @@ def plot(rows: list[dict], out_dir: Path) -> list[Path]:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true",
-                    help="dense chain to n = 400, sparse (active-set) to 1e4, 100 steps, one cycle "
+                    help="dense chain to n = 400, sparse (active-set only) to 1e4, 100 steps, one cycle "
                          "(about a minute)")
     ap.add_argument("--out", default=str(HERE / "results"), help="output directory")
     ap.add_argument("--budget", type=float, default=None,
-                    help="CPU seconds per case (default 600; 30 with --quick)")
+                    help="CPU seconds per case (default 600; 20 with --quick)")
     ap.add_argument("--methods", default=",".join(METHODS))
     ap.add_argument("--systems", default=None, help=f"from {', '.join(SYSTEMS)}")
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
@@ -575,7 +599,8 @@ def main(argv=None) -> int:
 def quick_settings(**changes) -> Settings:
     """The ``--quick`` subset (``changes`` override it: the test's tiny sizes, in-process)."""
     base = Settings(systems={k: v[2] for k, v in SYSTEMS.items() if v[2]}, cycles=1, steps=100,
-                    budget=30.0, agree_max=40, sparse_methods=("active-set",))
+                    budget=20.0, agree_max=40,
+                    sparse_methods=("active-set", "active-set-no-events"))
     for k, v in changes.items():
         setattr(base, k, v)
     return base
