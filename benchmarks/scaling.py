@@ -8,8 +8,8 @@ Usage (from the repository root)::
 writes ``DIR/scaling.csv``, ``scaling.md``, ``scaling.png`` and ``scaling.pdf`` (default
 ``benchmarks/results``) and prints each case as it finishes. ``--quick`` is about a minute of
 CPU: the dense chain to n = 400 with every method, the sparse chain to n = 1e4 with the two
-active-set variants only, 100 steps per cycle, one cycle per case, 20 CPU s per case; its core function is what
-``tests/test_scaling_bench.py`` runs, in-process, on n = 10 and 40.
+active-set variants only, 100 steps per cycle, one cycle per case, 20 CPU s per case; its core
+function is what ``tests/test_scaling_bench.py`` runs, in-process, on n = 10 and 40.
 
 What is measured
 ----------------
@@ -490,10 +490,11 @@ def write(rows: list[dict], settings: Settings, out_dir: Path) -> list[Path]:
         "Systems: " + "; ".join(f"**{k}**: {SYSTEMS[k][0]}"
                                 for k in settings.systems) + ".", "",
         "Floor: one product with C = K⁻¹ (dense systems) or with the sparse K, median of 7; "
-        "ratio = s/step / floor. K⁻¹ s: the dense K⁻¹ that the case's steady state forms (the "
-        "convex backends; the driver up to 2000 unknowns), formed before the timed cycles and "
-        "so not in s/step. "
-        "Peak MB: the case's child over a child that only builds the system.", "",
+        "ratio = s/step / floor. K⁻¹ s: the dense K⁻¹ that the case's steady state forms "
+        "(the convex backends; the driver up to 2000 unknowns), formed before the timed "
+        "cycles and so not in s/step. Peak MB: the case's child over a child that only builds "
+        "the system. active-set-no-events: a different (coarser) discretization, timed only.",
+        "",
         "| system | n | method | scene steps | cycles | K⁻¹ s | s/step | floor s "
         "| ratio to floor | peak MB | W |", "|---|---|---|---|---|---|---|---|---|---|---|",
         *(_line(r) for r in rows), "",
@@ -566,8 +567,8 @@ def plot(rows: list[dict], out_dir: Path) -> list[Path]:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true",
-                    help="dense chain to n = 400, sparse (active-set only) to 1e4, 100 steps, one cycle "
-                         "(about a minute)")
+                    help="dense chain to n = 400, sparse (active-set only) to 1e4, 100 steps, "
+                         "one cycle (about a minute)")
     ap.add_argument("--out", default=str(HERE / "results"), help="output directory")
     ap.add_argument("--budget", type=float, default=None,
                     help="CPU seconds per case (default 600; 20 with --quick)")
