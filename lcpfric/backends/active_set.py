@@ -41,6 +41,15 @@ Newton's method on it, with a backtracking line search, converges quadratically;
 ``K_FF + Σ_slip (b_i / ||Δu_i||)(I - ν_i ν_iᵀ)`` (ν_i the slip direction) is symmetric positive
 definite. The pattern is updated from the natural map of the disc, as for d = 1.
 
+Limits
+------
+K must be a dense array or a scipy.sparse matrix: an operator known only by its products (a
+half-space compliance applied by FFT) is not accepted yet. For d = 2 the Newton matrix is formed
+and factorized at every iteration (correct, not fast at large n). With events located (the
+default, as for the convex backends) every event inside an increment costs one more pattern
+iteration; thousands of coupled nodes have several per step, and ``locate_events=False`` with
+more steps is then cheaper.
+
 Checks
 ------
 Every answer passes the independent residual checks of the other backends
@@ -155,8 +164,8 @@ class ActiveSetStepper(Stepper):
     Parameters
     ----------
     block : {"auto", "dense", "banded", "sparse"}
-        How ``K_FF`` is kept (:mod:`~lcpfric.backends.blocks`): by default the inverse, updated,
-        for a dense K; LAPACK's banded Cholesky for a sparse K of small bandwidth; SuperLU
+        How ``K_FF`` is kept (:mod:`~lcpfric.backends.blocks`): by default an inverse with a
+        low-rank correction for a dense K; LAPACK's banded Cholesky for a sparse K of small bandwidth; SuperLU
         otherwise.
     check_tol : float
         Largest residual accepted (relative to the problem scale), as for the other backends.

@@ -7,10 +7,12 @@ of the slipping and the separated nodes; a sticking node's displacement is fixed
 iterations, and between two time steps, F changes by the few nodes that start or stop slipping.
 Each block keeps what makes the next solve cheap, and is chosen from the form of K:
 
-``DenseBlock``   dense K: the inverse ``G = K_FF⁻¹``, kept by block bordering (nodes join F)
-                 and block Schur downdates (nodes leave F), one pass over G per change of the
-                 set, O(|F|² k) for k changes; rebuilt from a Cholesky factorization (LAPACK
-                 ``potrf``/``potri``) when more than a quarter of F changes.
+``DenseBlock``   dense K: the inverse ``G0`` of a base set and a low-rank (Woodbury)
+                 correction for the unknowns that joined or left since, so that a change of
+                 the set costs one product with G0 per joining unknown and a solve one product
+                 with G0; the correction is folded into G0 by matrix-matrix products when its
+                 rank grows, and G0 rebuilt from a Cholesky factorization (LAPACK
+                 ``potrf``/``potri``) when more than a quarter of F changes at once.
 ``BandedBlock``  sparse K of small bandwidth w (a chain has w = d; any K is first reordered by
                  reverse Cuthill-McKee): LAPACK's banded Cholesky (``pbtrf``/``pbtrs``) of
                  ``K_FF``, O(|F| w²) per change of F, reused while F is unchanged.
