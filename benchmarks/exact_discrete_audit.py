@@ -538,14 +538,19 @@ def shakedown_Q1(P1h, phi):
         z = q * complex(math.cos(phi), math.sin(phi))
         return abs(P1h + z) + abs(z - P1h) - 2
 
-    lo, hi = 0.0, 2.0
-    for _ in range(200):
+    return _bisect(lambda q: g(q) > 0, 0.0, 2.0, 200)[0]
+
+
+def _bisect(above, lo, hi, iterations):
+    """``(lo, hi)`` after ``iterations`` halvings of ``[lo, hi]``, keeping ``above(hi)``
+    true and ``above(lo)`` false."""
+    for _ in range(iterations):
         mid = 0.5 * (lo + hi)
-        if g(mid) > 0:
+        if above(mid):
             hi = mid
         else:
             lo = mid
-    return lo
+    return lo, hi
 
 
 def degenerate_cases(rng, extra, steps):
@@ -706,15 +711,10 @@ def shakedown_scan(case):
     spec = case["spec"]
     rec, checks = [], []
     Wq = lambda s: solve_exact(dict(spec, Q1=[s * q for q in spec["Q1"]]), rec)  # noqa: E731
-    lo, hi = 0.0, 1.0
+    hi = 1.0
     while Wq(hi) <= 0:
         hi *= 2
-    for _ in range(40):
-        mid = 0.5 * (lo + hi)
-        if Wq(mid) > 0:
-            hi = mid
-        else:
-            lo = mid
+    lo, hi = _bisect(lambda q: Wq(q) > 0, 0.0, hi, 40)
     Ws = [Wq(hi * (1 + d)) for d in (-1e-6, 1e-9, 1e-6, 1e-3)]
     mono = all(b >= a for a, b in zip(Ws, Ws[1:]))
     checks.append(dict(label=f"W non-decreasing across s*={hi:.6g}: {Ws}", W=Ws[-1], ref=Ws[-1],
