@@ -65,6 +65,36 @@ def test_blocks_agree_and_reordered_band():
     assert W == pytest.approx(ref, rel=1e-12)
 
 
+def test_dense_block_updates_fold_and_products():
+    """The dense block through a walk of free sets that change by a few unknowns (corrections,
+    folds) or by many (rebuilds): every solve and every product over the solved unknowns equals
+    numpy's on K itself."""
+    from lcpfric.backends.blocks import DenseBlock, FOLD_RANK
+
+    rng = np.random.default_rng(5)
+    m = 120
+    A = rng.standard_normal((m, m)) / np.sqrt(m)
+    K = A @ A.T + np.eye(m)
+    block = DenseBlock(K)
+    free = np.zeros(m, dtype=bool)
+    free[rng.choice(m, 50, replace=False)] = True
+    for it in range(60):
+        flip = rng.choice(m, 60 if it == 30 else int(rng.integers(1, 8)), replace=False)
+        free[flip] = ~free[flip]
+        sel = np.flatnonzero(free)
+        block.set(sel)
+        r = rng.standard_normal(m)
+        unknowns, x = block.solve(r)
+        assert np.array_equal(np.sort(unknowns), sel)
+        np.testing.assert_allclose(x, np.linalg.solve(K[np.ix_(unknowns, unknowns)],
+                                                        r[unknowns]), rtol=0, atol=1e-10)
+        y = rng.standard_normal(x.size)
+        np.testing.assert_allclose(block.product(unknowns, y), K[:, unknowns] @ y,
+                                   rtol=0, atol=1e-12)
+    assert block.stats["factorizations"] >= 2  # the first set and the large change
+    assert block.stats["updates"] > 40 and FOLD_RANK < 60
+
+
 def test_uncoupled_and_single_node_equal_the_projection():
     system = lcpfric.chain(4, k_coupling=0.0, P1=[0.5, 1.5, 0.2, 2.0], Q1=[1, 2, 0.5, 3],
                            phi=[0.1, 1.0, 2.0, 3.0])

@@ -22,9 +22,10 @@ free nodes F (slipping and separated) carry the forces ``r_F`` (``±b``, 0), so
 The pattern is then updated node by node from the natural map ``z_i = F_i - Δu_i / k_ii``
 (``z > b``: slip at +b; ``z < -b``: slip at -b; else stick): the semismooth Newton method for
 the box-constrained problem, which is the primal-dual active-set method of Hintermüller, Ito and
-Kunisch. It starts from the one-node guess (each node alone under its trial force), ends when the
-pattern repeats, and converges in a few iterations when few nodes change state, which is the
-case between two increments. Should it revisit a pattern (possible for a K that is not an
+Kunisch. It is warm-started from the previous increment's pattern (the nodes on their limits
+at the start of the increment keep slipping, and those whose trial force is out of its limits
+start to), ends when the pattern repeats, and converges in a few iterations when few nodes
+change state, which is the case between two increments. Should it revisit a pattern (possible for a K that is not an
 M-matrix), it continues with single changes, the lowest-numbered violated node first (Murty's
 least-index rule), which terminates for any symmetric positive definite K.
 
@@ -259,7 +260,8 @@ class ActiveSetStepper(Stepper):
         Qk, Nk, bk, ck = plan.row(k)
         Qj, Nj, b, contact = plan.row(k + 1)
         dQ = Qj - Qk
-        du, Fc, limit = self._project(plan, Fc0 + dQ, b, contact, stats, k)
+        warm = _on_limits(F, bk) if plan.dims == 1 else None
+        du, Fc, limit = self._project(plan, Fc0 + dQ, b, contact, stats, k, warm)
         F1, s = self._finish(plan, du, Fc, b, contact, stats, k)
         dW = increment_dissipation(F, F1, du, plan.dims)
         if not self.locate_events or plan.dims != 1 or plan.diagonal:
@@ -281,13 +283,15 @@ class ActiveSetStepper(Stepper):
             if tau is None:
                 break
             bt = f * (Nk + tau * dN)
-            dua, Fc, _ = self._project(plan, Fca + (tau - a) * dQ, bt, inside, stats, k)
+            dua, Fc, _ = self._project(plan, Fca + (tau - a) * dQ, bt, inside, stats, k,
+                                       _on_limits(Fa, f * (Nk + a * dN)))
             Fb, _ = self._finish(plan, dua, Fc, bt, inside, stats, k)
             stats["events"] += 1
             dW += increment_dissipation(Fa, Fb, dua)
             a, Fa, Fca = tau, Fb, Fc
             moved += dua
-            du, Fc, limit = self._project(plan, Fca + (1.0 - a) * dQ, b, contact, stats, k)
+            du, Fc, limit = self._project(plan, Fca + (1.0 - a) * dQ, b, contact, stats, k,
+                                          _on_limits(Fb, bt))
             F1, s = self._finish(plan, du, Fc, b, contact, stats, k)
             if path_is_exact(Fa, f * (Nk + a * dN), F1, limit, separating, plan.force_scale):
                 break
@@ -316,9 +320,12 @@ class ActiveSetStepper(Stepper):
 
         return rates
 
-    def _project(self, plan, F_tr, b, contact, stats, k):
+    def _project(self, plan, F_tr, b, contact, stats, k, warm=None):
         """The increment's projection from the trial force: ``(Δu, Fc, limit)``, with
         ``Fc = F^tr + K Δu`` as computed and ``limit`` the nodes on a friction limit.
+        ``warm``: the ``(upper, lower)`` masks of the nodes on their limits at the start of
+        the increment (d = 1), the pattern's first guess with the nodes whose trial force is
+        out of its limits.
 
         The slip Δu is returned as solved, not as a difference of displacements: on a weakly
         grounded system u can be 1e12 times the slips, and ``u_{k+1} - u_k`` would keep only
@@ -327,7 +334,7 @@ class ActiveSetStepper(Stepper):
         if plan.dims == 2:
             delta, Fc, slip = self._discs(plan, F_tr, b, contact, stats, k)
             return delta, Fc, slip
-        delta, Fc, (up, dn) = self._pattern(plan, F_tr, -b, b, ~contact, stats, k)
+        delta, Fc, (up, dn) = self._pattern(plan, F_tr, -b, b, ~contact, stats, k, warm)
         return delta, Fc, up | dn
 
     def _discs(self, plan, F_tr, b, contact, stats, k):
@@ -445,7 +452,7 @@ class ActiveSetStepper(Stepper):
             stats["refinements"] += 1
         return delta, F_tr + K @ delta, slip
 
-    def _pattern(self, plan, F_tr, lo, hi, free_always, stats, k):
+    def _pattern(self, plan, F_tr, lo, hi, free_always, stats, k, warm=None):
         """The pattern iteration (d = 1): ``δ`` (zero on the sticking unknowns) and
         ``F = F^tr + K δ`` with every node either sticking (``δ_i = 0``, ``lo_i <= F_i <=
         hi_i``), on its upper bound with ``δ_i <= 0``, on its lower bound with ``δ_i >= 0``, or,
@@ -456,7 +463,10 @@ class ActiveSetStepper(Stepper):
         whose force is off its target by more than round-off, so that a block that can solve
         locally (:class:`~lcpfric.backends.blocks.BandedBlock`) touches only the parts of the
         free set that changed. The first iteration starts from everything stuck (``δ = 0``,
-        ``F = F^tr``), whose update is the one-node guess."""
+        ``F = F^tr``) and the pattern of the nodes whose trial force is out of its limits,
+        with, if ``warm`` is given, the nodes on their limits at the start of the increment
+        (the previous increment's pattern: between two increments few nodes change, so the
+        first guess is then nearly the answer and the block changes little)."""
         kd = plan.kdiag
         bounded = ~free_always
         delta = np.zeros(plan.m)
@@ -465,13 +475,16 @@ class ActiveSetStepper(Stepper):
         up = dn = free
         nup = bounded & (F_tr > hi)
         ndn = bounded & (F_tr < lo)
+        if warm is not None:
+            nup |= bounded & warm[0] & ~ndn
+            ndn |= bounded & warm[1] & ~nup
         seen = set()
         single = False
         for _ in range(self.max_iter):
             nfree = nup | ndn | free_always
             stop = np.flatnonzero(free & ~nfree)
             if stop.size:  # nodes that stick again keep their start displacement
-                F += _product(plan.K, stop, -delta[stop])
+                F += plan.block.product(stop, -delta[stop])
                 delta[stop] = 0.0
             up, dn, free = nup, ndn, nfree
             r = np.where(up, hi, np.where(dn, lo, 0.0))
@@ -522,7 +535,7 @@ class ActiveSetStepper(Stepper):
             rhs[sel] = e
             sel, y = block.solve(rhs, sel[off])
             delta[sel] += y
-            F += _product(plan.K, sel, y)
+            F += block.product(sel, y)
 
     def _finish(self, plan, du, Fc, b, contact, stats, k):
         """Put the slipping and separated forces exactly where they belong, check the answer,
@@ -602,20 +615,16 @@ def _accumulate(u, lo, du):
     return t, (t - u) - y
 
 
+def _on_limits(F, b):
+    """``(upper, lower)``: the nodes of forces F (put on their limits) that are on ``+b`` or
+    ``-b`` with ``b > 0``."""
+    pos = b > 0.0
+    return pos & (F >= b), pos & (F <= -b)
+
+
 def _objective(plan, F_tr, delta, b, slip) -> float:
     """``½ δᵀKδ + F^trᵀδ + Σ_slip b_i ||δ_i||`` (d = 2), the function Newton descends."""
     d2 = delta.reshape(-1, 2)
     Kd = plan.K @ delta
     return float(0.5 * delta @ Kd + F_tr @ delta
                  + b[slip] @ np.hypot(d2[slip, 0], d2[slip, 1]))
-
-
-def _product(K, cols, y):
-    """``K x`` for the x that is ``y`` on the unknowns ``cols`` and zero elsewhere: from those
-    columns (rows: K is symmetric) when they are few, else with the whole K."""
-    m = K.shape[0]
-    if 8 * cols.size < m:
-        return K[:, cols] @ y if hasattr(K, "tocsc") else y @ K[cols]
-    x = np.zeros(m)
-    x[cols] = y
-    return K @ x

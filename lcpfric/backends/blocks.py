@@ -10,8 +10,8 @@ Each block keeps what makes the next solve cheap, and is chosen from the form of
 ``DenseBlock``   dense K: the inverse ``G0`` of a base set and a low-rank (Woodbury)
                  correction for the unknowns that joined or left since, so that a change of
                  the set costs one product with G0 per joining unknown and a solve one product
-                 with G0; the correction is folded into G0 by matrix-matrix products when its
-                 rank grows, and G0 rebuilt from a Cholesky factorization (LAPACK
+                 with G0; the correction is folded into G0 by one matrix-matrix product when
+                 its rank grows, and G0 rebuilt from a Cholesky factorization (LAPACK
                  ``potrf``/``potri``) when more than a quarter of F changes at once.
 ``BandedBlock``  sparse K of small bandwidth w (a chain has w = d; any K is first reordered by
                  reverse Cuthill-McKee): LAPACK's banded Cholesky (``pbtrf``/``pbtrs``) of
@@ -63,6 +63,10 @@ class _Block:
         """``K x``."""
         return self.K @ x
 
+    def product(self, cols: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """``K x`` for the x that is ``y`` on the unknowns ``cols`` and zero elsewhere."""
+        return columns_product(self.K, cols, y)
+
 
 class DenseBlock(_Block):
     """``K_FF⁻¹`` of a dense K, kept as the inverse ``G0 = K_BB⁻¹`` of a base set B and a
@@ -72,14 +76,18 @@ class DenseBlock(_Block):
     as ``y = G0 r_B``, ``v = S⁻¹ (Xᵀ r_B - r_J)``, ``H r = (y + X v, -v)``; leaving unknowns
     are removed with ``K_FF⁻¹ = H_FF - H_FR H_RR⁻¹ H_RF``. A solve then costs one product with
     G0 and O(|B| (|J| + |R|)); a change of the set, one product with G0 per joining unknown.
-    When ``|J| + |R|`` reaches :data:`FOLD_RANK` the correction is folded into G0 (two
-    matrix-matrix products of rank ``|J| + |R|``), and when a quarter of the set changes at
-    once G0 is rebuilt from a Cholesky factorization (LAPACK ``potrf``/``potri``)."""
+    When ``|J| + |R|`` reaches :data:`FOLD_RANK` the correction is folded into G0 (one
+    matrix-matrix product of rank ``|J| + |R|``), and when a quarter of the set changes at
+    once G0 is rebuilt from a Cholesky factorization (LAPACK ``potrf``/``potri``). The rows
+    ``K_B`` of the base set are kept beside G0, so that a product of K with a vector on the
+    free set (:meth:`product`, after every solve) reads ``|F| m`` numbers, not ``m²``."""
 
     def __init__(self, K):
         super().__init__(np.ascontiguousarray(K, dtype=float))
         self.base = np.empty(0, dtype=np.intp)  # B, in G0's order
         self.G0 = np.zeros((0, 0))
+        self.rows = np.zeros((0, self.m))  # K[B]: the products with the free set read these
+        self._solved = None  # the unknowns the last solve returned
         self._where = np.full(self.m, -1, dtype=np.intp)  # position in B, or -1
         self._correction(np.empty(0, dtype=np.intp), np.empty(0, dtype=np.intp))
 
@@ -113,10 +121,8 @@ class DenseBlock(_Block):
         self._where[self.base] = -1
         self.base = free.copy()
         self._where[free] = np.arange(free.size)
-        if free.size:
-            self.G0 = _spd_inverse(self.K[np.ix_(free, free)], "K_FF")
-        else:
-            self.G0 = np.zeros((0, 0))
+        self.rows = self.K[free]
+        self.G0 = _spd_inverse(self.rows[:, free], "K_FF") if free.size else np.zeros((0, 0))
         self._correction(np.empty(0, dtype=np.intp), np.empty(0, dtype=np.intp))
         self.stats["factorizations"] += 1
 
@@ -132,9 +138,10 @@ class DenseBlock(_Block):
             for c, u in enumerate(joined):
                 if int(u) in known:
                     X[:, c] = self.X[:, known[int(u)]]
+            KBJ = self.rows[:, joined]
             if fresh:
-                X[:, fresh] = G0 @ K[np.ix_(B, joined[fresh])]
-            S = K[np.ix_(joined, joined)] - K[np.ix_(joined, B)] @ X
+                X[:, fresh] = G0 @ KBJ[:, fresh]
+            S = K[np.ix_(joined, joined)] - KBJ.T @ X
             Sinv = _spd_inverse(0.5 * (S + S.T), "the Schur complement of the joining unknowns")
         else:
             X, Sinv = np.zeros((B.size, 0)), np.zeros((0, 0))
@@ -163,28 +170,36 @@ class DenseBlock(_Block):
         return z
 
     def _fold(self, free: np.ndarray) -> None:
-        """Fold the correction into a new G0 for the current set."""
-        B, X, Sinv, left = self.base, self.X, self.Sinv, self.left
-        s, j = B.size, self.joined.size
-        GA = np.empty((s + j, s + j))
-        GA[:s, :s] = self.G0
-        if j:
-            XS = X @ Sinv
-            GA[:s, :s] += XS @ X.T
-            GA[:s, s:] = -XS
-            GA[s:, :s] = -XS.T
-            GA[s:, s:] = Sinv
-        unknowns = np.concatenate([B, self.joined])
+        """Fold the correction into a new G0 for the current set: with Bk the kept base
+        positions, ``P = [X_Bk; -I]`` and ``Hk`` the kept rows of ``H[:, R]``,
+
+            G0_new = [[G0_BkBk, 0], [0, 0]] + P S⁻¹ Pᵀ - Hk M Hkᵀ,
+
+        one gather of G0 and one matrix-matrix product of rank ``|J| + |R|``."""
+        B, X, Sinv, left, joined = self.base, self.X, self.Sinv, self.left, self.joined
+        s, j = B.size, joined.size
         keep = np.ones(s + j, dtype=bool)
         keep[left] = False
-        G = GA[np.ix_(keep, keep)]
+        kb = np.flatnonzero(keep[:s])
+        t = kb.size
+        G = np.zeros((t + j, t + j))
+        G[:t, :t] = self.G0[np.ix_(kb, kb)] if left.size else self.G0
+        lhs, rhs = [], []
+        if j:
+            P = np.vstack([X[kb], -np.eye(j)])
+            lhs.append(P @ Sinv)
+            rhs.append(P)
         if left.size:
-            HRk = self.HR[keep]
-            G -= HRk @ (self.M @ HRk.T)
+            Hk = self.HR[keep]
+            lhs.append(-(Hk @ self.M))
+            rhs.append(Hk)
+        if lhs:
+            G += np.hstack(lhs) @ np.hstack(rhs).T
         self._where[B] = -1
-        self.base = unknowns[keep]
+        self.base = np.concatenate([B[kb], joined])
         self._where[self.base] = np.arange(self.base.size)
-        self.G0 = 0.5 * (G + G.T)
+        self.G0 = G
+        self.rows = self.K[self.base]
         self._correction(np.empty(0, dtype=np.intp), np.empty(0, dtype=np.intp))
         self.stats["updates"] += 1
 
@@ -200,7 +215,35 @@ class DenseBlock(_Block):
         z = self._apply(rB, r[self.joined])
         keep = np.ones(z.size, dtype=bool)
         keep[self.left] = False
-        return np.concatenate([self.base, self.joined])[keep], z[keep]
+        unknowns = np.concatenate([self.base, self.joined])[keep]
+        self._solved = (unknowns, keep)
+        return unknowns, z[keep]
+
+    def product(self, cols: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """``K x`` for x equal to ``y`` on ``cols``: for the unknowns of the last solve, from
+        the rows of the base set kept in ``rows`` (a product over the free set costs
+        ``|F| m``, not ``m²``, and gathers nothing); otherwise as any block."""
+        solved = self._solved
+        if solved is None or cols is not solved[0]:
+            return columns_product(self.K, cols, y)
+        keep, nb = solved[1], self.base.size
+        yB = np.zeros(nb)
+        yB[keep[:nb]] = y[:nb - self.left.size]
+        out = yB @ self.rows
+        if self.joined.size:
+            out += y[nb - self.left.size:] @ self.K[self.joined]
+        return out
+
+
+def columns_product(K, cols: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """``K x`` for the x that is ``y`` on the unknowns ``cols`` and zero elsewhere: from those
+    columns (rows: K is symmetric) when they are few, else with the whole K."""
+    m = K.shape[0]
+    if 8 * cols.size < m:
+        return K[:, cols] @ y if hasattr(K, "tocsc") else y @ K[cols]
+    x = np.zeros(m)
+    x[cols] = y
+    return K @ x
 
 
 def _spd_inverse(A: np.ndarray, what: str) -> np.ndarray:
