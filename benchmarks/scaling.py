@@ -3,7 +3,7 @@
 Usage (from the repository root)::
 
     OPENBLAS_NUM_THREADS=1 PYTHONPATH=. python benchmarks/scaling.py [--quick] [--out DIR]
-        [--budget SECONDS] [--methods a,b] [--systems a,b]
+        [--budget SECONDS] [--cycles N] [--methods a,b] [--systems a,b]
 
 writes ``DIR/scaling.csv``, ``scaling.md``, ``scaling.png`` and ``scaling.pdf`` (default
 ``benchmarks/results``) and prints each case as it finishes. ``--quick`` is about a minute of
@@ -481,7 +481,7 @@ def write(rows: list[dict], settings: Settings, out_dir: Path) -> list[Path]:
     agree = agreement(rows)
     lines = [
         "# Time per step and peak memory against n", "",
-        f"`{settings.command}`", "",
+        f"`{settings.command}`" + _revision(), "",
         f"{platform.processor() or platform.machine()}, Python {platform.python_version()}, "
         f"numpy {np.__version__}; CPU seconds, one thread; {settings.cycles} cycle(s) per case; "
         f"budget {settings.budget:g} CPU s per case; steps per cycle {settings.steps} "
@@ -572,6 +572,8 @@ def main(argv=None) -> int:
     ap.add_argument("--out", default=str(HERE / "results"), help="output directory")
     ap.add_argument("--budget", type=float, default=None,
                     help="CPU seconds per case (default 600; 20 with --quick)")
+    ap.add_argument("--cycles", type=int, default=None,
+                    help="cycles timed per case (default 3; 1 with --quick)")
     ap.add_argument("--methods", default=",".join(METHODS))
     ap.add_argument("--systems", default=None, help=f"from {', '.join(SYSTEMS)}")
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
@@ -589,12 +591,26 @@ def main(argv=None) -> int:
     settings.methods = tuple(args.methods.split(","))
     if args.budget is not None:
         settings.budget = args.budget
+    if args.cycles is not None:
+        if args.cycles < 1:
+            ap.error(f"--cycles must be >= 1, got {args.cycles}")
+        settings.cycles = args.cycles
     settings.command = "OPENBLAS_NUM_THREADS=1 python benchmarks/scaling.py " + " ".join(
         argv if argv is not None else sys.argv[1:])
     rows = run(settings)
     for path in write(rows, settings, Path(args.out)):
         print(f"wrote {path}")
     return 0
+
+
+def _revision() -> str:
+    """`` (lcpfric at commit abc1234)`` when run from a git checkout, else nothing."""
+    try:
+        rev = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
+                             capture_output=True, text=True, timeout=10).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return ""
+    return f" (lcpfric at commit {rev})" if rev else ""
 
 
 def quick_settings(**changes) -> Settings:
