@@ -22,6 +22,7 @@ from . import _checks, memory
 from .errors import ConvergenceError, ConvergenceWarning, InputError
 from .methods import CLOSED_FORM, get_stepper
 from .model import ContactSystem, SingleNode
+from .model.system import COMPLIANCE_DENSE
 from .results import CycleResult, State, SteadyState
 from .scene import Scene, column_reduce, make_scene
 
@@ -238,7 +239,7 @@ def _extrapolate(starts: list, scene: Scene):
     system = scene.system
     u = starts[-1] + r2 / (1.0 - r2) * (starts[-1] - starts[-2])
     Q0, bound = scene.Q[0], scene.N[0] * system.friction
-    F = Q0 + system.stiffness @ u
+    F = Q0 + system.stiffness_times(u)
     if system.dims == 1:
         Fp = np.clip(F, -bound, bound)
     else:
@@ -252,18 +253,15 @@ def _extrapolate(starts: list, scene: Scene):
 
 
 #: beyond this many unknowns the compliance scale is estimated (C is not formed)
-_COMPLIANCE_DENSE = 2000
+_COMPLIANCE_DENSE = COMPLIANCE_DENSE
 
 
 def _compliance_scale(system) -> float:
     """The largest diagonal compliance, max C_ii (C = K⁻¹; 1/k for a diagonal K). Beyond
-    :data:`_COMPLIANCE_DENSE` unknowns C is not formed and the estimate
-    from below 1/min K_ii is used (a scale for the convergence test only)."""
-    K = system.stiffness
-    kdiag = np.asarray(K.diagonal(), dtype=float)
-    if system.is_diagonal() or system.m > _COMPLIANCE_DENSE:
-        return float(1.0 / np.min(kdiag))
-    return float(np.max(np.diag(system.compliance_matrix())))
+    :data:`_COMPLIANCE_DENSE` unknowns C is not formed and the estimate from below 1/min K_ii is
+    used (a scale for the convergence test only; see
+    :meth:`~lcpfric.model.ContactSystem.compliance_diagonal`)."""
+    return float(np.max(system.compliance_diagonal()))
 
 
 def _shakedown(cyc: CycleResult) -> bool:

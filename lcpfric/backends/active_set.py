@@ -42,10 +42,19 @@ Newton's method on it, with a backtracking line search, converges quadratically;
 ``K_FF + Σ_slip (b_i / ||Δu_i||)(I - ν_i ν_iᵀ)`` (ν_i the slip direction) is symmetric positive
 definite. The pattern is updated from the natural map of the disc, as for d = 1.
 
+Matrix-free systems (d = 1)
+---------------------------
+A system known only by the products of its compliance (``ContactSystem(None, ...,
+compliance=LinearOperator)``: a half-space, where a product is an FFT pair) is solved in the
+compliance form of the same iteration (:meth:`ActiveSetStepper._pattern_operator`): with the
+pattern fixed, the forces of the sticking nodes solve ``C_SS (F - F^tr)_S = -C_SA (F -
+F^tr)_A``, by conjugate gradients warm-started from the previous iteration's forces, one
+product with C per CG iteration (:class:`~lcpfric.backends.blocks.OperatorBlock`). Events are
+located as for K. The equilibrium check compares ``u`` with ``C (F - Q)``.
+
 Limits
 ------
-K must be a dense array or a scipy.sparse matrix: an operator known only by its products (a
-half-space compliance applied by FFT) is not accepted yet. For d = 2 the Newton matrix is formed
+A matrix-free system is solved for d = 1 only. For d = 2 the Newton matrix is formed
 and factorized at every iteration (correct, not fast at large n). With events located (the
 default, as for the convex backends) every event inside an increment costs one more pattern
 iteration; thousands of coupled nodes have several per step, and ``locate_events=False`` with
@@ -74,7 +83,7 @@ from ..results import State, StepState
 from ..steppers.base import Recorder, Stepper
 from ..steppers.dissipation import increment_dissipation
 from ..scene import column_reduce
-from .blocks import make_block
+from .blocks import OperatorBlock, make_block
 from .checks import residuals, worst
 from .events import first_event, path_is_exact
 
@@ -93,13 +102,19 @@ class _Plan:
     The loads are read one instant at a time (:meth:`row`), so that a scene whose Q and N are
     :class:`~lcpfric.scene.Rows` (1e5 nodes) is never built whole."""
 
-    def __init__(self, scene, block: str):
+    def __init__(self, scene, block: str, cg_max_iter: int):
         system = scene.system
         self.n, self.m, self.dims = system.n, system.m, system.dims
         K = system.stiffness
         self.K = K
-        self.block = make_block(K, block)
-        self.kdiag = np.asarray(K.diagonal(), dtype=float).copy()
+        self.matrix_free = system.matrix_free
+        if self.matrix_free:  # the compliance form: C by its products
+            self.block = OperatorBlock(system.compliance, cg_max_iter)
+            cdiag = system.compliance_diagonal()
+            self.kdiag = 1.0 / cdiag
+        else:
+            self.block = make_block(K, block)
+            self.kdiag = np.asarray(K.diagonal(), dtype=float).copy()
         self.Q, self.N = scene.Q, scene.N
         self.friction = np.asarray(system.friction, dtype=float)
         f = self.friction
@@ -111,10 +126,10 @@ class _Plan:
         scale = max(sizes, default=0.0)
         self.force_scale = scale if scale > 0 else 1.0
         # the compliance scale of the residuals: 1/min k_ii (max C_ii for a diagonal K; C is
-        # never formed)
+        # never formed), or max C_ii of a matrix-free system
         self.compliance_scale = float(1.0 / np.min(self.kdiag))
         self.diagonal = system.is_diagonal()
-        self.row_norm = float(abs(K).sum(axis=1).max())  # ||K||_inf
+        self.row_norm = 0.0 if K is None else float(abs(K).sum(axis=1).max())  # ||K||_inf
         self._rows: dict[int, tuple] = {}
 
     def row(self, k: int) -> tuple:
@@ -176,23 +191,37 @@ class ActiveSetStepper(Stepper):
         On coupled d = 1 systems, split an increment at the instant where a node starts to slip
         when the single projection cannot be exact there, as the convex backends do
         (:mod:`~lcpfric.backends.events`).
+    cg_max_iter : int
+        Matrix-free systems: cap on the conjugate-gradient iterations of one solve (then
+        SolverError, status "cg_max_iter").
     """
 
     name = "active-set"
 
     def __init__(self, *, block: str = "auto", check_tol: float = 1e-6, max_iter: int = 200,
-                 locate_events: bool = True):
+                 locate_events: bool = True, cg_max_iter: int = 2000):
         if block not in BLOCKS:
             raise InputError("block", f"must be one of {BLOCKS}, got {block!r}")
         self.block = block
         self.check_tol = positive("check_tol", check_tol)
         self.max_iter = positive_int("max_iter", max_iter)
         self.locate_events = boolean("locate_events", locate_events)
+        self.cg_max_iter = positive_int("cg_max_iter", cg_max_iter)
+
+    def check(self, system) -> None:
+        if system.matrix_free and system.dims != 1:
+            raise InputError("method", "'active-set' solves a matrix-free system (a compliance "
+                                       "operator) with d = 1 only; for d = 2 give the stiffness "
+                                       "matrix, or use a convex backend on up to 2000 unknowns")
+        if system.matrix_free and self.block != "auto":
+            raise InputError("block", f"{self.block!r} applies to a stiffness matrix; a "
+                                      f"matrix-free system is solved by conjugate gradients "
+                                      f"(leave block='auto')")
 
     # -- the stepper contract ----------------------------------------------------------------
     def init(self, scene, u0=None) -> StepState:
         self.check(scene.system)
-        plan = _Plan(scene, self.block)
+        plan = _Plan(scene, self.block, self.cg_max_iter)
         state = super().init(scene, u0)
         stats = {"solves": 0, "iterations": 0, "refinements": 0, "single_changes": 0,
                  "max_residual": 0.0, "events": 0}
@@ -312,11 +341,12 @@ class ActiveSetStepper(Stepper):
             db = plan.friction * dN
             hi = np.where(on_hi, db, inf)
             lo = np.where(on_lo, -db, -inf)
-            du, _, (up, dn) = self._pattern(plan, dQ, lo, hi, sep, stats, k)
+            pattern = self._pattern_operator if plan.matrix_free else self._pattern
+            du, dF, (up, dn) = pattern(plan, dQ, lo, hi, sep, stats, k)
             state = np.where(sep, SEPARATION, STICK).astype(np.int8)
             state[up] = BACKWARD
             state[dn] = FORWARD
-            return du, state
+            return du, state, dF
 
         return rates
 
@@ -334,7 +364,8 @@ class ActiveSetStepper(Stepper):
         if plan.dims == 2:
             delta, Fc, slip = self._discs(plan, F_tr, b, contact, stats, k)
             return delta, Fc, slip
-        delta, Fc, (up, dn) = self._pattern(plan, F_tr, -b, b, ~contact, stats, k, warm)
+        pattern = self._pattern_operator if plan.matrix_free else self._pattern
+        delta, Fc, (up, dn) = pattern(plan, F_tr, -b, b, ~contact, stats, k, warm)
         return delta, Fc, up | dn
 
     def _discs(self, plan, F_tr, b, contact, stats, k):
@@ -508,6 +539,56 @@ class ActiveSetStepper(Stepper):
                 stats["single_changes"] += 1
         raise self._unsettled(k, "the pattern")
 
+    def _pattern_operator(self, plan, F_tr, lo, hi, free_always, stats, k, warm=None):
+        """The pattern iteration of :meth:`_pattern` in the compliance form, for a matrix-free
+        system: the same answer ``(δ, F, (upper, lower))``, with ``δ = C (F - F^tr)``.
+
+        With the pattern fixed, the forces of the nodes on a limit (and of the separated ones,
+        0) are known; those of the sticking nodes S solve ``C_SS (F - F^tr)_S = -C_SA (F -
+        F^tr)_A`` (``δ_S = 0``), corrected from the previous iteration's forces by conjugate
+        gradients (:class:`~lcpfric.backends.blocks.OperatorBlock`) to ``max |δ_S| <=
+        1e-13 s_C s_F`` (the compliance and force scales: 1e7 below the residual check).
+        The pattern update, the warm start and the least-index fallback are :meth:`_pattern`'s:
+        ``z_i = F_i - δ_i / C_ii``."""
+        block, kd = plan.block, plan.kdiag
+        bounded = ~free_always
+        tol = 1e-13 * plan.compliance_scale * plan.force_scale
+        F = F_tr.copy()
+        nup = bounded & (F_tr > hi)
+        ndn = bounded & (F_tr < lo)
+        if warm is not None:
+            nup |= bounded & warm[0] & ~ndn
+            ndn |= bounded & warm[1] & ~nup
+        seen = set()
+        single = False
+        for _ in range(self.max_iter):
+            up, dn = nup, ndn
+            F[up], F[dn], F[free_always] = hi[up], lo[dn], 0.0
+            delta = block.apply(F - F_tr)
+            S = np.flatnonzero(~(up | dn | free_always))
+            if S.size:
+                x, Cx = block.solve(S, -delta[S], tol)
+                F[S] += x
+                delta += Cx
+            z = F - delta * kd
+            nup = bounded & (z > hi)
+            ndn = bounded & (z < lo)
+            changed = (nup != up) | (ndn != dn)
+            stats["iterations"] += 1
+            if not changed.any():
+                return delta, F, (up, dn)
+            if not single:
+                key = np.packbits(nup).tobytes() + np.packbits(ndn).tobytes()
+                if key in seen:
+                    single = True
+                seen.add(key)
+            if single:  # least index: change only the first node whose state is wrong
+                i = int(np.flatnonzero(changed)[0])
+                nup, ndn = up.copy(), dn.copy()
+                nup[i], ndn[i] = (z[i] > hi[i]) & bounded[i], (z[i] < lo[i]) & bounded[i]
+                stats["single_changes"] += 1
+        raise self._unsettled(k, "the pattern")
+
     @staticmethod
     def _correct(plan, F_tr, r, free, delta, F, stats):
         """Correct ``δ`` and ``F = F^tr + K δ`` (in place) so that ``F_F = r_F`` on the free
@@ -587,11 +668,18 @@ class ActiveSetStepper(Stepper):
         cycle so far (``peak``). On a weakly grounded system in gross slip u is huge (1e10
         times the loads' scale over the stiffness) and the forces are its small differences:
         the displacements then fix the forces only to that floor, whatever the method."""
-        R = (plan.K @ U.T).T
-        R += Qs
-        R -= Fs
-        floor = 64 * _EPS * plan.row_norm * peak
-        eq = np.maximum(np.abs(R).max(axis=1) - floor, 0.0) / plan.force_scale
+        if plan.matrix_free:  # in displacements: u = C (F - Q), over the compliance scale
+            R = plan.block.apply_many((Fs - Qs).T).T
+            R -= U
+            floor = 64 * _EPS * peak
+            eq = (np.maximum(np.abs(R).max(axis=1) - floor, 0.0)
+                  / (plan.compliance_scale * plan.force_scale))
+        else:
+            R = (plan.K @ U.T).T
+            R += Qs
+            R -= Fs
+            floor = 64 * _EPS * plan.row_norm * peak
+            eq = np.maximum(np.abs(R).max(axis=1) - floor, 0.0) / plan.force_scale
         bad = np.flatnonzero(~(eq <= self.check_tol))
         if bad.size:
             self._fail(int(rows[bad[0]]) - 1, {"equilibrium": float(eq[bad[0]])})

@@ -69,7 +69,8 @@ def first_event(K, f, F0, Q0, N0, dQ, dN, sep, tau: float, rates=None):
 
     The slip rates at ``tau`` solve the rate problem: by default the explicit stepper's rate LCP
     (its ``_rates``, one copy); ``rates(F0, bound, dQ, dN, sep, touch_lo, touch_hi) -> (du,
-    node states)`` replaces it (the active-set backend solves it with its own iteration). With
+    node states, force rates dQ + K du)`` replaces it (the active-set backend solves it with its
+    own iteration; K is then not used, and may be None for a matrix-free system). With
     the rates fixed every Coulomb margin is linear, so the instant is exact."""
     n = f.size
     bound = f * N0
@@ -81,9 +82,10 @@ def first_event(K, f, F0, Q0, N0, dQ, dN, sep, tau: float, rates=None):
         if rates is None:
             du, state = ExplicitStepper._rates(K, f, F0, bound, dQ, dN, sep, was_fwd, was_bwd,
                                                touch_lo, touch_hi)
+            dF = None
         else:
-            du, state = rates(F0, bound, dQ, dN, sep, touch_lo, touch_hi)
-        events = limit_crossings(K, f, F0, bound, dQ, dN, du, state, tau)
+            du, state, dF = rates(F0, bound, dQ, dN, sep, touch_lo, touch_hi)
+        events = limit_crossings(K, f, F0, bound, dQ, dN, du, state, tau, dF)
         t_end = min(float(np.min(events[0])), float(np.min(events[1])))
         now = tau + _EPS8 * max(1.0, tau)
         if t_end <= now:  # limits reached within round-off of tau: decide those nodes at tau

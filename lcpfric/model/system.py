@@ -11,6 +11,17 @@ The steppers work with K (``explicit``, ``projection``) or with C = K⁻¹ (the 
 whose unknowns are the friction forces). A model that knows C directly passes it as
 ``compliance=`` and it is used as given, after a check that it is K⁻¹; otherwise C is computed
 from K once, on first use.
+
+Matrix-free systems
+-------------------
+A model whose compliance is known only by its products (a half-space, where ``C x`` is an FFT
+pair) passes ``stiffness=None`` and ``compliance=`` a
+:class:`scipy.sparse.linalg.LinearOperator` (or anything
+:func:`~scipy.sparse.linalg.aslinearoperator` accepts). Nothing m x m is then stored:
+``method="active-set"`` solves it with products only (d = 1). For the other methods, and where
+a dense matrix is asked for (:meth:`compliance_matrix`, :meth:`dense_stiffness`), C is formed
+from m products, up to :data:`COMPLIANCE_DENSE` unknowns; beyond that they raise
+:class:`~lcpfric.errors.InputError` naming ``active-set``.
 """
 
 from __future__ import annotations
@@ -25,7 +36,11 @@ from ..errors import InputError
 from .loads import Load, LoadSet
 from .normal import NormalModel, check_normal_model
 
-__all__ = ["ContactSystem"]
+__all__ = ["ContactSystem", "COMPLIANCE_DENSE"]
+
+#: largest system whose compliance is formed as a matrix for a scale (beyond it 1/K_ii is used)
+#: and largest matrix-free system whose compliance is formed when a method needs a matrix
+COMPLIANCE_DENSE = 2000
 
 
 @dataclass(frozen=True)
@@ -34,8 +49,9 @@ class ContactSystem:
 
     Parameters
     ----------
-    stiffness : (m, m) array_like or scipy.sparse matrix
-        Symmetric positive definite tangential stiffness K, m = n·d.
+    stiffness : (m, m) array_like or scipy.sparse matrix, or None
+        Symmetric positive definite tangential stiffness K, m = n·d. None for a matrix-free
+        system, known by its compliance operator (see the module docstring).
     friction : (n,) array_like
         Friction coefficients f_i > 0.
     tangential_loads : sequence of m Load
@@ -45,11 +61,13 @@ class ContactSystem:
         :class:`IndependentSprings`).
     dims : int
         Tangential directions per node, 1 or 2.
-    compliance : (m, m) array_like, optional
+    compliance : (m, m) array_like or LinearOperator, optional
         C = K⁻¹, when the model provides it (a half-space model knows its influence
-        coefficients, for example). It is checked against the stiffness: ``max |K C - I|`` must
-        be below 1e-8 (on the full matrices up to m = 2000, on 8 random vectors beyond).
-        Without it, C is computed from K on first use (:meth:`compliance_matrix`).
+        coefficients, for example). With a stiffness it is checked against it: ``max |K C - I|``
+        must be below 1e-8 (on the full matrices up to m = 2000, on 8 random vectors beyond).
+        Without it, C is computed from K on first use (:meth:`compliance_matrix`). With
+        ``stiffness=None`` it is the system's only operator: its products must be finite,
+        symmetric and positive (checked on two random vectors).
     """
 
     stiffness: object
@@ -75,16 +93,18 @@ class ContactSystem:
             raise InputError("normal", f"needs {n} normal loads (one per node), got {self.normal.n}")
         m = n * self.dims
         K = self.stiffness
-        if sp.issparse(K):
+        if K is None:
+            self._check_operator(m)
+        elif sp.issparse(K):
             K = sp.csc_matrix(K, dtype=float)
             dense = K.toarray() if m <= 2000 else None
         else:
             K = _checks.finite_array("stiffness", K)
             K = np.atleast_2d(K)
             dense = K
-        if K.shape != (m, m):
+        if K is not None and K.shape != (m, m):
             raise InputError("stiffness", f"must be {m} x {m} (n·d), got {K.shape}")
-        if dense is not None:
+        if K is not None and dense is not None:
             if not np.all(np.isfinite(dense)):
                 raise InputError("stiffness", "every entry must be finite")
             if not np.allclose(dense, dense.T, rtol=1e-12, atol=0.0):
@@ -105,8 +125,54 @@ class ContactSystem:
         if any(not math.isclose(p, period, rel_tol=1e-12) for p in periods):
             raise InputError("loads", f"all loads must share one period; got {sorted(set(periods))}")
         object.__setattr__(self, "_cache", {"period": period})
-        if self.compliance is not None:
+        if self.compliance is not None and K is not None:
             self._check_compliance()
+
+    def _check_operator(self, m: int) -> None:
+        """A matrix-free system: C a finite, symmetric, positive m x m operator (probed with two
+        random vectors: ``|xᵀCy - yᵀCx| <= 1e-8 |x| |Cy|`` and ``xᵀCx > 0``)."""
+        from scipy.sparse.linalg import aslinearoperator
+
+        if self.compliance is None:
+            raise InputError("stiffness", "is None: a matrix-free system needs compliance= "
+                                          "(a LinearOperator with C x); give one of the two")
+        try:
+            op = aslinearoperator(self.compliance)
+        except (TypeError, ValueError) as exc:
+            raise InputError("compliance", f"must be a matrix or a LinearOperator ({exc})") \
+                from None
+        if op.shape != (m, m):
+            raise InputError("compliance", f"must be {m} x {m} (n·d), got {op.shape}")
+        rng = np.random.default_rng(12345)
+        x, y = rng.standard_normal(m), rng.standard_normal(m)
+        Cx = np.asarray(op.matvec(x), dtype=float).ravel()
+        Cy = np.asarray(op.matvec(y), dtype=float).ravel()
+        if Cx.shape != (m,) or not (np.all(np.isfinite(Cx)) and np.all(np.isfinite(Cy))):
+            raise InputError("compliance", f"products C x must be finite vectors of {m}")
+        scale = float(np.linalg.norm(x) * max(np.linalg.norm(Cx), np.linalg.norm(Cy)))
+        if not abs(x @ Cy - y @ Cx) <= 1e-8 * scale:
+            raise InputError("compliance", "must be symmetric: xᵀCy differs from yᵀCx by "
+                                           f"{abs(x @ Cy - y @ Cx):.3g} (relative > 1e-8)")
+        if not (x @ Cx > 0 and y @ Cy > 0):
+            raise InputError("compliance", "must be positive definite: xᵀCx <= 0 for a random x")
+        object.__setattr__(self, "compliance", op)
+
+    @property
+    def matrix_free(self) -> bool:
+        """The system is known by its compliance operator only (``stiffness=None``)."""
+        return self.stiffness is None
+
+    def _formed(self) -> np.ndarray:
+        """C of a matrix-free system as a matrix (m products), up to COMPLIANCE_DENSE."""
+        if "C" not in self._cache:
+            if self.m > COMPLIANCE_DENSE:
+                raise InputError("method", f"this matrix-free system has {self.m} unknowns: its "
+                                           f"compliance is formed only up to "
+                                           f"{COMPLIANCE_DENSE}; use method='active-set', "
+                                           f"which needs its products only")
+            C = np.asarray(self.compliance.matmat(np.eye(self.m)), dtype=float)
+            self._cache["C"] = 0.5 * (C + C.T)
+        return self._cache["C"]
 
     def _check_compliance(self) -> None:
         """A supplied C must be K⁻¹: ``max |K C x - x| <= 1e-8 max |x|``."""
@@ -139,6 +205,8 @@ class ContactSystem:
 
     def compliance_matrix(self) -> np.ndarray:
         """C = K⁻¹ (dense), computed once."""
+        if self.matrix_free:
+            return self._formed()
         if self.compliance is not None:
             return np.asarray(self.compliance.toarray() if hasattr(self.compliance, "toarray")
                               else self.compliance, dtype=float)
@@ -148,6 +216,10 @@ class ContactSystem:
         return self._cache["C"]
 
     def dense_stiffness(self) -> np.ndarray:
+        if self.matrix_free:
+            if "K" not in self._cache:
+                self._cache["K"] = np.linalg.inv(self._formed())
+            return self._cache["K"]
         K = self.stiffness
         return K.toarray() if hasattr(K, "toarray") else np.asarray(K)
 
@@ -161,7 +233,9 @@ class ContactSystem:
         """K has no off-diagonal entry (uncoupled unknowns)."""
         if "diagonal" not in self._cache:
             K = self.stiffness
-            if hasattr(K, "tocoo"):
+            if K is None:  # matrix-free: treated as coupled
+                off = 1
+            elif hasattr(K, "tocoo"):
                 coo = K.tocoo()
                 off = np.count_nonzero(coo.data[coo.row != coo.col])
             else:
@@ -171,7 +245,9 @@ class ContactSystem:
 
     def solve(self, r: np.ndarray) -> np.ndarray:
         """``K⁻¹ r`` by a factorization of K kept for the next call (dense Cholesky, or SuperLU
-        for a sparse K): no compliance matrix is formed."""
+        for a sparse K): no compliance matrix is formed. Matrix-free: one product with C."""
+        if self.matrix_free:
+            return np.asarray(self.compliance.matvec(np.asarray(r, dtype=float)), dtype=float)
         fac = self._cache.get("factor")
         if fac is None:
             K = self.stiffness
@@ -186,3 +262,48 @@ class ContactSystem:
                 c = cho_factor(K)
                 fac = self._cache["factor"] = lambda x, c=c: cho_solve(c, x)
         return fac(np.asarray(r, dtype=float))
+
+    def stiffness_times(self, u: np.ndarray) -> np.ndarray:
+        """``K u``; for a matrix-free system the solution x of ``C x = u`` (conjugate gradients,
+        :func:`scipy.sparse.linalg.cg`, to 1e-13 relative), used only to start from a given u
+        or to move a start (the steppers carry the forces)."""
+        u = np.asarray(u, dtype=float)
+        if not self.matrix_free:
+            return self.stiffness @ u
+        if not np.any(u):
+            return np.zeros_like(u)
+        from scipy.sparse.linalg import cg
+
+        x, info = cg(self.compliance, u, rtol=1e-13, atol=0.0, maxiter=20 * self.m + 100)
+        if info != 0:
+            from ..errors import SolverError
+
+            raise SolverError(f"K u of a matrix-free system: conjugate gradients stopped after "
+                              f"{info} iterations", backend="cg", status="maxiter")
+        return x
+
+    def compliance_diagonal(self) -> np.ndarray:
+        """The diagonal of C = K⁻¹: formed for a dense or small system; for a large stiffness
+        1/K_ii (a bound from below); for a large matrix-free system the operator's own
+        ``diagonal()`` if it has one, else its mean from 16 random sign probes (a scale for
+        tests and for the pattern iteration, never for an answer)."""
+        if "cdiag" in self._cache:
+            return self._cache["cdiag"]
+        m = self.m
+        if self.matrix_free:
+            own = getattr(self.compliance, "diagonal", None)
+            if callable(own):
+                d = np.asarray(own(), dtype=float).ravel()
+            elif m <= COMPLIANCE_DENSE:
+                d = np.diag(self._formed()).copy()
+            else:
+                z = np.random.default_rng(7).choice([-1.0, 1.0], size=(m, 16))
+                d = np.full(m, float(np.mean(z * self.compliance.matmat(z))))
+        elif self.is_diagonal() or m > COMPLIANCE_DENSE:
+            d = 1.0 / np.asarray(self.stiffness.diagonal(), dtype=float)
+        else:
+            d = np.diag(self.compliance_matrix()).copy()
+        if d.shape != (m,) or not np.all(np.isfinite(d) & (d > 0)):
+            raise InputError("compliance", "its diagonal must be finite and positive")
+        self._cache["cdiag"] = d
+        return d

@@ -75,7 +75,7 @@ class Stepper:
     def init(self, scene, u0=None) -> StepState:
         system = scene.system
         u = np.zeros(system.m) if u0 is None else np.array(u0, dtype=float).reshape(system.m)
-        F = scene.Q[0] + system.stiffness @ u
+        F = scene.Q[0] + system.stiffness_times(u)
         state = np.where(scene.N[0] > 0.0, State.STICK, State.SEPARATION).astype(np.int8)
         return StepState(u=u, F=F, state=state)
 

@@ -188,12 +188,14 @@ class ExplicitStepper(Stepper):
         return {"substeps": state.data["substeps"], "events": state.data["events"]}
 
 
-def limit_crossings(K, f, F0, bound, dQ, dN, du, node_state, tau):
+def limit_crossings(K, f, F0, bound, dQ, dN, du, node_state, tau, dF=None):
     """Per node, the instant (fraction of the increment, 2 for never) where a sticking node
     reaches its upper and its lower friction limit, the rates ``du`` held from ``tau``: the
     margins ``f N ∓ F`` are linear in time, so the instants are exact. Returns (upper, lower).
+    ``dF``, the force rates ``dQ + K du``, when the caller has them.
     """
-    dF = dQ + K @ du
+    if dF is None:
+        dF = dQ + K @ du
     stick = node_state == STICK
     rtol = _REL * (np.abs(f * dN) + np.abs(dF)) + 1e-300
     gtol = _REL * (bound + np.abs(F0))
