@@ -14,8 +14,13 @@
 3. **n = 1e5, sparse chain** (common normal load P = 1 + 1.5 sin ωt, so the grid keeps its 2000
    steps; Q1 and phases per node): a full steady state with ``history=False``, in a child
    process: wall seconds, cycles, peak resident memory.
+4. **n = 4000, matrix-free** (a Toeplitz compliance ``C_ij = δ_ij + exp(-|i - j|/3)`` known
+   only by its products, each one FFT pair, :func:`scipy.linalg.matmul_toeplitz`; loads as in
+   2, 500 steps, events not located): CPU seconds per step of the second cycle, products with
+   C per step, the time of one product (the floor), and W against the same system given by
+   its stiffness matrix ``K = C⁻¹`` (the dense path) over the same two cycles.
 
-``--quick`` runs n = 100 and 1000 and 1e4 instead (about a minute). The results are written to
+``--quick`` runs n = 100, 1000, 1e4 and 1000 instead (about a minute). The results are written to
 ``many-nodes.md``. CPU times are taken with ``time.process_time`` (the machine is shared).
 """
 
@@ -88,6 +93,45 @@ def goal_products(n, steps=500):
     return {"n": n, "steps": scene.steps, "seconds": sec, "floor": floor, "W": W}
 
 
+def toeplitz_system(n, seed=0):
+    """The system of goal 4: matrix-free (FFT products) and, for the check, with K = C⁻¹."""
+    from scipy.linalg import matmul_toeplitz, toeplitz
+    from scipy.sparse.linalg import LinearOperator
+
+    from lcpfric.model import ContactSystem, Harmonic, IndependentSprings
+
+    rng = np.random.default_rng(seed)
+    c = np.exp(-np.arange(n) / 3.0)
+    c[0] += 1.0
+    P1, Q1, phi = rng.uniform(0.1, 0.8, n), rng.uniform(0.5, 2.0, n), rng.uniform(0, 6.3, n)
+    Q = tuple(Harmonic(0.0, Q1[i], phi[i]) for i in range(n))
+    normal = IndependentSprings(tuple(Harmonic(1.0, P1[i]) for i in range(n)))
+    op = LinearOperator((n, n), matvec=lambda x: matmul_toeplitz(c, x), dtype=float)
+    free = ContactSystem(None, np.ones(n), Q, normal, compliance=op)
+    K = np.linalg.inv(toeplitz(c))
+    return free, ContactSystem(0.5 * (K + K.T), np.ones(n), Q, normal), op
+
+
+def goal_matrix_free(n, steps=500):
+    free, dense, op = toeplitz_system(n)
+    scene = make_scene(free, steps)
+    stepper = get_stepper("active-set", locate_events=False)
+    state = stepper.init(scene)
+    state, _ = stepper.cycle(scene, state)
+    before = stepper.stats(state)
+    t = time.process_time()
+    state, cyc = stepper.cycle(scene, state)
+    sec = (time.process_time() - t) / scene.steps
+    after = stepper.stats(state)
+    products = (after["products"] - before["products"]) / scene.steps
+    cg = (after["cg_iterations"] - before["cg_iterations"]) / scene.steps
+    floor = product_seconds(op)
+    _, W_dense = cycle_seconds("active-set", make_scene(dense, steps), cycles=2,
+                               locate_events=False)
+    return {"n": n, "steps": scene.steps, "seconds": sec, "products": products, "cg": cg,
+            "floor": floor, "W": cyc.W, "W_dense": W_dense}
+
+
 def goal_sparse(n, steps=2000):
     code = f"""
 import json, time
@@ -113,7 +157,7 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--out", default="benchmarks/results")
     args = ap.parse_args(argv)
-    n1, n2, n3 = (100, 1000, 10_000) if args.quick else (400, 4000, 100_000)
+    n1, n2, n3, n4 = (100, 1000, 10_000, 1000) if args.quick else (400, 4000, 100_000, 4000)
     lines = ["# Many nodes: the active-set backend's goals", "",
              f"Reproduce: `OPENBLAS_NUM_THREADS=1 python benchmarks/many_nodes.py"
              f"{' --quick' if args.quick else ''}` (CPU seconds; wall seconds for the sparse "
@@ -141,6 +185,16 @@ def main(argv=None):
               f"Full steady state (build, scene, cycles): {s['seconds']:.1f} s wall, "
               f"{s['cycles']} cycles (converged: {s['converged']}), {s['steps']} steps per "
               f"cycle, peak resident memory {s['rss_mb']:.0f} MB, W = {s['W']!r}.", ""]
+    print("\n".join(lines[-3:]), flush=True)
+    f = goal_matrix_free(n4)
+    lines += [f"## Matrix-free, n = {n4} (FFT Toeplitz compliance, {f['steps']} steps, second "
+              f"cycle, events not located)", "",
+              f"{1e3 * f['seconds']:.3g} ms per step; {f['products']:.1f} products with C per "
+              f"step ({f['cg']:.1f} of them conjugate-gradient iterations); one product (one "
+              f"FFT pair): {1e3 * f['floor']:.3g} ms; **{f['seconds'] / f['floor']:.1f} "
+              f"products' time per step**. W = {f['W']!r}; with K = C⁻¹ (dense path) "
+              f"{f['W_dense']!r}: relative difference "
+              f"{abs(f['W'] - f['W_dense']) / abs(f['W_dense']):.1e}.", ""]
     print("\n".join(lines[-3:]), flush=True)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
