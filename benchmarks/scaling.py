@@ -3,7 +3,7 @@
 Usage (from the repository root)::
 
     OPENBLAS_NUM_THREADS=1 PYTHONPATH=. python benchmarks/scaling.py [--quick] [--out DIR]
-        [--budget SECONDS] [--cycles N] [--methods a,b] [--systems a,b]
+        [--budget SECONDS] [--cycles N] [--partial] [--methods a,b] [--systems a,b]
 
 writes ``DIR/scaling.csv``, ``scaling.md``, ``scaling.png`` and ``scaling.pdf`` (default
 ``benchmarks/results``) and prints each case as it finishes. ``--quick`` is about a minute of
@@ -62,8 +62,11 @@ A case is skipped when its predicted CPU time exceeds ``--budget`` (default 600 
 ``--quick``): the time per step extrapolated in n from the method's two largest finished sizes
 (log-log slope, between 0.5 and 3; slope 1 from one size) times the scene's steps and the cycles
 of the timed and converged runs, plus K⁻¹ (n³ from the last size measured). A child that runs
-over the budget anyway is stopped by a watchdog at the budget, and larger sizes of that method on
-that system are then skipped. A method that fails records its error class and message.
+over the budget anyway is stopped by a watchdog at the budget: its time per step is then taken
+over the steps it finished (status ``partial``, ringed in the plot; with the run's setup, so an
+upper bound), and larger sizes of that method on that system are skipped. With ``--partial`` the
+cases predicted over the budget are run too, each for the budget, and nothing is skipped for
+time. A method that fails records its error class and message.
 
 Caveats
 -------
@@ -248,8 +251,21 @@ class Watchdog:
         self.thread.start()
 
     @staticmethod
-    def _raise(*_):
-        raise OverBudget
+    def _raise(signum, frame):
+        """Raise OverBudget carrying the steps the driver had finished: the loop variable k of
+        the stepper's ``cycle`` and the cycles in the driver's ``W_cycles``, read from the
+        interrupted frames (None where a method's loop is not found)."""
+        k = cycles = None
+        f = frame
+        while f is not None:
+            name, local = f.f_code.co_name, f.f_locals
+            if k is None and name == "cycle" and isinstance(local.get("k"), int):
+                k = local["k"]
+            if name == "steady_state" and isinstance(local.get("W_cycles"), list):
+                cycles = len(local["W_cycles"])
+                break
+            f = f.f_back
+        raise OverBudget(None if k is None or cycles is None else (cycles, k))
 
     def _poll(self):
         while not self.done.wait(0.2):
@@ -289,10 +305,19 @@ def measure_case(system: str, n: int, method: str, cycles: int, agree: bool,
             c = lcpfric.steady_state(scene, name, tol=1e-12, max_cycles=AGREE_CYCLES,
                                      on_nonconvergence="ignore", **opts, **extra)
             out.update(W_converged=c.W, converged=c.converged, cycles_converged=c.cycles)
-    except OverBudget:
-        out.update(status="over budget", cpu_s=time.process_time() - t,
-                   note=f"stopped at the budget of {budget:g} CPU s"
-                        + ("" if "setup_s" in out else ", forming K⁻¹"))
+    except OverBudget as stop:
+        cpu = time.process_time() - t
+        where = stop.args[0] if stop.args else None
+        done = None if where is None or "setup_s" not in out else where[0] * scene.steps + where[1]
+        if done:  # the steps finished before the budget ran out: timed over them
+            out.update(status="partial", cpu_s=cpu, s_per_step=cpu / done, peak_mb=peak_mb(),
+                       note=f"the budget of {budget:g} CPU s ran out after {done} of "
+                            f"{cycles * scene.steps} steps: s/step over those (with the run's "
+                            f"setup)")
+        else:
+            out.update(status="over budget", cpu_s=cpu,
+                       note=f"stopped at the budget of {budget:g} CPU s"
+                            + ("" if "setup_s" in out else ", forming K⁻¹"))
     except Exception as exc:  # recorded, not raised: a failing method is a result
         out.update(status="error", cpu_s=time.process_time() - t,
                    note=f"{type(exc).__name__}: {exc}")
@@ -314,6 +339,7 @@ class Settings:
     agree_max: int = 400
     sparse_methods: tuple | None = None  # the methods run on the sparse systems (None: all)
     isolate: bool = True  # each case in its own process (else in this one: no peak memory)
+    partial: bool = False  # run cases predicted over the budget, timed over part of a cycle
     command: str = ""
     log: object = field(default=print, repr=False)
 
@@ -394,7 +420,8 @@ def run(settings: Settings) -> list[dict]:
                            if setups and setups[-1][0] >= 100 and forms_inverse(n, m) else 0.0)
                 if fixed[m]:
                     row.update(status="skipped", note=fixed[m])
-                elif guess is not None and guess + inverse > settings.budget:
+                elif (guess is not None and guess + inverse > settings.budget
+                      and not settings.partial):
                     part = f" (K⁻¹ {inverse:.2g})" if inverse else ""
                     row.update(status="skipped", note=f"predicted {guess + inverse:.3g} CPU s"
                                                       f"{part} > budget {settings.budget:g}")
@@ -411,6 +438,10 @@ def run(settings: Settings) -> list[dict]:
                         setups.append((n, got["setup_s"]))
                     if row.get("status") == "ok":
                         done[m].append((n, row["s_per_step"]))
+                    elif row.get("status") == "partial":
+                        done[m].append((n, row["s_per_step"]))
+                        if not settings.partial:
+                            stopped[m] = f"over budget at n = {n}"
                     elif row.get("status") in ("over budget", "timeout"):
                         stopped[m] = f"over budget at n = {n}"
                 rows.append(_row(settings, row))
@@ -429,7 +460,7 @@ def _fixed_reason(settings, system: str, n: int, method: str, stopped: dict,
 
 def _row(settings, row: dict) -> dict:
     out = {k: row.get(k, "") for k in FIELDS}
-    if row.get("status") == "ok" and row.get("floor_s"):
+    if row.get("status") in ("ok", "partial") and row.get("floor_s"):
         out["ratio"] = row["s_per_step"] / row["floor_s"]
     settings.log(_line(out))
     return out
@@ -528,18 +559,23 @@ def plot(rows: list[dict], out_dir: Path) -> list[Path]:
         return []
     from matplotlib.lines import Line2D
 
-    ok = [r for r in rows if r["status"] == "ok"]
+    ok = [r for r in rows if r["status"] in ("ok", "partial")]
     colors = dict(zip(METHODS, ("#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e")))
     with plotting.style():
         ax = fig.add_subplot()
         systems = [s for s in SYSTEMS if any(r["system"] == s for r in rows)]
         for s in systems:
             for m in METHODS:
-                pts = sorted((r["n"], r["s_per_step"]) for r in ok
+                pts = sorted((r["n"], r["s_per_step"], r["status"]) for r in ok
                              if r["system"] == s and r["method"] == m)
                 if pts:
-                    ax.loglog(*zip(*pts), color=colors[m], marker=MARKERS[m], ms=4,
-                              ls=LINES[s], lw=1.0, mfc="none" if s in SPARSE else colors[m])
+                    ax.loglog([p[0] for p in pts], [p[1] for p in pts], color=colors[m],
+                              marker=MARKERS[m], ms=4, ls=LINES[s], lw=1.0,
+                              mfc="none" if s in SPARSE else colors[m])
+                    part = [p for p in pts if p[2] == "partial"]
+                    if part:  # timed over part of a cycle: ringed
+                        ax.loglog([p[0] for p in part], [p[1] for p in part], ls="none",
+                                  marker="o", ms=9, mfc="none", mec="0.2", mew=0.7)
         for kind, gray in (("dense", "0.15"), ("sparse", "0.55")):
             pts = sorted({(r["n"], r["floor_s"]) for r in rows
                           if (r["system"] in SPARSE) == (kind == "sparse")
@@ -555,7 +591,10 @@ def plot(rows: list[dict], out_dir: Path) -> list[Path]:
               for m in METHODS if any(r["method"] == m for r in ok)]
         h2 = [Line2D([], [], color="0.3", ls=LINES[s], lw=1.0, marker="o", ms=4,
                      mfc="none" if s in SPARSE else "0.3", label=s) for s in systems]
-        h3 = [Line2D([], [], color="0.15", ls=(0, (5, 3)), lw=1.2, label="floor: C x (dense)"),
+        h3 = [Line2D([], [], ls="none", marker="o", ms=9, mfc="none", mec="0.2", mew=0.7,
+                     label="ringed: part of a cycle\n(budget ran out)")] \
+            if any(r["status"] == "partial" for r in ok) else []
+        h3 += [Line2D([], [], color="0.15", ls=(0, (5, 3)), lw=1.2, label="floor: C x (dense)"),
               Line2D([], [], color="0.55", ls=(0, (5, 3)), lw=1.2,
                      label="floor: K x (sparse)")]
         ax.legend(handles=h1 + h2 + h3, fontsize=8, loc="center left",
@@ -574,6 +613,9 @@ def main(argv=None) -> int:
                     help="CPU seconds per case (default 600; 20 with --quick)")
     ap.add_argument("--cycles", type=int, default=None,
                     help="cycles timed per case (default 3; 1 with --quick)")
+    ap.add_argument("--partial", action="store_true",
+                    help="run the cases predicted over the budget too, timed over the steps "
+                         "the budget allows (status 'partial')")
     ap.add_argument("--methods", default=",".join(METHODS))
     ap.add_argument("--systems", default=None, help=f"from {', '.join(SYSTEMS)}")
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
@@ -595,6 +637,7 @@ def main(argv=None) -> int:
         if args.cycles < 1:
             ap.error(f"--cycles must be >= 1, got {args.cycles}")
         settings.cycles = args.cycles
+    settings.partial = args.partial
     settings.command = "OPENBLAS_NUM_THREADS=1 python benchmarks/scaling.py " + " ".join(
         argv if argv is not None else sys.argv[1:])
     rows = run(settings)

@@ -127,46 +127,51 @@ class DenseBlock(_Block):
         self.stats["factorizations"] += 1
 
     def _correction(self, left: np.ndarray, joined: np.ndarray) -> None:
-        """The low-rank terms for the leaving positions ``left`` and the joining ``joined``."""
+        """The low-rank terms for the leaving positions ``left`` and the joining ``joined``.
+
+        Everything is kept by rows (``XT = Xᵀ``, ``HRT = H[:, R]ᵀ``) and gathered by rows of
+        the symmetric K and G0: a column gather of a large array touches one cache line per
+        element, a row gather streams."""
         K, B, G0 = self.K, self.base, self.G0
         old = getattr(self, "joined", np.empty(0, dtype=np.intp))
         if joined.size:
-            # X = G0 K_BJ, reusing the columns of unknowns that had joined already
-            X = np.empty((B.size, joined.size))
+            # Xᵀ = K_JB G0, reusing the rows of unknowns that had joined already
+            XT = np.empty((joined.size, B.size))
             known = {int(u): c for c, u in enumerate(old)}
             fresh = [c for c, u in enumerate(joined) if int(u) not in known]
             for c, u in enumerate(joined):
                 if int(u) in known:
-                    X[:, c] = self.X[:, known[int(u)]]
-            KBJ = self.rows[:, joined]
+                    XT[c] = self.XT[known[int(u)]]
+            KJ = K[joined]                                   # (j, m), rows
+            KJB = KJ[:, B]
             if fresh:
-                X[:, fresh] = G0 @ KBJ[:, fresh]
-            S = K[np.ix_(joined, joined)] - KBJ.T @ X
+                XT[fresh] = KJB[fresh] @ G0
+            S = KJ[:, joined] - KJB @ XT.T
             Sinv = _spd_inverse(0.5 * (S + S.T), "the Schur complement of the joining unknowns")
         else:
-            X, Sinv = np.zeros((B.size, 0)), np.zeros((0, 0))
-        self.joined, self.X, self.Sinv, self.left = joined, X, Sinv, left
+            XT, Sinv = np.zeros((0, B.size)), np.zeros((0, 0))
+        self.joined, self.XT, self.Sinv, self.left = joined, XT, Sinv, left
         self.rank = left.size + joined.size
         if left.size:
-            # H[:, R]: columns of H = K_AA⁻¹ at the leaving positions
-            XR = X[left]                                    # (k, j)
-            top = G0[:, left] + X @ (Sinv @ XR.T)           # (|B|, k)
-            HR = np.vstack([top, -(Sinv @ XR.T)])           # (|B| + j, k)
-            self.HR = HR
-            self.M = _spd_inverse(0.5 * (HR[left] + HR[left].T), "H_RR")
+            # H[:, R]ᵀ: rows of H = K_AA⁻¹ at the leaving positions
+            XRS = XT[:, left].T @ Sinv                       # (k, j)
+            HRT = np.hstack([G0[left] + XRS @ XT, -XRS])     # (k, |B| + j)
+            self.HRT = HRT
+            HRR = HRT[:, left]
+            self.M = _spd_inverse(0.5 * (HRR + HRR.T), "H_RR")
         else:
-            self.HR, self.M = np.zeros((B.size + joined.size, 0)), np.zeros((0, 0))
+            self.HRT, self.M = np.zeros((0, B.size + joined.size)), np.zeros((0, 0))
 
     def _apply(self, rB: np.ndarray, rJ: np.ndarray) -> np.ndarray:
         """``H (r_B, r_J)`` with ``H = K_AA⁻¹``, then the leaving positions removed."""
         y = self.G0 @ rB
         if self.joined.size:
-            v = self.Sinv @ (self.X.T @ rB - rJ)
-            z = np.concatenate([y + self.X @ v, -v])
+            v = self.Sinv @ (self.XT @ rB - rJ)
+            z = np.concatenate([y + v @ self.XT, -v])
         else:
             z = y
         if self.left.size:
-            z -= self.HR @ (self.M @ z[self.left])
+            z -= (self.M @ z[self.left]) @ self.HRT
         return z
 
     def _fold(self, free: np.ndarray) -> None:
@@ -176,7 +181,7 @@ class DenseBlock(_Block):
             G0_new = [[G0_BkBk, 0], [0, 0]] + P S⁻¹ Pᵀ - Hk M Hkᵀ,
 
         one gather of G0 and one matrix-matrix product of rank ``|J| + |R|``."""
-        B, X, Sinv, left, joined = self.base, self.X, self.Sinv, self.left, self.joined
+        B, XT, Sinv, left, joined = self.base, self.XT, self.Sinv, self.left, self.joined
         s, j = B.size, joined.size
         keep = np.ones(s + j, dtype=bool)
         keep[left] = False
@@ -186,11 +191,11 @@ class DenseBlock(_Block):
         G[:t, :t] = self.G0[np.ix_(kb, kb)] if left.size else self.G0
         lhs, rhs = [], []
         if j:
-            P = np.vstack([X[kb], -np.eye(j)])
+            P = np.vstack([XT[:, kb].T, -np.eye(j)])
             lhs.append(P @ Sinv)
             rhs.append(P)
         if left.size:
-            Hk = self.HR[keep]
+            Hk = self.HRT[:, keep].T
             lhs.append(-(Hk @ self.M))
             rhs.append(Hk)
         if lhs:
