@@ -1,0 +1,96 @@
+"""The Hertz contact by dimensionality reduction (lcpfric.contact.mdr) against the classical
+closed forms: Mindlin-Deresiewicz at constant P, Cattaneo's stick radius, Mindlin and
+Deresiewicz's in-phase condition, W(φ + π) = W(φ), and the single node (one spring)."""
+
+import numpy as np
+import pytest
+
+import lcpfric
+from lcpfric.contact import cattaneo_stick_ratio, mindlin_deresiewicz_W
+from lcpfric.contact.mdr import MDRSphere
+from lcpfric.errors import InputError
+from lcpfric.model import ContactSystem, Harmonic, IndependentSprings
+
+R, E, MU, P0 = 10.0, 200e3, 0.5, 100.0
+
+
+def sphere(P1=0.0, Q1=0.25, phi=0.0, nu=0.0, **kw):
+    """Q1 in units of μ P0."""
+    return MDRSphere(R, E, nu, MU, Harmonic(P0, P1 * P0), Harmonic(0.0, Q1 * MU * P0, phi), **kw)
+
+
+@pytest.mark.parametrize("nu", [0.0, 0.3])
+@pytest.mark.parametrize("x", [0.2, 0.5, 0.9])
+def test_mindlin_deresiewicz_at_constant_load(x, nu):
+    r = sphere(Q1=x, nu=nu, nodes=2000).solve(400)
+    ref = mindlin_deresiewicz_W(P0, x * MU * P0, MU, r.k_t0)
+    assert r.converged and r.W == pytest.approx(ref, rel=2e-4)  # the goal: 0.2 %
+    assert r.W_normalized == pytest.approx(r.W * r.k_t0 / (MU * P0) ** 2)
+
+
+def test_second_order_in_the_steps():
+    """At constant P the error halves twice per halving of the step (measured order 2)."""
+    errs = []
+    for steps in (100, 200, 400):
+        r = sphere(Q1=0.5, nodes=4000).solve(steps)
+        errs.append(abs(r.W / mindlin_deresiewicz_W(P0, 0.5 * MU * P0, MU, r.k_t0) - 1))
+    orders = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
+    assert np.all((orders > 1.8) & (orders < 2.2)), orders
+
+
+def test_cattaneo_stick_radius_on_first_loading():
+    """From the virgin state, Q rising at constant P: c/a = (1 - Q/(μP))^(1/3), to a cell."""
+    steps, m = 400, sphere(Q1=0.9, nodes=2000)
+    r = m.solve(steps, record=True, max_cycles=1, on_nonconvergence="ignore")
+    c = r.stick_radius()
+    for j in (20, 50, 80, 100):  # Q(t_j) rises to 0.9 μ P0 at j = steps / 4
+        x = 0.9 * np.sin(2 * np.pi * j / steps)
+        assert c[j] / r.a[j] == pytest.approx(cattaneo_stick_ratio(x), abs=2 * m.dx / r.a[j])
+
+
+def test_in_phase_dissipates_nothing_and_half_period_symmetry():
+    """φ = 0, Q1 <= μ P1, P1 < P0: no dissipation in the steady state (to the discretization:
+    it falls with the steps), while φ = 0.5 dissipates; W(φ + π) = W(φ)."""
+    W0 = [sphere(P1=0.5, Q1=0.4, nodes=2000).solve(s).W_normalized for s in (200, 400)]
+    assert W0[1] < W0[0] < 1e-5
+    Wa = sphere(P1=0.5, Q1=0.4, phi=0.5, nodes=500).solve(200).W_normalized
+    Wb = sphere(P1=0.5, Q1=0.4, phi=0.5 + np.pi, nodes=500).solve(200).W_normalized
+    assert Wa > 1e-3 and Wb == pytest.approx(Wa, rel=1e-12)
+
+
+def test_one_spring_is_the_single_node():
+    """One spring of stiffness k1 on the bar held by k_s: the paper's node with k11 = k1 k_s /
+    (k1 + k_s) under -k1/(k1 + k_s) Q, N = P: the same increments as lcpfric's projection."""
+    ks = 3e3
+    m = MDRSphere(R, E, 0.0, MU, Harmonic(P0, 0.6 * P0), Harmonic(0.0, 0.5 * MU * P0, 0.7),
+                  nodes=1, k_support=ks)
+    r = m.solve(300, tol=1e-12)
+    k1 = m.k[0]
+    node = ContactSystem([[k1 * ks / (k1 + ks)]], [MU],
+                         (Harmonic(0.0, k1 / (k1 + ks) * 0.5 * MU * P0, 0.7 + np.pi),),
+                         IndependentSprings((Harmonic(P0, 0.6 * P0),)))
+    ref = lcpfric.steady_state(node, "projection", 300, tol=1e-12, placement="uniform")
+    assert r.W == pytest.approx(ref.W, rel=1e-10)
+
+
+def test_normal_forces_carry_the_load_and_separation_with_support():
+    m = sphere(P1=1.5, Q1=0.6, phi=0.3, nodes=300, k_support=2e3)
+    t = np.linspace(0, 2 * np.pi, 50)
+    np.testing.assert_allclose(m.normal_forces(t).sum(axis=1), np.maximum(m.P(t), 0),
+                               rtol=1e-12, atol=1e-12 * P0)
+    r = m.solve(200)
+    assert r.converged and r.W > 0 and r.a.min() == 0.0
+
+
+def test_refusals():
+    with pytest.raises(InputError) as err:
+        sphere(P1=1.5, Q1=0.6, phi=0.3, nodes=100).solve(100)
+    assert err.value.parameter == "k_support" and "|Q(t)| > μ P(t)" in str(err.value)
+    for kw, name in ((dict(nu=0.5), "nu"), (dict(nodes=0), "nodes"),
+                     (dict(nodes=10 ** 7), "nodes"), (dict(k_support=-1.0), "k_support")):
+        with pytest.raises(InputError) as err:
+            sphere(**kw)
+        assert err.value.parameter == name
+    with pytest.raises(InputError) as err:
+        MDRSphere(R, E, 0.0, MU, Harmonic(-1.0, 0.5), 0.0)
+    assert err.value.parameter == "P"
