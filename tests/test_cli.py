@@ -48,8 +48,8 @@ def test_every_subcommand_is_listed(capsys):
     assert code == 0
     for name in COMMANDS:
         assert name in out
-    assert set(COMMANDS) == {"dissipation", "loop", "shakedown", "methods", "map", "figures",
-                             "paper-claims", "bench"}
+    assert set(COMMANDS) == {"dissipation", "loop", "shakedown", "contact", "methods", "map",
+                             "figures", "paper-claims", "bench"}
 
 
 def test_subcommands_listed_and_extras_named_when_extras_are_missing(capsys, monkeypatch, tmp_path):
@@ -583,3 +583,36 @@ def test_bad_input_tour(capsys, tmp_path, argv, option):
 
 def test_tour_size():
     assert len(QUOTED) >= 15 and len(OWN) >= 20
+
+
+# -- contact ---------------------------------------------------------------------------------------
+SPHERE = ("contact", "--R", "10", "--E", "200e3", "--nu", "0", "--mu", "0.5", "--P0", "100")
+
+
+def test_contact_json_against_mindlin_deresiewicz(capsys):
+    from lcpfric.contact import mindlin_deresiewicz_W
+
+    code, out, err = run(capsys, *SPHERE, "--P1", "0", "--Q1", "25", "--nodes", "500",
+                         "--steps", "200", "--json")
+    assert code == 0, err
+    res = json.loads(out)
+    for key in ("W", "W_normalized", "k_t0", "contact_size_max", "nodes", "steps_per_cycle",
+                "cycles", "converged", "seconds"):
+        assert key in res
+    assert res["converged"] and res["nodes"] == 500 and res["steps_per_cycle"] == 200
+    ref = mindlin_deresiewicz_W(100.0, 25.0, 0.5, res["k_t0"])
+    assert res["W"] == pytest.approx(ref, rel=2e-3)
+    assert res["W_normalized"] == pytest.approx(res["W"] * res["k_t0"] / 50.0 ** 2)
+
+
+@pytest.mark.parametrize("extra, option", [
+    (("--nu", "0.5"), "--nu"), (("--E", "-1"), "--E"), (("--P0", "0"), "--P0"),
+    (("--nodes", "5"), "--nodes"), (("--nodes", "2.5"), "--nodes"),
+    (("--P1", "150", "--Q1", "30", "--phi", "0.3pi"), "--k-support"),
+    (("--k-support", "-2"), "--k-support"), (("--R", "nan"), "--R")])
+def test_contact_bad_input_is_one_line(capsys, extra, option):
+    args = dict(zip(SPHERE[1::2], SPHERE[2::2]))
+    args.update({"--P1": "0", "--Q1": "10"})
+    args.update(dict(zip(extra[0::2], extra[1::2])))
+    code, _, err = run(capsys, "contact", *[x for kv in args.items() for x in kv])
+    assert_one_line_error(code, err, option)
