@@ -42,10 +42,10 @@ def test_cattaneo_stick_radius_on_first_loading():
     """From the virgin state, Q rising at constant P: c/a = (1 - Q/(μP))^(1/3), to a cell."""
     steps, m = 400, sphere(Q1=0.9, nodes=2000)
     r = m.solve(steps, record=True, max_cycles=1, on_nonconvergence="ignore")
-    c = r.stick_radius()
+    c = r.stick_size()
     for j in (20, 50, 80, 100):  # Q(t_j) rises to 0.9 μ P0 at j = steps / 4
         x = 0.9 * np.sin(2 * np.pi * j / steps)
-        assert c[j] / r.a[j] == pytest.approx(cattaneo_stick_ratio(x), abs=2 * m.dx / r.a[j])
+        assert c[j] / r.size[j] == pytest.approx(cattaneo_stick_ratio(x), abs=2 * m.dx / r.size[j])
 
 
 def test_in_phase_dissipates_nothing_and_half_period_symmetry():
@@ -79,7 +79,7 @@ def test_normal_forces_carry_the_load_and_separation_with_support():
     np.testing.assert_allclose(m.normal_forces(t).sum(axis=1), np.maximum(m.P(t), 0),
                                rtol=1e-12, atol=1e-12 * P0)
     r = m.solve(200)
-    assert r.converged and r.W > 0 and r.a.min() == 0.0
+    assert r.converged and r.W > 0 and r.size.min() == 0.0
 
 
 def test_refusals():

@@ -60,14 +60,14 @@ def run(args) -> int:
                       Harmonic(0.0, num["Q1"], phi), k_support=ks, nodes=nodes)
     r = model.solve(steps)
     out = {"W": r.W, "W_normalized": r.W_normalized, "k_t0": r.k_t0,
-           "contact_size_max": r.a_max, "nodes": r.nodes, "steps_per_cycle": r.steps_per_cycle,
+           "contact_size_max": r.contact_size_max, "nodes": r.nodes, "steps_per_cycle": r.steps_per_cycle,
            "cycles": r.cycles, "converged": r.converged, "seconds": r.seconds,
            "geometry": "sphere", "model": "mdr"}
     if args.json:
         print(json.dumps(out))
         return 0
     print(f"W = {r.W:.10g} per cycle; W k_t0/(mu^2 P0^2) = {r.W_normalized:.10g} "
-          f"(k_t0 = {r.k_t0:.6g}; largest contact radius {r.a_max:.6g}; {r.nodes} springs, "
+          f"(k_t0 = {r.k_t0:.6g}; largest contact radius {r.contact_size_max:.6g}; {r.nodes} springs, "
           f"{r.steps_per_cycle} steps per cycle, {r.cycles} cycles, {r.seconds:.2f} s)")
     return 0
 

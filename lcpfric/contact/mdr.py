@@ -34,96 +34,27 @@ the bar is never formed as a matrix. With ``k_support = 0`` the equation has a r
 ``|Q| <= μ P`` (else the whole contact slides): such loads are refused before any work, naming
 the instants and the fix (a support stiffness).
 
-The dissipation of an increment is lcpfric's (:func:`~lcpfric.steppers.dissipation.
-increment_dissipation`), cycles are repeated until the slips repeat
-(:func:`~lcpfric.periodic.cycle_change`, the driver's criterion).
+Cycles are run by :func:`lcpfric.contact.steady.steady_state` (lcpfric's dissipation of an
+increment, the driver's convergence criterion).
 """
 
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 
 import numpy as np
 
 from .. import _checks
-from ..errors import ConvergenceError, InputError
+from ..errors import InputError
 from ..model.loads import Harmonic, Load
-from ..periodic import cycle_change
-from ..results import State
-from ..steppers.dissipation import increment_dissipation
 from .closed_forms import hertz_contact, moduli
+from .steady import ContactResult, gross_sliding, steady_state
 
-__all__ = ["MDRSphere", "MDRResult", "MAX_NODES"]
+__all__ = ["MDRSphere", "MAX_NODES", "load"]
 
 #: largest number of springs (the arrays are nodes x steps)
 MAX_NODES = 200_000
-STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
-                                        int(State.BACKWARD), int(State.SEPARATION))
-
-
-@dataclass(frozen=True)
-class MDRResult:
-    """The periodic steady state of an MDR contact.
-
-    Attributes
-    ----------
-    W : float
-        Dissipation per cycle (last cycle): force x length, in the units of P and R.
-    W_normalized : float
-        ``W k_t0 / (μ² P0²)`` with ``k_t0 = 2 a0 G*`` at the mean load P0.
-    W_cycles : ndarray
-        W of every cycle run.
-    k_t0, a_max : float
-        Initial tangential stiffness at P0; the largest contact radius over the cycle.
-    nodes, nodes_in_contact_max : int
-        Springs on ``[0, a_max]``; the most in contact at one instant.
-    steps_per_cycle, cycles : int
-    converged : bool
-    change : float
-        The last cycle's relative change (:func:`~lcpfric.periodic.cycle_change`).
-    seconds : float
-    t, x : ndarray
-        Instants of the last cycle (``steps + 1``, fractions of the period times the period) and
-        the spring positions (cell centres).
-    a : ndarray
-        Contact radius at each instant.
-    state, F : ndarray or None
-        ``(steps + 1, nodes)`` spring states (:class:`~lcpfric.results.State`) and friction
-        forces of the last cycle, when ``record=True``.
-    """
-
-    W: float
-    W_normalized: float
-    W_cycles: np.ndarray
-    k_t0: float
-    a_max: float
-    nodes: int
-    nodes_in_contact_max: int
-    steps_per_cycle: int
-    cycles: int
-    converged: bool
-    change: float
-    seconds: float
-    t: np.ndarray
-    x: np.ndarray
-    a: np.ndarray
-    state: np.ndarray | None = None
-    F: np.ndarray | None = None
-
-    def stick_radius(self) -> np.ndarray:
-        """At each instant of the last cycle, the outer edge of the sticking springs around the
-        centre (0 when none sticks; needs ``record=True``)."""
-        if self.state is None:
-            raise InputError("record", "the stick radius needs solve(..., record=True)")
-        dx = self.x[1] - self.x[0] if self.x.size > 1 else 2 * self.x[0]
-        out = np.zeros(self.state.shape[0])
-        for j, s in enumerate(self.state):
-            slipping = np.flatnonzero(s != STICK)
-            first = slipping[0] if slipping.size else s.size
-            out[j] = first * dx
-        return out
 
 
 class MDRSphere:
@@ -151,8 +82,8 @@ class MDRSphere:
         self.mu = _checks.positive("mu", mu)
         self.moduli = moduli(self.E, nu)
         self.nu = float(nu)
-        self.P = _load("P", P)
-        self.Q = _load("Q", Q)
+        self.P = load("P", P)
+        self.Q = load("Q", Q)
         periods = [ld.period for ld in (self.P, self.Q) if not ld.is_constant]
         if len(periods) == 2 and not math.isclose(periods[0], periods[1], rel_tol=1e-12):
             raise InputError("Q", f"P and Q must share one period; got {periods}")
@@ -192,90 +123,37 @@ class MDRSphere:
 
         return np.where(hi > lo, 2.0 * self.moduli["E*"] * (prim(hi) - prim(lo)), 0.0)
 
-    def gross_sliding(self, t) -> np.ndarray:
-        """The instants of ``t`` where ``|Q| > μ max(P, 0)``: no equilibrium under pure load
-        control."""
-        t = np.asarray(t, dtype=float)
-        P, Q = self.P(t), self.Q(t)
-        margin = 1e-12 * (abs(self.mu * self.P0) + np.abs(Q))
-        return t[np.abs(Q) > self.mu * np.maximum(P, 0.0) + margin]
+    # -- the model protocol of lcpfric.contact.steady ------------------------------------------
+    def limits(self, t) -> np.ndarray:
+        """Friction limits ``μ N_i(t)``, ``(len(t), nodes)``."""
+        return self.mu * self.normal_forces(t)
 
-    # -- the steady state -----------------------------------------------------------------------
+    def sizes(self, t) -> np.ndarray:
+        return self.radius(t)
+
+    def start(self) -> "_Bar":
+        return _Bar(np.zeros(self.nodes), 0.0)
+
+    def scales(self) -> tuple[float, float]:
+        q = self.Q.amplitude if not self.Q.is_constant else abs(self.Q.mean)
+        return q / self.k_t0, self.mu * self.P_max
+
+    def normalization(self) -> tuple[str, float]:
+        return "W k_t0/(mu^2 P0^2)", self.k_t0 / (self.mu * self.P0) ** 2
+
+    def increment(self, state, b, Q):
+        """The exact increment to the next instant (module docstring)."""
+        u, F, v = self._increment(state.v, state.u, b, Q)
+        return _Bar(v, u), F, v - state.v
+
     def solve(self, steps: int = 400, *, tol: float = 1e-10, max_cycles: int = 200,
-              on_nonconvergence: str = "raise", record: bool = False) -> MDRResult:
+              on_nonconvergence: str = "raise", record: bool = False) -> ContactResult:
         """The periodic steady state on ``steps`` uniform increments per cycle, from the virgin
-        state (no slip, u = 0)."""
-        start = time.perf_counter()
-        steps = _checks.positive_int("steps", steps, 4)
-        tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
-                                                                    on_nonconvergence)
-        if self.nodes * (steps + 1) * 8 * (4 if record else 2) > 4 << 30:
-            raise InputError("steps", f"{steps} steps x {self.nodes} springs would take more "
-                                      f"than 4 GiB; fewer steps or nodes")
-        t = np.linspace(0.0, self.period, steps + 1)
-        if self.k_support == 0.0:
-            fine = np.union1d(t, np.linspace(0.0, self.period, 20001))
-            bad = self.gross_sliding(fine)
-            if bad.size:
-                show = ", ".join(f"{x / self.period:.4g}" for x in bad[:: max(1, bad.size // 4)][:4])
-                raise InputError("k_support", f"is 0 (pure load control) but |Q(t)| > μ P(t) at "
-                                              f"{bad.size} of {fine.size} sampled instants "
-                                              f"(fractions of the period: {show}, ...): the "
-                                              f"whole contact slides and has no equilibrium; "
-                                              f"give the structure that holds the body, "
-                                              f"k_support > 0, or loads with |Q| <= μ P")
-        b = self.mu * self.normal_forces(t)                  # (steps + 1, nodes)
-        Q = np.asarray(self.Q(t), dtype=float)
-        v = np.zeros(self.nodes)
-        F = np.zeros(self.nodes)
-        u = 0.0
-        W_cycles, change = [], math.inf
-        du_scale = abs(self.Q.amplitude if not self.Q.is_constant else self.Q.mean) / self.k_t0
-        scales = (du_scale, self.mu * self.P_max)
-        prev = None
-        for _ in range(max_cycles):
-            v0 = v.copy()
-            keep = record
-            Fs = np.empty((steps + 1, self.nodes)) if keep else None
-            Ss = np.empty((steps + 1, self.nodes), dtype=np.int8) if keep else None
-            if keep:
-                Fs[0], Ss[0] = F, _states(F, b[0], None, self.dx)
-            W = 0.0
-            vmin, vmax = v.copy(), v.copy()
-            for j in range(steps):
-                u, F1, v1 = self._increment(v, u, b[j + 1], Q[j + 1])
-                W += increment_dissipation(F, F1, v1 - v)
-                if keep:
-                    Fs[j + 1], Ss[j + 1] = F1, _states(F1, b[j + 1], v1 - v, self.dx)
-                F, v = F1, v1
-                np.minimum(vmin, v, out=vmin)
-                np.maximum(vmax, v, out=vmax)
-            W_cycles.append(W)
-            if prev is not None:
-                change = float(cycle_change(np.max(np.abs(v - v0)), np.max(vmax - vmin),
-                                            W - prev, W, scales))
-                if change <= tol:
-                    break
-            prev = W
-        converged = bool(change <= tol)
-        if not converged and on_nonconvergence != "ignore":
-            msg = (f"MDR: no periodic steady state after {len(W_cycles)} cycles (relative "
-                   f"change {change:.3g} > tol {tol:g}); raise max_cycles or loosen tol")
-            if on_nonconvergence == "raise":
-                raise ConvergenceError(msg, None)
-            import warnings
-
-            from ..errors import ConvergenceWarning
-
-            warnings.warn(msg, ConvergenceWarning, stacklevel=2)
-        W = W_cycles[-1]
-        return MDRResult(W=W, W_normalized=W * self.k_t0 / (self.mu * self.P0) ** 2,
-                         W_cycles=np.asarray(W_cycles), k_t0=self.k_t0, a_max=self.a_max,
-                         nodes=self.nodes,
-                         nodes_in_contact_max=int(np.max(np.count_nonzero(b > 0, axis=1))),
-                         steps_per_cycle=steps, cycles=len(W_cycles), converged=converged,
-                         change=change, seconds=time.perf_counter() - start, t=t, x=self.x,
-                         a=self.radius(t), state=Ss, F=Fs)
+        state (no slip, u = 0): :func:`lcpfric.contact.steady.steady_state`. With
+        ``k_support = 0`` loads with ``|Q| > μ P`` at some instant are refused first."""
+        gross_sliding(self, _checks.positive_int("steps", steps, 4))
+        return steady_state(self, steps, tol=tol, max_cycles=max_cycles,
+                            on_nonconvergence=on_nonconvergence, record=record)
 
     def _increment(self, v, u, b, Q):
         """The exact increment (module docstring): ``(u, F, v)`` at the next instant."""
@@ -314,14 +192,12 @@ class MDRSphere:
         return u1, F, v1
 
 
-def _states(F, b, dv, dx) -> np.ndarray:
-    """Spring states: separated (b = 0), slipping (moved this increment), or sticking."""
-    s = np.full(F.shape, STICK, dtype=np.int8)
-    if dv is not None:
-        s[dv > 0.0] = FORWARD
-        s[dv < 0.0] = BACKWARD
-    s[b <= 0.0] = SEPARATION
-    return s
+@dataclass
+class _Bar:
+    """The tangential state: the springs' slips v and the bar's displacement u."""
+
+    v: np.ndarray
+    u: float
 
 
 def _no_root(Q, b):
@@ -331,7 +207,7 @@ def _no_root(Q, b):
                                   f"control; give k_support > 0")
 
 
-def _load(name: str, x) -> Load:
+def load(name: str, x) -> Load:
     if isinstance(x, Load):
         return x
     try:

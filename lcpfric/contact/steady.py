@@ -1,0 +1,207 @@
+"""The periodic steady state of a continuum contact model, and its result type.
+
+A model (:class:`~lcpfric.contact.mdr.MDRSphere`, :class:`~lcpfric.contact.halfplane.
+HalfPlaneCylinder`) provides
+
+* ``period``, ``nodes``, ``x`` (node positions), ``k_support``;
+* ``limits(t)``: the friction limits ``μ N_i(t)`` on the grid (the normal problem, solved before
+  any tangential computation: the problems are uncoupled), and ``sizes(t)``, the contact size
+  (radius or half-width) at each instant;
+* ``start()``: the tangential state of the virgin contact, and ``increment(state, b, Q)``: the
+  increment to the next instant (limits b, tangential load Q), returning ``(state, F, dv)``:
+  the new state, the friction forces and the slips of the increment (lcpfric's signs: the slip
+  opposes F);
+* ``scales()``: ``(displacement, force)`` scales for the convergence test, and
+  ``normalization()``: ``(name, factor)`` with ``W_normalized = factor · W``.
+
+:func:`steady_state` runs cycles until the slips repeat, with the driver's own criterion
+(:func:`~lcpfric.periodic.cycle_change`), and returns one :class:`ContactResult`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _checks
+from ..errors import ConvergenceError, ConvergenceWarning, InputError
+from ..periodic import cycle_change
+from ..results import State
+from ..steppers.dissipation import increment_dissipation
+
+__all__ = ["ContactResult", "steady_state"]
+
+STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
+                                        int(State.BACKWARD), int(State.SEPARATION))
+#: memory allowed for the recorded cycle and the limits on the grid
+MAX_BYTES = 4 << 30
+
+
+@dataclass(frozen=True)
+class ContactResult:
+    """The periodic steady state of a continuum contact.
+
+    Attributes
+    ----------
+    W : float
+        Dissipation per cycle (last cycle): force x length (per unit length for a plane
+        contact), in the units of the loads and lengths given.
+    W_normalized : float
+        ``W k_t0 / (μ² P0²)`` (sphere) or ``W π E* / (μ² P0²)`` (cylinder): ``normalization``.
+    normalization : str
+    W_cycles : ndarray
+        W of every cycle run.
+    contact_size_max : float
+        The largest contact radius (sphere) or half-width (cylinder) over the cycle.
+    k_t0 : float or None
+        The sphere's initial tangential stiffness at P0 (None for a plane contact).
+    nodes, nodes_in_contact_max : int
+        Nodes of the grid; the most in contact at one instant.
+    steps_per_cycle, cycles : int
+    converged : bool
+    change : float
+        The last cycle's relative change (:func:`~lcpfric.periodic.cycle_change`).
+    seconds : float
+    t, x : ndarray
+        The instants of the last cycle (``steps + 1``) and the node positions.
+    size : ndarray
+        The contact size at each instant.
+    state, F : ndarray or None
+        ``(steps + 1, nodes)`` node states (:class:`~lcpfric.results.State`: stick, slipping
+        forward or backward, separated) and friction forces of the last cycle, with
+        ``record=True``.
+    """
+
+    W: float
+    W_normalized: float
+    normalization: str
+    W_cycles: np.ndarray
+    contact_size_max: float
+    k_t0: float | None
+    nodes: int
+    nodes_in_contact_max: int
+    steps_per_cycle: int
+    cycles: int
+    converged: bool
+    change: float
+    seconds: float
+    t: np.ndarray
+    x: np.ndarray
+    size: np.ndarray
+    state: np.ndarray | None = None
+    F: np.ndarray | None = None
+
+    def stick_size(self) -> np.ndarray:
+        """At each instant of the last cycle, the largest |x| of the sticking nodes that hold
+        the centre (the stick radius or half-width; 0 when the centre does not stick). Needs
+        ``record=True``."""
+        if self.state is None:
+            raise InputError("record", "the stick zone needs the recorded cycle (record=True)")
+        x = self.x
+        order = np.argsort(np.abs(x), kind="stable")
+        half = (np.min(np.diff(np.sort(x))) / 2.0) if x.size > 1 else abs(x[0])
+        out = np.zeros(self.state.shape[0])
+        for j, s in enumerate(self.state):
+            ranked = s[order]
+            off = np.flatnonzero(ranked != STICK)
+            inner = off[0] if off.size else ranked.size
+            out[j] = abs(x[order[inner - 1]]) + half if inner else 0.0
+        return out
+
+
+def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int = 200,
+                 on_nonconvergence: str = "raise", record: bool = False) -> ContactResult:
+    """The periodic steady state of ``model`` on ``steps`` uniform increments per cycle, from
+    the virgin contact (see the module docstring)."""
+    start = time.perf_counter()
+    steps = _checks.positive_int("steps", steps, 4)
+    tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
+                                                                on_nonconvergence)
+    n = model.nodes
+    need = n * (steps + 1) * 8 * (1 + (2 if record else 0))
+    if need > MAX_BYTES:
+        raise InputError("steps", f"{steps} steps x {n} nodes would take {need / 2**30:.1f} GiB "
+                                  f"(more than {MAX_BYTES / 2**30:.0f}); fewer steps or nodes")
+    t = np.linspace(0.0, model.period, steps + 1)
+    b = model.limits(t)                                       # (steps + 1, n)
+    Q = np.asarray(model.Q(t), dtype=float)
+    state = model.start()
+    F = np.zeros(n)
+    W_cycles, change, prev = [], math.inf, None
+    scales = model.scales()
+    Fs = Ss = None
+    for _ in range(max_cycles):
+        v0 = state.v.copy()
+        if record:
+            Fs = np.empty((steps + 1, n))
+            Ss = np.empty((steps + 1, n), dtype=np.int8)
+            Fs[0], Ss[0] = F, _states(b[0], None)
+        W = 0.0
+        vmin, vmax = v0.copy(), v0.copy()
+        for j in range(steps):
+            state, F1, dv = model.increment(state, b[j + 1], Q[j + 1])
+            W += increment_dissipation(F, F1, dv)
+            if record:
+                Fs[j + 1], Ss[j + 1] = F1, _states(b[j + 1], dv)
+            F = F1
+            np.minimum(vmin, state.v, out=vmin)
+            np.maximum(vmax, state.v, out=vmax)
+        W_cycles.append(W)
+        if prev is not None:
+            change = float(cycle_change(np.max(np.abs(state.v - v0)), np.max(vmax - vmin),
+                                        W - prev, W, scales))
+            if change <= tol:
+                break
+        prev = W
+    converged = bool(change <= tol)
+    if not converged and on_nonconvergence != "ignore":
+        msg = (f"{type(model).__name__}: no periodic steady state after {len(W_cycles)} cycles "
+               f"(relative change {change:.3g} > tol {tol:g}); raise max_cycles or loosen tol")
+        if on_nonconvergence == "raise":
+            raise ConvergenceError(msg, None)
+        warnings.warn(msg, ConvergenceWarning, stacklevel=2)
+    name, factor = model.normalization()
+    W = W_cycles[-1]
+    size = model.sizes(t)
+    return ContactResult(W=W, W_normalized=W * factor, normalization=name,
+                         W_cycles=np.asarray(W_cycles), contact_size_max=float(size.max()),
+                         k_t0=getattr(model, "k_t0", None), nodes=n,
+                         nodes_in_contact_max=int(np.max(np.count_nonzero(b > 0, axis=1))),
+                         steps_per_cycle=steps, cycles=len(W_cycles), converged=converged,
+                         change=change, seconds=time.perf_counter() - start, t=t, x=model.x,
+                         size=size, state=Ss, F=Fs)
+
+
+def _states(b, dv) -> np.ndarray:
+    """Node states: separated (no normal force), slipping (moved in the increment), sticking."""
+    s = np.full(b.shape, STICK, dtype=np.int8)
+    if dv is not None:
+        s[dv > 0.0] = FORWARD
+        s[dv < 0.0] = BACKWARD
+    s[b <= 0.0] = SEPARATION
+    return s
+
+
+def gross_sliding(model, steps: int) -> None:
+    """Under pure load control (``k_support == 0``), refuse loads with ``|Q| > μ P`` at some
+    instant (the grid and 20001 samples of the cycle): the whole contact would slide, with no
+    equilibrium. Names the instants and the fix."""
+    if model.k_support != 0.0:
+        return
+    T = model.period
+    t = np.union1d(np.linspace(0.0, T, steps + 1), np.linspace(0.0, T, 20001))
+    P, Q = model.P(t), model.Q(t)
+    margin = 1e-12 * (abs(model.mu * model.P0) + np.abs(Q))
+    bad = t[np.abs(Q) > model.mu * np.maximum(P, 0.0) + margin]
+    if bad.size:
+        show = ", ".join(f"{x / T:.4g}" for x in bad[:: max(1, bad.size // 4)][:4])
+        raise InputError("k_support", f"is 0 (pure load control) but |Q(t)| > μ P(t) at "
+                                      f"{bad.size} of {t.size} sampled instants (fractions of "
+                                      f"the period: {show}, ...): the whole contact slides and "
+                                      f"has no equilibrium; give the structure that holds the "
+                                      f"body, a support stiffness k_support > 0, or loads with "
+                                      f"|Q| <= μ P")
