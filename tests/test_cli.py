@@ -616,3 +616,17 @@ def test_contact_bad_input_is_one_line(capsys, extra, option):
     args.update(dict(zip(extra[0::2], extra[1::2])))
     code, _, err = run(capsys, "contact", *[x for kv in args.items() for x in kv])
     assert_one_line_error(code, err, option)
+
+
+def test_contact_cylinder_json_against_the_plane_closed_form(capsys):
+    from lcpfric.contact import cylinder_W
+
+    code, out, err = run(capsys, *SPHERE, "--geometry", "cylinder", "--P1", "0", "--Q1", "25",
+                         "--nodes", "200", "--steps", "200", "--json")
+    assert code == 0, err
+    res = json.loads(out)
+    assert res["model"] == "halfplane" and "k_t0" not in res and res["converged"]
+    assert res["W"] == pytest.approx(cylinder_W(100.0, 25.0, 0.5, 200e3, 0.0), rel=5e-3)
+    code, _, err = run(capsys, *SPHERE, "--geometry", "cylinder", "--model", "mdr", "--P1",
+                       "0", "--Q1", "25")
+    assert_one_line_error(code, err, "--model")

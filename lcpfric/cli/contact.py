@@ -1,26 +1,32 @@
-"""``lcpfric contact``: the dissipation per cycle of a continuum contact (Hertz sphere, MDR)."""
+"""``lcpfric contact``: the dissipation per cycle of a continuum contact (the sphere by
+dimensionality reduction, the cylinder by half-plane boundary elements)."""
 
 from __future__ import annotations
 
 import json
 
-HELP = "W per cycle of a continuum contact (sphere by dimensionality reduction)"
-DESCRIPTION = ("The periodic steady state of two identical elastic spheres (effective radius R, "
-               "each body's E and nu) under P(t) = P0 + P1 sin wt and Q(t) = Q1 sin(wt + phi), "
-               "by the method of dimensionality reduction (d = 1): W per cycle and "
-               "W k_t0/(mu^2 P0^2). With --k-support 0 (pure load control) loads with |Q| > "
-               "mu P at some instant (gross sliding, or Q during complete separation) have no "
-               "equilibrium and are refused.")
+HELP = "W per cycle of a continuum contact (Hertz sphere, cylinder)"
+DESCRIPTION = ("The periodic steady state of two identical elastic bodies (effective radius R, "
+               "each body's E and nu) under P(t) = P0 + P1 sin wt and Q(t) = Q1 sin(wt + phi) "
+               "(d = 1): the sphere by the method of dimensionality reduction (--model mdr), "
+               "the cylinder in plane strain by half-plane boundary elements (--model "
+               "halfplane; P, Q and W per unit length). Prints W per cycle and W k_t0/(mu^2 "
+               "P0^2) (sphere) or W pi E*/(mu^2 P0^2) (cylinder). With --k-support 0 (pure "
+               "load control) loads with |Q| > mu P at some instant (gross sliding, or Q during "
+               "complete separation) have no equilibrium and are refused.")
+#: the model of each geometry
+MODELS = {"sphere": "mdr", "cylinder": "halfplane"}
 OPTIONS = {"steps": "--steps", "k_support": "--k-support", "P": "--P0", "Q": "--Q1"}
 #: fewest springs across the largest contact radius that resolve it
 MIN_NODES = 10
 
 
 def configure(p) -> None:
-    p.add_argument("--geometry", choices=("sphere",), default="sphere",
-                   help="the contact (the cylinder by half-plane elements is not available yet)")
-    p.add_argument("--model", choices=("mdr",), default="mdr",
-                   help="mdr: method of dimensionality reduction")
+    p.add_argument("--geometry", choices=tuple(MODELS), default="sphere",
+                   help="sphere (3-D Hertz) or cylinder (plane strain)")
+    p.add_argument("--model", choices=tuple(MODELS.values()), default=None,
+                   help="mdr (sphere: dimensionality reduction) or halfplane (cylinder: "
+                        "boundary elements); default: the geometry's")
     for name, text in (("R", "effective radius"), ("E", "Young's modulus of each body"),
                        ("nu", "Poisson's ratio of each body, in [0, 0.5)"),
                        ("mu", "coefficient of friction"), ("P0", "mean normal load (> 0)"),
@@ -31,15 +37,17 @@ def configure(p) -> None:
     p.add_argument("--k-support", default="0", metavar="K",
                    help="tangential stiffness holding the body, in parallel with the contact "
                         "(default 0: pure load control)")
-    p.add_argument("--nodes", default="2000", metavar="N",
-                   help=f"springs across the largest contact radius (at least {MIN_NODES})")
+    p.add_argument("--nodes", default=None, metavar="N",
+                   help=f"springs across the largest contact radius (mdr, default 2000) or "
+                        f"elements across the largest contact width (halfplane, default 400); "
+                        f"at least {MIN_NODES}")
     p.add_argument("--steps", default="400", metavar="N", help="increments per cycle")
     p.add_argument("--json", action="store_true", help="print one JSON object")
 
 
 def run(args) -> int:
     from .. import _checks
-    from ..contact.mdr import MDRSphere
+    from ..contact import HalfPlaneCylinder, MDRSphere
     from ..errors import InputError
     from ..model.loads import Harmonic
 
@@ -47,7 +55,13 @@ def run(args) -> int:
            for k in ("R", "E", "nu", "mu", "P0", "P1", "Q1")}
     phi = _checks.parse_angle(args.phi, "--phi")
     ks = _checks.parse_number(args.k_support, "--k-support")
-    nodes, steps = _count(args.nodes, "--nodes"), _count(args.steps, "--steps")
+    model_name = args.model or MODELS[args.geometry]
+    if MODELS[args.geometry] != model_name:
+        raise InputError("--model", f"{model_name!r} does not solve the {args.geometry}; use "
+                                    f"--model {MODELS[args.geometry]}")
+    default = "2000" if model_name == "mdr" else "400"
+    nodes = _count(args.nodes or default, "--nodes")
+    steps = _count(args.steps, "--steps")
     if nodes < MIN_NODES:
         raise InputError("--nodes", f"{nodes} springs are too coarse to resolve the contact; "
                                     f"give at least {MIN_NODES}")
@@ -56,18 +70,23 @@ def run(args) -> int:
     for k in ("P1", "Q1"):
         if num[k] < 0:
             raise InputError(f"--{k}", f"an amplitude must be >= 0, got {num[k]:g}")
-    model = MDRSphere(num["R"], num["E"], num["nu"], num["mu"], Harmonic(num["P0"], num["P1"]),
-                      Harmonic(0.0, num["Q1"], phi), k_support=ks, nodes=nodes)
+    kind = MDRSphere if model_name == "mdr" else HalfPlaneCylinder
+    model = kind(num["R"], num["E"], num["nu"], num["mu"], Harmonic(num["P0"], num["P1"]),
+                 Harmonic(0.0, num["Q1"], phi), k_support=ks, nodes=nodes)
     r = model.solve(steps)
-    out = {"W": r.W, "W_normalized": r.W_normalized, "k_t0": r.k_t0,
-           "contact_size_max": r.contact_size_max, "nodes": r.nodes, "steps_per_cycle": r.steps_per_cycle,
-           "cycles": r.cycles, "converged": r.converged, "seconds": r.seconds,
-           "geometry": "sphere", "model": "mdr"}
+    out = {"W": r.W, "W_normalized": r.W_normalized, "normalization": r.normalization,
+           "contact_size_max": r.contact_size_max, "nodes": r.nodes,
+           "steps_per_cycle": r.steps_per_cycle, "cycles": r.cycles, "converged": r.converged,
+           "seconds": r.seconds, "geometry": args.geometry, "model": model_name}
+    if r.k_t0 is not None:
+        out["k_t0"] = r.k_t0
     if args.json:
         print(json.dumps(out))
         return 0
-    print(f"W = {r.W:.10g} per cycle; W k_t0/(mu^2 P0^2) = {r.W_normalized:.10g} "
-          f"(k_t0 = {r.k_t0:.6g}; largest contact radius {r.contact_size_max:.6g}; {r.nodes} springs, "
+    size = "radius" if args.geometry == "sphere" else "half-width"
+    unit = "" if args.geometry == "sphere" else " (per unit length)"
+    print(f"W = {r.W:.10g} per cycle{unit}; {r.normalization} = {r.W_normalized:.10g} "
+          f"(largest contact {size} {r.contact_size_max:.6g}; {r.nodes} nodes, "
           f"{r.steps_per_cycle} steps per cycle, {r.cycles} cycles, {r.seconds:.2f} s)")
     return 0
 

@@ -40,24 +40,22 @@ increment, the driver's convergence criterion).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from .. import _checks
 from ..errors import InputError
-from ..model.loads import Harmonic, Load
-from .closed_forms import hertz_contact, moduli
-from .steady import ContactResult, gross_sliding, steady_state
+from .closed_forms import hertz_contact
+from .steady import ContactModel
 
-__all__ = ["MDRSphere", "MAX_NODES", "load"]
+__all__ = ["MDRSphere", "MAX_NODES"]
 
 #: largest number of springs (the arrays are nodes x steps)
 MAX_NODES = 200_000
 
 
-class MDRSphere:
+class MDRSphere(ContactModel):
     """The Hertz contact of two identical spheres, by dimensionality reduction (see the module
     docstring).
 
@@ -76,28 +74,11 @@ class MDRSphere:
         Springs on ``[0, a_max]``, a_max the largest contact radius over the cycle.
     """
 
+    max_nodes = MAX_NODES
+
     def __init__(self, R, E, nu, mu, P, Q, *, k_support: float = 0.0, nodes: int = 2000):
+        super().__init__(E, nu, mu, P, Q, k_support, nodes)
         self.R = _checks.positive("R", R)
-        self.E = _checks.positive("E", E)
-        self.mu = _checks.positive("mu", mu)
-        self.moduli = moduli(self.E, nu)
-        self.nu = float(nu)
-        self.P = load("P", P)
-        self.Q = load("Q", Q)
-        periods = [ld.period for ld in (self.P, self.Q) if not ld.is_constant]
-        if len(periods) == 2 and not math.isclose(periods[0], periods[1], rel_tol=1e-12):
-            raise InputError("Q", f"P and Q must share one period; got {periods}")
-        self.period = periods[0] if periods else 1.0
-        self.k_support = _checks.nonnegative("k_support", k_support)
-        self.nodes = _checks.positive_int("nodes", nodes)
-        if self.nodes > MAX_NODES:
-            raise InputError("nodes", f"must be at most {MAX_NODES}, got {self.nodes}")
-        P0 = self.P.mean
-        if not P0 > 0:
-            raise InputError("P", f"the mean normal load P0 must be > 0, got {P0!r}")
-        self.P0 = float(P0)
-        ts = np.linspace(0.0, self.period, 4097)
-        self.P_max = float(max(np.max(self.P(ts)), P0))
         self.a_max = hertz_contact(self.P_max, self.R, self.E, self.nu)["a"]
         self.k_t0 = hertz_contact(self.P0, self.R, self.E, self.nu)["k_t0"]
         self.dx = self.a_max / self.nodes
@@ -145,15 +126,6 @@ class MDRSphere:
         """The exact increment to the next instant (module docstring)."""
         u, F, v = self._increment(state.v, state.u, b, Q)
         return _Bar(v, u), F, v - state.v
-
-    def solve(self, steps: int = 400, *, tol: float = 1e-10, max_cycles: int = 200,
-              on_nonconvergence: str = "raise", record: bool = False) -> ContactResult:
-        """The periodic steady state on ``steps`` uniform increments per cycle, from the virgin
-        state (no slip, u = 0): :func:`lcpfric.contact.steady.steady_state`. With
-        ``k_support = 0`` loads with ``|Q| > μ P`` at some instant are refused first."""
-        gross_sliding(self, _checks.positive_int("steps", steps, 4))
-        return steady_state(self, steps, tol=tol, max_cycles=max_cycles,
-                            on_nonconvergence=on_nonconvergence, record=record)
 
     def _increment(self, v, u, b, Q):
         """The exact increment (module docstring): ``(u, F, v)`` at the next instant."""
@@ -205,14 +177,3 @@ def _no_root(Q, b):
                                   f"μP = {float(np.sum(b)):.6g} of the whole contact at an "
                                   f"increment: gross sliding has no equilibrium under pure load "
                                   f"control; give k_support > 0")
-
-
-def load(name: str, x) -> Load:
-    if isinstance(x, Load):
-        return x
-    try:
-        value = float(x)
-    except (TypeError, ValueError):
-        raise InputError(name, f"must be a Load (lcpfric.model.loads) or a number, got "
-                               f"{type(x).__name__}") from None
-    return Harmonic(_checks.finite(name, value), 0.0)

@@ -29,11 +29,13 @@ import numpy as np
 
 from .. import _checks
 from ..errors import ConvergenceError, ConvergenceWarning, InputError
+from ..model.loads import Harmonic, Load
 from ..periodic import cycle_change
 from ..results import State
 from ..steppers.dissipation import increment_dissipation
+from .closed_forms import moduli
 
-__all__ = ["ContactResult", "steady_state"]
+__all__ = ["ContactResult", "ContactModel", "steady_state", "gross_sliding", "load"]
 
 STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
                                         int(State.BACKWARD), int(State.SEPARATION))
@@ -205,3 +207,53 @@ def gross_sliding(model, steps: int) -> None:
                                       f"has no equilibrium; give the structure that holds the "
                                       f"body, a support stiffness k_support > 0, or loads with "
                                       f"|Q| <= μ P")
+
+
+class ContactModel:
+    """What every continuum model shares: two identical bodies (E, ν), friction μ, the loads
+    P(t) and Q(t) (one period), the support stiffness, the number of nodes, and the steady
+    state (:meth:`solve`). Subclasses add the geometry, the normal problem and the increment
+    (the protocol of the module docstring)."""
+
+    max_nodes = 200_000
+
+    def __init__(self, E, nu, mu, P, Q, k_support, nodes):
+        self.E = _checks.positive("E", E)
+        self.mu = _checks.positive("mu", mu)
+        self.moduli = moduli(self.E, nu)
+        self.nu = float(nu)
+        self.P, self.Q = load("P", P), load("Q", Q)
+        periods = [ld.period for ld in (self.P, self.Q) if not ld.is_constant]
+        if len(periods) == 2 and not math.isclose(periods[0], periods[1], rel_tol=1e-12):
+            raise InputError("Q", f"P and Q must share one period; got {periods}")
+        self.period = periods[0] if periods else 1.0
+        self.k_support = _checks.nonnegative("k_support", k_support)
+        self.nodes = _checks.positive_int("nodes", nodes)
+        if self.nodes > self.max_nodes:
+            raise InputError("nodes", f"must be at most {self.max_nodes}, got {self.nodes}")
+        if not self.P.mean > 0:
+            raise InputError("P", f"the mean normal load P0 must be > 0, got {self.P.mean!r}")
+        self.P0 = float(self.P.mean)
+        ts = np.linspace(0.0, self.period, 4097)
+        self.P_max = float(max(np.max(self.P(ts)), self.P0))
+
+    def solve(self, steps: int = 400, *, tol: float = 1e-10, max_cycles: int = 200,
+              on_nonconvergence: str = "raise", record: bool = False) -> ContactResult:
+        """The periodic steady state on ``steps`` uniform increments per cycle, from the virgin
+        contact: :func:`steady_state`. With ``k_support = 0`` loads with ``|Q| > μ P`` at some
+        instant are refused first (:func:`gross_sliding`)."""
+        gross_sliding(self, _checks.positive_int("steps", steps, 4))
+        return steady_state(self, steps, tol=tol, max_cycles=max_cycles,
+                            on_nonconvergence=on_nonconvergence, record=record)
+
+
+def load(name: str, x) -> Load:
+    """A Load, or a number as a constant load."""
+    if isinstance(x, Load):
+        return x
+    try:
+        value = float(x)
+    except (TypeError, ValueError):
+        raise InputError(name, f"must be a Load (lcpfric.model.loads) or a number, got "
+                               f"{type(x).__name__}") from None
+    return Harmonic(_checks.finite(name, value), 0.0)

@@ -1,0 +1,269 @@
+r"""The plane (2-D, plane strain) contact of two identical cylinders by boundary elements on the
+half-plane, d = 1.
+
+Two identical elastic bodies (each E, ν; composite modulus E*) with an effective radius R (any
+1-D profile ``h(x)`` through ``profile=``), loads per unit length: normal P(t) and tangential
+Q(t). The surface ``[-L, L]`` around the largest contact is cut into elements of width Δ
+carrying uniform tractions (pressure p_j, shear q_j); the nodes are their centres.
+
+Influence coefficients
+----------------------
+For identical bodies in plane strain the relative surface displacements due to a pressure and
+due to a shear have the same logarithmic kernel (Johnson, Contact Mechanics, §2.6), so one
+matrix serves both problems: a uniform unit traction on element j displaces node i by
+
+    A_ij = -(2/(π E*)) ℓ [L(w/ℓ)]_{w = x_i - x_j - Δ/2}^{x_i - x_j + Δ/2},   L(y) = y ln|y| - y.
+
+The half-plane's displacement is defined up to a constant (the log kernel has no datum); ℓ fixes
+it: displacements are those relative to points at distance ℓ (here twice the grid's length,
+which also makes A positive definite). Under load control the constant only shifts the rigid
+approach and the rigid tangential displacement; a support stiffness acts on the tangential
+displacement measured from that datum.
+
+The normal problem
+------------------
+At each instant, frictionless contact under P(t) (uncoupled from the shear): pressures p >= 0,
+gaps ``g = h - d + A p >= 0``, ``p g = 0``, ``Δ Σ p = P`` with the rigid approach d an unknown;
+solved by a primal-dual active-set iteration on the contact set (the set with positive pressure
+gives ``A_SS p_S = d - h_S`` and d from the load; the set is then updated from ``p - g / A_ii``),
+warm-started from the previous instant's set, each set's solve by the dense block of the
+active-set backend (:class:`~lcpfric.backends.blocks.DenseBlock`, updated when the set changes
+by a few nodes). ``P <= 0`` is complete separation.
+
+The tangential problem
+----------------------
+The nodes in contact carry friction forces ``F_i = -q_i Δ`` (lcpfric's sign: the slip opposes
+F), with ``|F_i| <= μ N_i``, ``N_i = p_i Δ``; the relative slips s and the rigid tangential
+displacement δ satisfy ``s = δ 1 + C F`` with ``C = A / Δ``; the bodies are held by Q(t) and by
+the support: ``Σ F_i - k_support δ + Q = 0``. Each increment is problem (P), the
+maximum-dissipation projection, solved by the same primal-dual active-set iteration as the
+``active-set`` backend's compliance form with the load-control constraint: with the pattern
+fixed, the sticking nodes S keep their slip, ``F_S = y - δ z`` with ``y = C_SS⁻¹ (s_S - C_SA
+F_A)``, ``z = C_SS⁻¹ 1``, and δ from the equilibrium; the pattern is updated from ``F_i - Δs_i /
+C_ii``. Separated nodes carry no force and no unknown (their slip follows the surface).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _checks
+from ..backends.blocks import DenseBlock
+from ..errors import InputError, SolverError
+from .closed_forms import cylinder_contact
+from .steady import ContactModel
+
+__all__ = ["HalfPlaneCylinder", "MAX_NODES", "log_kernel"]
+
+#: largest number of elements (the influence matrix is dense: 8 N² bytes)
+MAX_NODES = 6000
+_MAX_ITER = 400
+_EPS = np.finfo(float).eps
+
+
+def log_kernel(offsets: np.ndarray, width: float, Estar: float, datum: float) -> np.ndarray:
+    """``A(k)``: the displacement at offset ``k Δ`` due to a uniform unit traction on an element
+    of width Δ (module docstring)."""
+
+    def L(y):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(y == 0.0, 0.0, y * np.log(np.abs(y)) - y)
+
+    w = np.asarray(offsets, dtype=float) * width
+    return -(2.0 / (math.pi * Estar)) * datum * (L((w + width / 2) / datum)
+                                                 - L((w - width / 2) / datum))
+
+
+@dataclass
+class _Surface:
+    """The tangential state: relative slips of every node (``v``), rigid displacement δ, and
+    the nodes on their upper and lower limits (the next increment's first pattern)."""
+
+    v: np.ndarray
+    delta: float
+    up: np.ndarray
+    dn: np.ndarray
+
+
+class HalfPlaneCylinder(ContactModel):
+    """Two identical cylinders in plane strain, by half-plane boundary elements (see the module
+    docstring).
+
+    Parameters
+    ----------
+    R, E, nu, mu : float
+        Effective radius, each body's modulus and Poisson's ratio (``0 <= ν < 0.5``), friction.
+    P, Q : Load or float
+        Normal and tangential loads per unit length.
+    k_support : float
+        Tangential support stiffness (per unit length) in parallel with the contact (0: pure
+        load control).
+    nodes : int
+        Elements across the largest contact width ``2 a_max``; the grid extends 3 % (at least
+        two elements) beyond it on each side.
+    profile : callable, optional
+        The gap profile ``h(x)`` (default the cylinder's ``x² / (2R)``).
+    """
+
+    max_nodes = MAX_NODES
+
+    def __init__(self, R, E, nu, mu, P, Q, *, k_support: float = 0.0, nodes: int = 400,
+                 profile=None):
+        super().__init__(E, nu, mu, P, Q, k_support, nodes)
+        self.R = _checks.positive("R", R)
+        self.a_max = cylinder_contact(self.P_max, self.R, self.E, self.nu)["a"]
+        self.a0 = cylinder_contact(self.P0, self.R, self.E, self.nu)["a"]
+        self.dx = 2.0 * self.a_max / self.nodes
+        extra = max(2, math.ceil(0.03 * self.nodes))
+        self.total = self.nodes + 2 * extra
+        if self.total > MAX_NODES:
+            raise InputError("nodes", f"{self.nodes} elements (+{2 * extra} beyond the contact) "
+                                      f"exceed {MAX_NODES}: the influence matrix is dense")
+        N = self.total
+        self.x = (np.arange(N) - (N - 1) / 2.0) * self.dx
+        h = (profile or (lambda x: x * x / (2.0 * self.R)))(self.x)
+        self.h = _checks.finite_array("profile", h).reshape(N)
+        datum = 2.0 * N * self.dx
+        col = log_kernel(np.arange(N), self.dx, self.moduli["E*"], datum)
+        from scipy.linalg import toeplitz
+
+        self.A = toeplitz(col)                         # displacement per unit pressure
+        self.C = self.A / self.dx                      # per unit force on an element
+        self.cdiag = np.diag(self.C).copy()
+        self._normal = DenseBlock(self.A)
+        self._tangential = DenseBlock(self.C)
+        self._cache: dict[float, np.ndarray] = {}
+        self._set = np.flatnonzero(np.abs(self.x) < self.a0)
+        self.nodes_across = self.nodes
+        self._force_scale = self.mu * self.P_max * self.dx / (2 * self.a_max)
+        self.nodes = N                                 # the unknowns of the grid
+
+    # -- the normal problem ---------------------------------------------------------------------
+    def pressure(self, P: float) -> np.ndarray:
+        """The frictionless contact pressures under the load P (per unit length)."""
+        P = float(P)
+        if P <= 0.0:
+            return np.zeros(self.total)
+        got = self._cache.get(P)
+        if got is not None:
+            return got
+        A, h, dx = self.A, self.h, self.dx
+        diag = np.diag(A)
+        S = self._set if self._set.size else np.array([int(np.argmin(h))])
+        seen = set()
+        for _ in range(_MAX_ITER):
+            block = self._normal
+            block.set(S)
+            e = np.zeros(self.total)
+            e[S] = 1.0
+            idx, z = block.solve(e)
+            hh = np.zeros(self.total)
+            hh[S] = h[S]
+            _, y = block.solve(hh)
+            d = (P / dx + y.sum()) / z.sum()
+            p = np.zeros(self.total)
+            p[idx] = d * z - y
+            g = h - d + A @ p
+            g[S] = 0.0
+            new = np.flatnonzero(p - g / diag > 0.0)
+            key = new.tobytes()
+            if np.array_equal(new, S):
+                break
+            if key in seen:
+                raise SolverError("half-plane normal problem: the contact set cycles",
+                                  backend="halfplane", status="cycling")
+            seen.add(key)
+            S = new
+        else:
+            raise SolverError(f"half-plane normal problem: no contact set in {_MAX_ITER} "
+                              f"iterations", backend="halfplane", status="max_iter")
+        self._set = S
+        p = np.maximum(p, 0.0)
+        if len(self._cache) < 100_000:
+            self._cache[P] = p
+        return p
+
+    # -- the model protocol of lcpfric.contact.steady ------------------------------------------
+    def limits(self, t) -> np.ndarray:
+        P = np.atleast_1d(np.asarray(self.P(np.asarray(t, dtype=float)), dtype=float))
+        return np.array([self.mu * self.dx * self.pressure(x) for x in P])
+
+    def sizes(self, t) -> np.ndarray:
+        """Half-width of the discrete contact: the outer edge of the outermost loaded element."""
+        b = self.limits(t)
+        out = np.zeros(b.shape[0])
+        for j, row in enumerate(b):
+            on = np.flatnonzero(row > 0)
+            if on.size:
+                out[j] = np.max(np.abs(self.x[on])) + self.dx / 2
+        return out
+
+    def start(self) -> _Surface:
+        none = np.zeros(self.total, dtype=bool)
+        return _Surface(np.zeros(self.total), 0.0, none, none)
+
+    def scales(self) -> tuple[float, float]:
+        q = self.Q.amplitude if not self.Q.is_constant else abs(self.Q.mean)
+        return q * 4.0 / (math.pi * self.moduli["E*"]), self.mu * self.P_max
+
+    def normalization(self) -> tuple[str, float]:
+        return "W pi E*/(mu^2 P0^2)", math.pi * self.moduli["E*"] / (self.mu * self.P0) ** 2
+
+    def increment(self, state: _Surface, b: np.ndarray, Q: float):
+        """Problem (P) with the load-control constraint (module docstring): ``(state, F,
+        Δs)``."""
+        C, cd, ks = self.C, self.cdiag, self.k_support
+        s0 = state.v
+        contact = b > 0.0
+        up, dn = state.up & contact, state.dn & contact
+        seen = set()
+        single = False
+        block = self._tangential
+        for _ in range(_MAX_ITER):
+            F = np.where(up, b, np.where(dn, -b, 0.0))
+            S = np.flatnonzero(contact & ~up & ~dn)
+            if S.size:
+                block.set(S)
+                rhs = s0 - C @ F
+                idx, y = block.solve(rhs)
+                e = np.zeros(self.total)
+                e[S] = 1.0
+                _, z = block.solve(e)
+                delta = (y.sum() + F.sum() + Q) / (z.sum() + ks)
+                F[idx] = y - delta * z
+            elif ks > 0.0:
+                delta = (F.sum() + Q) / ks
+            else:
+                raise SolverError("half-plane: every node in contact slips or is separated "
+                                  "under pure load control (gross sliding)",
+                                  backend="halfplane", status="gross_sliding")
+            s = delta + C @ F
+            s[S] = s0[S]
+            ds = s - s0
+            zz = F - ds / cd
+            # a node on its limit that neither slips nor leaves it (F tracks μN, as at the
+            # edge of an in-phase contact) is decided within the solve's round-off (forces to
+            # about 1e-14 of their scale), not flipped for ever
+            tol = 1e-10 * self._force_scale + 64 * _EPS * (b + np.abs(F))
+            nup = contact & (zz > b + tol)
+            ndn = contact & (zz < -b - tol)
+            changed = (nup != up) | (ndn != dn)
+            if not changed.any():
+                np.clip(F, -b, b, out=F)  # round-off only (tol above)
+                return _Surface(s, delta, up, dn), F, ds
+            if not single:
+                key = np.packbits(nup).tobytes() + np.packbits(ndn).tobytes()
+                if key in seen:
+                    single = True
+                seen.add(key)
+            if single:  # least index (Murty): one change at a time
+                i = int(np.flatnonzero(changed)[0])
+                nup, ndn = up.copy(), dn.copy()
+                nup[i] = bool(zz[i] > b[i]) and contact[i]
+                ndn[i] = bool(zz[i] < -b[i]) and contact[i]
+            up, dn = nup, ndn
+        raise SolverError(f"half-plane: the stick/slip pattern did not settle in {_MAX_ITER} "
+                          f"iterations", backend="halfplane", status="max_iter")

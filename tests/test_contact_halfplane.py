@@ -1,0 +1,67 @@
+"""The plane contact by half-plane boundary elements (lcpfric.contact.halfplane): the Hertz
+pressure, Cattaneo's stick half-width, the plane Mindlin-Deresiewicz dissipation, the in-phase
+condition, W(φ + π) = W(φ), and separation held by a support."""
+
+import numpy as np
+import pytest
+
+from lcpfric.contact import cattaneo_stick_ratio, cylinder_contact, cylinder_W
+from lcpfric.contact.halfplane import HalfPlaneCylinder
+from lcpfric.errors import InputError
+from lcpfric.model import Harmonic
+
+R, E, NU, MU, P0 = 10.0, 200e3, 0.3, 0.5, 100.0
+
+
+def cylinder(P1=0.0, Q1=0.25, phi=0.0, **kw):
+    """Q1 in units of μ P0."""
+    return HalfPlaneCylinder(R, E, NU, MU, Harmonic(P0, P1 * P0),
+                             Harmonic(0.0, Q1 * MU * P0, phi), **kw)
+
+
+def test_hertz_pressure_and_half_width():
+    m = cylinder(nodes=400)
+    p = m.pressure(P0)
+    ref = cylinder_contact(P0, R, E, NU)
+    assert p.sum() * m.dx == pytest.approx(P0, rel=1e-12)
+    assert m.sizes([0.0])[0] == pytest.approx(ref["a"], abs=m.dx)
+    exact = ref["p0"] * np.sqrt(np.maximum(0.0, 1 - (m.x / ref["a"]) ** 2))
+    assert np.max(np.abs(p - exact)) < 0.01 * ref["p0"]  # the edge element: 0.6 %
+
+
+@pytest.mark.parametrize("x", [0.2, 0.5, 0.9])
+def test_plane_mindlin_deresiewicz(x):
+    r = cylinder(Q1=x, nodes=400).solve(400)
+    ref = cylinder_W(P0, x * MU * P0, MU, E, NU)
+    assert r.converged and r.W == pytest.approx(ref, rel=5e-3)  # the goal: 0.5 %
+    assert r.normalization == "W pi E*/(mu^2 P0^2)"
+
+
+def test_cattaneo_stick_half_width():
+    steps, m = 400, cylinder(Q1=0.9, nodes=400)
+    r = m.solve(steps, record=True, max_cycles=1, on_nonconvergence="ignore")
+    c = r.stick_size()
+    for j in (20, 50, 80, 100):
+        x = 0.9 * np.sin(2 * np.pi * j / steps)
+        assert c[j] / r.size[j] == pytest.approx(cattaneo_stick_ratio(x, "cylinder"),
+                                                 abs=2 * m.dx / r.size[j])
+
+
+def test_in_phase_and_half_period():
+    W0 = cylinder(P1=0.5, Q1=0.4, nodes=200).solve(200).W_normalized
+    Wa = cylinder(P1=0.5, Q1=0.4, phi=0.5, nodes=200).solve(200).W_normalized
+    Wb = cylinder(P1=0.5, Q1=0.4, phi=0.5 + np.pi, nodes=200).solve(200).W_normalized
+    assert W0 < 1e-3 * Wa and Wa > 1e-3
+    assert Wb == pytest.approx(Wa, rel=1e-9)
+
+
+def test_separation_held_by_a_support_and_refusals():
+    m = cylinder(P1=1.5, Q1=0.6, phi=0.3, nodes=100, k_support=1e3)
+    r = m.solve(200)
+    assert r.converged and r.W > 0 and r.size.min() == 0.0
+    with pytest.raises(InputError) as err:
+        cylinder(P1=1.5, Q1=0.6, phi=0.3, nodes=100).solve(200)
+    assert err.value.parameter == "k_support"
+    with pytest.raises(InputError) as err:
+        cylinder(nodes=10 ** 5)
+    assert err.value.parameter == "nodes"
