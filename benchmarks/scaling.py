@@ -308,6 +308,9 @@ def measure_case(system: str, n: int, method: str, cycles: int, agree: bool,
     except OverBudget as stop:
         cpu = time.process_time() - t
         where = stop.args[0] if stop.args else None
+        if out.get("status") == "ok":  # the timed cycles finished; the agreement run did not
+            out["note"] = f"the agreement run stopped at the budget of {budget:g} CPU s"
+            return {**out, "peak_mb": peak_mb()}
         done = None if where is None or "setup_s" not in out else where[0] * scene.steps + where[1]
         if done:  # the steps finished before the budget ran out: timed over them
             out.update(status="partial", cpu_s=cpu, s_per_step=cpu / done, peak_mb=peak_mb(),
@@ -426,8 +429,10 @@ def run(settings: Settings) -> list[dict]:
                     row.update(status="skipped", note=f"predicted {guess + inverse:.3g} CPU s"
                                                       f"{part} > budget {settings.budget:g}")
                 else:
+                    over = guess is not None and guess + inverse > settings.budget
                     spec = dict(system=system, n=n, method=m, cycles=settings.cycles,
-                                agree=agree, budget=settings.budget, steps=settings.steps)
+                                agree=agree and not over, budget=settings.budget,
+                                steps=settings.steps)
                     got = child("case", **spec) if settings.isolate else measure_case(**spec)
                     row.update(got)
                     if settings.isolate and "peak_mb" in got:
