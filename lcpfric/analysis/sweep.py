@@ -241,16 +241,53 @@ def _version() -> str:
             return "unknown"
 
 
-def _dataset(values, phi, P1, Q1, attrs: dict):
+#: the map's variable: single node, and a continuum contact (``contact=``)
+_VARIABLES = {
+    None: ("W_hat", {"long_name": "dimensionless dissipation per cycle",
+                     "description": "W_hat = k11 W / (f P0 Q1), Eq. (6) of the paper"}),
+    "sphere": ("W_normalized", {"long_name": "dimensionless dissipation per cycle",
+                                "description": "W k_t0 / (mu^2 P0^2), k_t0 = 2 a0 G*: the "
+                                               "Hertz contact by dimensionality reduction"}),
+}
+#: a continuum contact's options and defaults (``sweep(..., contact=)``)
+CONTACT_DEFAULTS = {"geometry": "sphere", "nodes": 200, "k_support": 0.0, "tol": 1e-8}
+_CONTACT_STEPS = 200
+
+
+def _contact(contact, steps_per_cycle):
+    """``(function, options, seconds per point)`` of a contact map (``contact``: a dict of
+    :data:`CONTACT_DEFAULTS` keys)."""
+    if not isinstance(contact, dict):
+        raise InputError("contact", f"must be a dict of {sorted(CONTACT_DEFAULTS)}, got "
+                                    f"{type(contact).__name__}")
+    unknown = sorted(set(contact) - set(CONTACT_DEFAULTS))
+    if unknown:
+        raise InputError("contact", f"unknown key {unknown[0]!r}; keys: "
+                                    f"{', '.join(sorted(CONTACT_DEFAULTS))}")
+    spec = {**CONTACT_DEFAULTS, **contact}
+    if spec["geometry"] != "sphere":
+        raise InputError("contact", f"maps are available for the sphere (MDR), got geometry "
+                                    f"{spec['geometry']!r}")
+    from ..contact.maps import mdr_W_normalized
+
+    steps = _checks.positive_int("steps_per_cycle", steps_per_cycle or _CONTACT_STEPS, 4)
+    options = {"nodes": _checks.positive_int("nodes", spec["nodes"]),
+               "k_support": _checks.nonnegative("k_support", spec["k_support"]),
+               "tol": _checks.positive("tol", spec["tol"]), "steps_per_cycle": steps}
+    # measured: about 60 ns per node, step and cycle, four cycles
+    return mdr_W_normalized, options, 2.4e-7 * options["nodes"] * steps
+
+
+def _dataset(values, phi, P1, Q1, attrs: dict, geometry=None):
     xr = _xarray()
+    name, meta = _VARIABLES[geometry]
+    q_name = "Q1/(f P0)" if geometry is None else "Q1/(mu P0)"
     return xr.Dataset(
-        {"W_hat": (DIMS, values.reshape(phi.size, P1.size, Q1.size), {
-            "long_name": "dimensionless dissipation per cycle",
-            "description": "W_hat = k11 W / (f P0 Q1), Eq. (6) of the paper"})},
+        {name: (DIMS, values.reshape(phi.size, P1.size, Q1.size), meta)},
         coords={
             "phi": ("phi", phi, {"long_name": "phase of Q relative to P", "units": "rad"}),
             "P1": ("P1", P1, {"long_name": "normal load amplitude P1/P0"}),
-            "Q1": ("Q1", Q1, {"long_name": "tangential load amplitude Q1/(f P0)"}),
+            "Q1": ("Q1", Q1, {"long_name": f"tangential load amplitude {q_name}"}),
         },
         attrs={k: v for k, v in attrs.items() if v is not None})
 
@@ -280,8 +317,9 @@ def _run(tasks: dict, on_result, scheduler, processes, workers: int, seconds: fl
 def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = None,
           chunk_size: int | None = None, out=None, store=None, resume: bool = True,
           scheduler=None, processes: int | None = None, progress: bool = True,
-          on_chunk: Callable | None = None):
-    """Ŵ on the grid ``phi x P1 x Q1`` as an ``xarray.Dataset``.
+          on_chunk: Callable | None = None, contact: dict | None = None):
+    """Ŵ on the grid ``phi x P1 x Q1`` as an ``xarray.Dataset``; with ``contact``, the
+    dissipation of a continuum contact instead.
 
     Parameters
     ----------
@@ -316,6 +354,14 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
     on_chunk : callable, optional
         ``on_chunk(index, done, total)`` after each chunk is saved (raise in it to stop the sweep;
         the saved chunks are kept).
+    contact : dict, optional
+        Map a continuum contact instead of the single node: ``{"geometry": "sphere", "nodes":
+        200, "k_support": 0.0, "tol": 1e-8}`` (the defaults) gives ``W_normalized = W k_t0 /
+        (μ² P0²)`` of the Hertz contact by dimensionality reduction
+        (:func:`lcpfric.contact.maps.mdr_W_normalized`) over ``P1 = P1/P0``, ``Q1 = Q1/(μ
+        P0)`` and φ, with ``k_support`` in units of k_t0 and ``steps_per_cycle`` 200 by
+        default; ``method`` is then not used. NaN marks loads that have no equilibrium under
+        pure load control (``k_support = 0`` and ``|Q| > μ P`` at some instant).
 
     Returns
     -------
@@ -335,8 +381,13 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
     P1 = _axis("P1", P1, nonneg=True)
     Q1 = _axis("Q1", Q1, nonneg=True)
     phi = _axis("phi", phi, nonneg=False)
-    method, func, entry = _check_method(method)
-    options = _options(entry, steps_per_cycle)
+    geometry = None
+    if contact is not None:
+        func, options, cost = _contact(contact, steps_per_cycle)
+        geometry, method, entry, batched = "sphere", "mdr", None, False
+    else:
+        method, func, entry = _check_method(method)
+        options = _options(entry, steps_per_cycle)
     if processes is not None:
         processes = _checks.positive_int("processes", processes)
     out = None if out is None else _output(out)
@@ -345,22 +396,31 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
 
     n = phi.size * P1.size * Q1.size
     steps = options.get("steps_per_cycle", _DEFAULT_STEPS)
-    batched = func is not None and entry.kind != CLOSED_FORM
-    cost = _cost(entry, batched, steps)
+    if contact is None:
+        batched = func is not None and entry.kind != CLOSED_FORM
+        cost = _cost(entry, batched, steps)
     workers = processes or default_workers()
     chunks = _chunking(n, chunk_size, cost, batched)
     largest = max(b - a for a, b in chunks)
-    memory.check(memory.map_bytes(n, P1.size + Q1.size + phi.size, method, steps, largest,
-                                  1 if scheduler is not None else workers),
-                 "P1", f"a map of {n} points ({phi.size} x {P1.size} x {Q1.size})")
+    in_flight = largest * (1 if scheduler is not None else workers)
+    need = (memory.map_bytes(n, P1.size + Q1.size + phi.size, method, steps, largest,
+                             1 if scheduler is not None else workers) if contact is None else
+            8.0 * (4 * n + P1.size + Q1.size + phi.size) + 8.0 * 24 * options["nodes"]
+            * in_flight)  # the contact batch: about 24 arrays of points x nodes
+    memory.check(need, "P1", f"a map of {n} points ({phi.size} x {P1.size} x {Q1.size})")
     digest = hashlib.sha256(b"".join(a.tobytes() for a in (phi, P1, Q1))).hexdigest()[:16]
     description = {"dims": list(DIMS), "shape": [phi.size, P1.size, Q1.size],
                    "coords_sha256": digest, "method": method,
                    "options": json.loads(json.dumps(options, default=repr))}
+    if contact is not None:
+        description["contact"] = geometry
     key = fingerprint({**description, "chunks": chunks})
     attrs = {"title": "lcpfric dissipation map", "method": method,
              "steps_per_cycle": options.get("steps_per_cycle", -1),
              "lcpfric_version": _version(), "fingerprint": key, "chunks": len(chunks)}
+    if contact is not None:
+        attrs.update(geometry=geometry, model="mdr", nodes=options["nodes"],
+                     k_support_over_k_t0=options["k_support"], tol=options["tol"])
 
     if out is not None and resume and out.exists():
         try:
@@ -411,7 +471,7 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
             bar.close()
 
     attrs.update(executor=executor, chunks_computed=len(tasks), chunks_reused=reused)
-    ds = _dataset(values, phi, P1, Q1, attrs)
+    ds = _dataset(values, phi, P1, Q1, attrs, geometry)
     ds.attrs["seconds"] = time.perf_counter() - t0
     if out is not None:
         write_dataset(ds, out)

@@ -1,4 +1,5 @@
-"""``lcpfric map``: a dissipation map Ŵ(φ, P̂1, Q̂1) written to NetCDF."""
+"""``lcpfric map``: a dissipation map Ŵ(φ, P̂1, Q̂1) written to NetCDF (the single node), or
+W k_t0/(μ² P0²) of the Hertz contact with ``--contact sphere``."""
 
 from __future__ import annotations
 
@@ -14,11 +15,14 @@ if TYPE_CHECKING:
     from pathlib import Path
 
 HELP = "compute a dissipation map W_hat(phi, P1, Q1) and write it to NetCDF"
-DESCRIPTION = ("Compute W_hat on the grid phi x P1 x Q1 and write it to a NetCDF file. Finished "
+DESCRIPTION = ("Compute W_hat on the grid phi x P1 x Q1 and write it to a NetCDF file (with "
+               "--contact sphere: W k_t0/(mu^2 P0^2) of the Hertz contact by dimensionality "
+               "reduction over P1/P0, Q1/(mu P0) and phi). Finished "
                "chunks are saved next to the output (<out>.parts) and an interrupted run resumes "
                "when the same command is run again. " + _common.OUTPUT_RULE)
 #: API parameter names that differ from the option's name
-OPTIONS = {"steps_per_cycle": "--steps", "store": "--out"}
+OPTIONS = {"steps_per_cycle": "--steps", "store": "--out", "k_support": "--k-support",
+           "nodes": "--nodes"}
 DIMS = ("phi", "P1", "Q1")
 
 
@@ -34,6 +38,16 @@ def configure(p) -> None:
     p.add_argument("--out", required=True, metavar="FILE.nc",
                    help="output NetCDF file; must end in .nc, in an existing directory")
     p.add_argument("--method", default="exact", help="method (default: exact)")
+    g = p.add_argument_group("continuum contact",
+                             "map a continuum contact instead of the single node")
+    g.add_argument("--contact", choices=("sphere",), default=None,
+                   help="sphere: the Hertz contact by dimensionality reduction (then --Q1 is "
+                        "Q1/(mu P0) and --method is not used)")
+    g.add_argument("--k-support", default="0", metavar="K",
+                   help="tangential support stiffness over k_t0 (default 0: pure load control; "
+                        "loads with |Q| > mu P at some instant are then NaN)")
+    g.add_argument("--nodes", default="200", metavar="N",
+                   help="springs across the largest contact radius (default 200)")
     p.add_argument("--steps", default=None, metavar="N",
                    help="steps per cycle for time-stepping methods")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
@@ -141,6 +155,13 @@ def run(args) -> int:
     from .. import _checks
 
     method = str(args.method).strip()
+    contact = None
+    if args.contact is not None:
+        contact = {"geometry": args.contact,
+                   "nodes": _checks.positive_int("--nodes", args.nodes),
+                   "k_support": _checks.nonnegative(
+                       "--k-support", _checks.parse_number(args.k_support, "--k-support"))}
+        method = "mdr"
     modules = ["xarray"] + ([] if _common.installed("netCDF4") else ["h5netcdf", "h5py"])
     if args.scheduler is not None:
         modules.append("distributed")
@@ -161,7 +182,8 @@ def run(args) -> int:
     if all(c is not None and c > 0 for c in counts.values()):
         n = counts["phi"] * counts["P1"] * counts["Q1"]
         workers = 1 if args.scheduler is not None else _common.workers_for(processes)
-        need = _common.map_bytes(n, sum(counts.values()), method, steps, chunk_size, workers)
+        need = (_common.map_bytes(n, sum(counts.values()), method, steps, chunk_size, workers)
+                if contact is None else 8.0 * 4 * n)  # the sweep checks its chunks itself
         _common.check_memory(need, args, "--P1, --Q1, --phi",
                              f"a map of {counts['phi']} x {counts['P1']} x {counts['Q1']} = "
                              f"{n:.4g} points")
@@ -182,9 +204,10 @@ def run(args) -> int:
 
     client = None if scheduler is None else connect(scheduler)
     try:
-        ds = sweep(P1, Q1, phi, method=method, steps_per_cycle=steps, chunk_size=chunk_size,
-                   out=out, resume=not args.restart, scheduler=client, processes=processes,
-                   progress=progress)
+        ds = sweep(P1, Q1, phi, method=method if contact is None else "exact",
+                   steps_per_cycle=steps, chunk_size=chunk_size, out=out,
+                   resume=not args.restart, scheduler=client, processes=processes,
+                   progress=progress, contact=contact)
     except KeyboardInterrupt:
         saved = len(_chunk_files(store))
         if saved:
@@ -210,7 +233,8 @@ def run(args) -> int:
 
 
 def _report(ds, out: Path, as_json: bool) -> int:
-    W = ds.W_hat
+    name = "W_hat" if "W_hat" in ds else "W_normalized"
+    W = ds[name].fillna(-1.0)
     where = W.argmax(...)
     summary = {
         "out": str(out), "method": ds.attrs["method"],
@@ -218,16 +242,18 @@ def _report(ds, out: Path, as_json: bool) -> int:
         "seconds": round(float(ds.attrs["seconds"]), 4), "executor": ds.attrs["executor"],
         "chunks_computed": int(ds.attrs["chunks_computed"]),
         "chunks_reused": int(ds.attrs["chunks_reused"]),
-        "W_hat_max": float(W.max()),
+        f"{name}_max": float(W.max()), "undefined_points": int(ds[name].isnull().sum()),
         "at": {d: float(ds[d][where[d]]) for d in DIMS},
     }
     if as_json:
         print(json.dumps(summary))
         return 0
     at = ", ".join(f"{d}={v:.4g}" for d, v in summary["at"].items())
-    print(f"wrote {out}: W_hat on {W.size} points (phi x P1 x Q1 = "
+    nan = (f"; {summary['undefined_points']} points without equilibrium (NaN)"
+           if summary["undefined_points"] else "")
+    print(f"wrote {out}: {name} on {W.size} points (phi x P1 x Q1 = "
           f"{' x '.join(str(v) for v in summary['shape'].values())}) by {summary['method']} "
           f"in {summary['seconds']:.3g} s [{summary['executor']}; "
           f"{summary['chunks_reused']} of {ds.attrs['chunks']} chunks reused]; "
-          f"max W_hat = {summary['W_hat_max']:.6g} at {at}")
+          f"max {name} = {summary[name + '_max']:.6g} at {at}{nan}")
     return 0

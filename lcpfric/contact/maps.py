@@ -1,0 +1,184 @@
+r"""Dissipation maps of the Hertz contact (MDR): many load cases advanced together.
+
+:func:`mdr_W_normalized` evaluates ``W k_t0 / (μ² P0²)`` of the MDR sphere
+(:class:`~lcpfric.contact.mdr.MDRSphere`) at many points ``(P̂1, Q̂1, φ)`` = ``(P1/P0,
+Q1/(μ P0), φ)`` at once, for :func:`lcpfric.analysis.sweep.sweep` (local processes or Dask,
+resumable). In these units the answer depends on nothing else: with ``P0 = μ = k_t0 = 1`` and
+lengths in units of a0 = a(P0), the spring normal forces are ``N_i = (3/2) ∫_cell (a² - x²) dx``
+with ``a = P^(1/3)``, the spring stiffnesses ``k_i = Δx`` (so ``Σ k_i = 1`` at a0), and the
+support stiffness is given as ``k_support / k_t0``.
+
+Each increment is the MDR increment (the bar's monotone piecewise-linear equilibrium), solved
+here for all points together by a safeguarded Newton iteration on the bar displacement, started
+from its previous value: on the segment where the root lies the equation is linear, so an
+iteration whose step keeps the springs' stick/slip split is exact; a bracket keeps the iteration
+inside. The result equals :meth:`MDRSphere.solve` on the same grid to round-off
+(``tests/test_contact_maps.py``). Under pure load control (``k_support = 0``) a point whose loads
+have ``|Q| > μ P`` at some instant has no equilibrium: its value is NaN.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .. import _checks
+from ..errors import InputError
+from ..periodic import cycle_change
+
+__all__ = ["mdr_W_normalized", "gross_sliding_points"]
+
+_SAMPLES = 20001
+
+
+def gross_sliding_points(P1, Q1, phi) -> np.ndarray:
+    """Which points have ``|Q̂1 sin(θ + φ)| > 1 + P̂1 sin θ`` at some θ (normalized units)."""
+    theta = np.linspace(0.0, 2 * math.pi, _SAMPLES)
+    out = np.zeros(np.shape(P1), dtype=bool)
+    for i in range(0, out.size, 256):
+        sl = slice(i, min(i + 256, out.size))
+        P = 1.0 + P1[sl, None] * np.sin(theta)
+        Q = np.abs(Q1[sl, None] * np.sin(theta + phi[sl, None]))
+        out[sl] = np.any(Q > np.maximum(P, 0.0) + 1e-12 * (1.0 + Q), axis=1)
+    return out
+
+
+def mdr_W_normalized(P1, Q1, phi, *, nodes: int = 200, steps_per_cycle: int = 200,
+                     k_support: float = 0.0, tol: float = 1e-8, max_cycles: int = 200):
+    """``W k_t0 / (μ² P0²)`` of the MDR sphere at the points ``(P1, Q1, phi)`` (flat arrays of
+    P̂1, Q̂1 and φ); ``k_support`` in units of k_t0. NaN where pure load control has no
+    equilibrium; 0 where Q̂1 = 0."""
+    P1, Q1, phi = (np.atleast_1d(np.asarray(x, dtype=float)).ravel() for x in (P1, Q1, phi))
+    nodes = _checks.positive_int("nodes", nodes)
+    steps = _checks.positive_int("steps_per_cycle", steps_per_cycle, 4)
+    ks = _checks.nonnegative("k_support", k_support)
+    tol = _checks.positive("tol", tol)
+    max_cycles = _checks.positive_int("max_cycles", max_cycles)
+    if not (P1.size == Q1.size == phi.size):
+        raise InputError("P1", "P1, Q1 and phi must have one value per point")
+    out = np.zeros(P1.size)
+    run = Q1 > 0
+    if ks == 0.0:
+        bad = gross_sliding_points(P1, Q1, phi)
+        out[bad] = np.nan
+        run &= ~bad
+    idx = np.flatnonzero(run)
+    if idx.size:
+        out[idx] = _batch(P1[idx], Q1[idx], phi[idx], nodes, steps, ks, tol, max_cycles)
+    return out
+
+
+def _batch(P1, Q1, phi, n, steps, ks, tol, max_cycles):
+    m = P1.size
+    a_max = (1.0 + P1) ** (1.0 / 3.0)                       # (m,)
+    dx = a_max / n
+    x = (np.arange(n)[None, :] + 0.5) * dx[:, None]         # (m, n)
+    k = dx[:, None] * np.ones((1, n))
+    theta = np.linspace(0.0, 2 * math.pi, steps + 1)
+    P = np.maximum(1.0 + P1[:, None] * np.sin(theta)[None, :], 0.0)    # (m, steps + 1)
+    Q = Q1[:, None] * np.sin(theta[None, :] + phi[:, None])
+    a = P ** (1.0 / 3.0)
+    lo_x, hi_x = x - 0.5 * dx[:, None], x + 0.5 * dx[:, None]
+    lo_cube = lo_x * lo_x * lo_x / 3.0
+
+    def limits(j):
+        """(3/2) ∫ (a² - x²) dx over each cell's part inside the contact (powers by products:
+        ``**`` is several times slower)."""
+        aj = a[:, j][:, None]
+        hi = np.minimum(hi_x, aj)
+        val = aj * aj * (hi - lo_x) - (hi * hi * hi / 3.0 - lo_cube)
+        return np.where(hi > lo_x, 1.5 * val, 0.0)
+
+    v = np.zeros((m, n))
+    u = np.zeros(m)
+    F = np.zeros((m, n))
+    prev = None
+    W = np.zeros(m)
+    active = np.ones(m, dtype=bool)
+    result = np.full(m, np.nan)
+    scales = (Q1, 1.0 + P1)
+    for _ in range(max_cycles):
+        v0 = v.copy()
+        vmin, vmax = v.copy(), v.copy()
+        W = np.zeros(m)
+        for j in range(steps):
+            b = limits(j + 1)
+            u = _bar(v, u, k, b, Q[:, j + 1], ks)
+            trial = k * (v - u[:, None])
+            F1 = np.minimum(np.maximum(trial, -b), b)
+            stick = np.abs(trial) <= b
+            v1 = np.where(stick, v, u[:, None] + F1 / k)
+            dv = v1 - v
+            share = -0.5 * (F + F1) * dv
+            W += np.where(share > 0.0, share, 0.0).sum(axis=1)
+            F, v = F1, v1
+            np.minimum(vmin, v, out=vmin)
+            np.maximum(vmax, v, out=vmax)
+        if prev is not None:
+            change = cycle_change(np.max(np.abs(v - v0), axis=1), np.max(vmax - vmin, axis=1),
+                                  W - prev, W, scales)
+            done = active & (change <= tol)
+            result[done] = W[done]
+            active &= ~done
+            if not active.any():
+                break
+        prev = W
+    result[active] = W[active]  # not converged in max_cycles: the last cycle's W
+    return result
+
+
+def _bar(v, u, k, b, Q, ks):
+    """The bar displacement of every point: the root of ``h(u) = Σ clip(k (v - u), -b, b) - ks
+    u + Q`` (decreasing in u), by a safeguarded Newton iteration from u (module docstring)."""
+    lo = np.min(v - b / k, axis=1)   # below: every spring at +b
+    hi = np.max(v + b / k, axis=1)   # above: every spring at -b
+    total = b.sum(axis=1)
+    h_lo = total - ks * lo + Q
+    h_hi = -total - ks * hi + Q
+    out = np.empty_like(u)
+    below, above = h_lo <= 0.0, h_hi >= 0.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out[below] = np.where(ks > 0, lo[below] + h_lo[below] / ks, lo[below])
+        out[above] = np.where(ks > 0, hi[above] + h_hi[above] / ks, hi[above])
+    inside = ~(below | above)
+    if not inside.any():
+        return out
+    i = np.flatnonzero(inside)
+    every = i.size == u.size
+    vv, kk, bb, qq = (v, k, b, Q) if every else (v[i], k[i], b[i], Q[i])
+    L, H = lo[i].copy(), hi[i].copy()
+    x = np.clip(u[i], L, H)
+    todo = None  # None: every point (no gathering on the first, usually last, iteration)
+    eps = 4 * np.finfo(float).eps
+    for _ in range(200):
+        if todo is None:
+            xv, Vv, Kv, Bv, qv, Lt, Ht = x, vv, kk, bb, qq, L, H
+        else:
+            xv, Vv, Kv, Bv, qv = x[todo], vv[todo], kk[todo], bb[todo], qq[todo]
+            Lt, Ht = L[todo], H[todo]
+        t = Kv * (Vv - xv[:, None])
+        c = np.minimum(np.maximum(t, -Bv), Bv)
+        side = np.sign(c - t)                             # 0: sticking; ±1: at -b / +b
+        h = c.sum(axis=1) - ks * xv + qv
+        slope = -(Kv * (side == 0)).sum(axis=1) - ks
+        Lt = np.where(h > 0.0, xv, Lt)
+        Ht = np.where(h < 0.0, xv, Ht)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = np.where(slope < 0.0, xv - h / slope, 0.5 * (Lt + Ht))
+        step = np.where((step >= Lt) & (step <= Ht), step, 0.5 * (Lt + Ht))
+        new = np.where(h == 0.0, xv, step)
+        t2 = Kv * (Vv - new[:, None])
+        same = np.all(np.sign(np.minimum(np.maximum(t2, -Bv), Bv) - t2) == side, axis=1)
+        finished = ((h == 0.0) | (same & (slope < 0.0)) | (new == xv)
+                    | (Ht - Lt <= eps * np.maximum(np.abs(Lt), np.abs(Ht))))
+        if todo is None:
+            x, L, H = new, Lt, Ht
+            todo = np.flatnonzero(~finished)
+        else:
+            x[todo], L[todo], H[todo] = new, Lt, Ht
+            todo = todo[~finished]
+        if not todo.size:
+            break
+    out[i] = x
+    return out
