@@ -94,3 +94,21 @@ def test_refusals():
     with pytest.raises(InputError) as err:
         MDRSphere(R, E, 0.0, MU, Harmonic(-1.0, 0.5), 0.0)
     assert err.value.parameter == "P"
+
+
+@pytest.mark.parametrize("x", [0.3, 0.8])
+def test_any_profile_against_ciavarella_jager(x):
+    """A power-law body f = r⁴ (in closed form, and through the numerical MDR transform of its
+    slope): W at constant P is the Ciavarella-Jäger chord area of its approach curve C(P)."""
+    from lcpfric.contact import ciavarella_jager_W, moduli
+    from lcpfric.contact.mdr import Axisymmetric, PowerLaw
+
+    eta = moduli(E, 0.3)["eta"]
+    runs = []
+    for profile in (PowerLaw(1.0, 4), Axisymmetric(lambda r: 4.0 * r ** 3)):
+        m = MDRSphere(None, E, 0.3, MU, Harmonic(P0, 0.0), Harmonic(0.0, x * MU * P0),
+                      nodes=2000, profile=profile)
+        runs.append(m.solve(400).W)
+        ref = ciavarella_jager_W(m.approach, P0, x * MU * P0, MU, eta)
+        assert runs[-1] == pytest.approx(ref, rel=2e-4)
+    assert runs[1] == pytest.approx(runs[0], rel=1e-9)

@@ -36,23 +36,136 @@ the instants and the fix (a support stiffness).
 
 Cycles are run by :func:`lcpfric.contact.steady.steady_state` (lcpfric's dissipation of an
 increment, the driver's convergence criterion).
+
+Other axisymmetric profiles
+---------------------------
+``profile=`` replaces the sphere by any axisymmetric body ``z = f(r)``: :class:`PowerLaw`
+(``f = c r^n``, in closed form: ``g = κ_n c |x|^n``, ``κ_n = √π Γ(n/2 + 1) / Γ(n/2 + 1/2)``) or
+:class:`Axisymmetric` (any ``f'``, the MDR transform ``g(x) = |x| ∫_0^{π/2} f'(|x| sin θ) dθ``
+by Gauss-Legendre quadrature). The contact radius at a load solves ``P = 2 E* (a g(a) -
+∫_0^a g)``, the approach is ``d = g(a)``, the spring forces are the cells' exact shares of
+``2 E* (d - g)`` as for the sphere.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+import math
+
 import numpy as np
 
 from .. import _checks
 from ..errors import InputError
-from .closed_forms import hertz_contact
 from .steady import ContactModel
 
-__all__ = ["MDRSphere", "MAX_NODES"]
+__all__ = ["MDRSphere", "MAX_NODES", "Sphere", "PowerLaw", "Axisymmetric"]
 
 #: largest number of springs (the arrays are nodes x steps)
 MAX_NODES = 200_000
+
+
+class Sphere:
+    """The sphere ``f = r²/(2R)``: ``g = x²/R``."""
+
+    def __init__(self, R):
+        self.R = _checks.positive("R", R)
+
+    def g(self, x):
+        return np.asarray(x) ** 2 / self.R
+
+    def G(self, x):
+        """``∫_0^x g``."""
+        x = np.asarray(x)
+        return x * x * x / (3.0 * self.R)
+
+    def radius(self, P, Estar):
+        return (3.0 * np.maximum(P, 0.0) * self.R / (4.0 * Estar)) ** (1.0 / 3.0)
+
+
+class PowerLaw:
+    """``f = c r^n`` (n > 0; n = 2, c = 1/(2R) is the sphere): ``g = κ_n c |x|^n``."""
+
+    def __init__(self, c, n):
+        self.c = _checks.positive("c", c)
+        self.n = _checks.positive("n", n)
+        self.kappa = math.sqrt(math.pi) * math.gamma(self.n / 2 + 1) / math.gamma(self.n / 2
+                                                                                  + 0.5)
+
+    def g(self, x):
+        return self.kappa * self.c * np.abs(np.asarray(x)) ** self.n
+
+    def G(self, x):
+        x = np.asarray(x)
+        return self.kappa * self.c * x ** (self.n + 1) / (self.n + 1)
+
+    def radius(self, P, Estar):
+        k = 2.0 * Estar * self.kappa * self.c * self.n / (self.n + 1)
+        return (np.maximum(P, 0.0) / k) ** (1.0 / (self.n + 1))
+
+
+class Axisymmetric:
+    """Any axisymmetric body by its slope ``f'(r)`` (vectorized, ``f'(0) = 0``, increasing
+    enough that the contact is one disc): the MDR transform by 64-point Gauss-Legendre
+    quadrature on a table of 4097 points, interpolated by a cubic spline (its antiderivative
+    gives ``∫ g``), the table widened when asked beyond it; the contact radius by bisection."""
+
+    _POINTS = 4097
+
+    def __init__(self, slope):
+        if not callable(slope):
+            raise InputError("profile", "Axisymmetric needs the slope f'(r) as a callable")
+        self.slope = slope
+        self._t, self._w = np.polynomial.legendre.leggauss(64)
+        self._X = 0.0
+
+    def transform(self, x):
+        """``g(x) = |x| ∫_0^{π/2} f'(|x| sin θ) dθ`` by quadrature (no table)."""
+        x = np.abs(np.asarray(x, dtype=float))
+        theta = 0.25 * math.pi * (self._t + 1.0)                # [0, π/2]
+        vals = np.asarray(self.slope(x[..., None] * np.sin(theta)), dtype=float)
+        return x * (vals @ self._w) * 0.25 * math.pi
+
+    def _table(self, x):
+        top = float(np.max(np.abs(x), initial=0.0))
+        if top <= self._X:
+            return
+        from scipy.interpolate import CubicSpline
+
+        X = max(top, 2.0 * self._X)
+        xs = np.linspace(0.0, X, self._POINTS)
+        gs = self.transform(xs)
+        if not np.all(np.isfinite(gs)):
+            raise InputError("profile", "the slope f'(r) gave non-finite values")
+        self._g = CubicSpline(xs, gs)
+        self._G = self._g.antiderivative()
+        self._X = X
+
+    def g(self, x):
+        self._table(x)
+        return self._g(np.abs(np.asarray(x, dtype=float)))
+
+    def G(self, x):
+        self._table(x)
+        return self._G(np.asarray(x, dtype=float))
+
+    def radius(self, P, Estar):
+        P = np.atleast_1d(np.maximum(np.asarray(P, dtype=float), 0.0))
+        lo, hi = np.zeros_like(P), np.ones_like(P)
+
+        def load(a):
+            return 2.0 * Estar * (a * self.g(a) - self.G(a))
+
+        for _ in range(200):  # grow the bracket
+            short = load(hi) < P
+            if not short.any():
+                break
+            hi = np.where(short, 2.0 * hi, hi)
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            below = load(mid) < P
+            lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
+        return np.where(P > 0, 0.5 * (lo + hi), 0.0)
 
 
 class MDRSphere(ContactModel):
@@ -76,20 +189,38 @@ class MDRSphere(ContactModel):
 
     max_nodes = MAX_NODES
 
-    def __init__(self, R, E, nu, mu, P, Q, *, k_support: float = 0.0, nodes: int = 2000):
+    def __init__(self, R, E, nu, mu, P, Q, *, k_support: float = 0.0, nodes: int = 2000,
+                 profile=None):
         super().__init__(E, nu, mu, P, Q, k_support, nodes)
-        self.R = _checks.positive("R", R)
-        self.a_max = hertz_contact(self.P_max, self.R, self.E, self.nu)["a"]
-        self.k_t0 = hertz_contact(self.P0, self.R, self.E, self.nu)["k_t0"]
+        self.R = None if R is None else _checks.positive("R", R)
+        if profile is None:
+            if self.R is None:
+                raise InputError("R", "give the effective radius R, or a profile")
+            profile = Sphere(self.R)
+        for name in ("g", "G", "radius"):
+            if not callable(getattr(profile, name, None)):
+                raise InputError("profile", f"needs a method {name}() (see Sphere, PowerLaw, "
+                                            f"Axisymmetric)")
+        self.profile = profile
+        Es = self.moduli["E*"]
+        self.a_max = float(np.max(profile.radius(self.P_max, Es)))
+        self.a0 = float(np.max(profile.radius(self.P0, Es)))
+        self.k_t0 = 2.0 * self.a0 * self.moduli["G*"]
         self.dx = self.a_max / self.nodes
         self.x = (np.arange(self.nodes) + 0.5) * self.dx
         self.k = np.full(self.nodes, 2.0 * self.moduli["G*"] * self.dx)
 
     # -- the normal problem ---------------------------------------------------------------------
     def radius(self, t) -> np.ndarray:
-        """Hertz contact radius a(t) (0 in separation)."""
+        """Contact radius a(t) (0 in separation): Hertz's for the sphere."""
         P = np.maximum(np.asarray(self.P(np.asarray(t, dtype=float)), dtype=float), 0.0)
-        return (3.0 * P * self.R / (4.0 * self.moduli["E*"])) ** (1.0 / 3.0)
+        return np.asarray(self.profile.radius(P, self.moduli["E*"]), dtype=float).reshape(P.shape)
+
+    def approach(self, P) -> np.ndarray:
+        """The normal approach d = g(a(P)) (the C(P) of the Ciavarella-Jäger form)."""
+        P = np.asarray(P, dtype=float)
+        d = np.asarray(self.profile.g(self.profile.radius(P, self.moduli["E*"])), dtype=float)
+        return float(d.ravel()[0]) if P.ndim == 0 else d.reshape(P.shape)
 
     def normal_forces(self, t) -> np.ndarray:
         """``(len(t), nodes)`` spring normal forces: each cell's exact share of the pressure of
@@ -97,12 +228,9 @@ class MDRSphere(ContactModel):
         a = self.radius(np.atleast_1d(t))[:, None]
         lo = self.x[None, :] - 0.5 * self.dx
         hi = np.minimum(self.x[None, :] + 0.5 * self.dx, a)
-        R = self.R
-
-        def prim(x):  # ∫ (a²/R - x²/R) dx
-            return (a * a * x - x ** 3 / 3.0) / R
-
-        return np.where(hi > lo, 2.0 * self.moduli["E*"] * (prim(hi) - prim(lo)), 0.0)
+        d, G = self.profile.g(a), self.profile.G
+        share = d * (hi - lo) - (G(np.maximum(hi, lo)) - G(lo))   # ∫_cell (d - g) dx
+        return np.where(hi > lo, 2.0 * self.moduli["E*"] * share, 0.0)
 
     # -- the model protocol of lcpfric.contact.steady ------------------------------------------
     def limits(self, t) -> np.ndarray:
