@@ -14,8 +14,8 @@ from lcpfric.plotting import COLUMN_WIDTH, MIN_FONT_SIZE, PAGE_WIDTH  # noqa: E4
 
 from test_figures import _renderer, _texts  # noqa: E402
 
-NAMES = ("hertz-maps", "hertz-phase", "hertz-zones", "cylinder-tractions")
-COLUMN = ("hertz-zones", "cylinder-tractions")
+NAMES = ("hertz-maps", "hertz-phase", "hertz-zones", "cylinder-tractions", "sphere-tractions")
+COLUMN = ("hertz-zones", "cylinder-tractions", "sphere-tractions")
 
 
 @pytest.fixture(scope="module")
@@ -33,7 +33,10 @@ def built():
                        nodes=30, k_support=1.0)
     plane = HalfPlaneCylinder(1.0, 1.0, 0.0, 1.0, 1.0, Harmonic(0.0, 0.95), nodes=40)
     first = plane.solve(80, record=True, max_cycles=1, on_nonconvergence="ignore")
+    ball = MDRSphere(1.0, 1.0, 0.0, 1.0, 1.0, Harmonic(0.0, 0.95), nodes=60)
+    ball_first = ball.solve(80, record=True, max_cycles=1, on_nonconvergence="ignore")
     return {"hertz-maps": cf.figure_hertz_maps(ds),
+            "sphere-tractions": cf.figure_tractions(ball_first, ball),
             "hertz-phase": cf.figure_phase(phi, curves, cf.PHASE_CASES, ds),
             "hertz-zones": cf.figure_zones(sphere.solve(60, record=True), "zones"),
             "cylinder-tractions": cf.figure_tractions(first, plane)}

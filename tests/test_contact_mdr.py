@@ -112,3 +112,24 @@ def test_any_profile_against_ciavarella_jager(x):
         ref = ciavarella_jager_W(m.approach, P0, x * MU * P0, MU, eta)
         assert runs[-1] == pytest.approx(ref, rel=2e-4)
     assert runs[1] == pytest.approx(runs[0], rel=1e-9)
+
+
+def test_inverse_transform_gives_hertz_pressure_and_cattaneo_traction():
+    """The inverse MDR transform of the spring forces: Hertz's pressure from the normal forces,
+    Cattaneo's shear traction from the tangential ones (away from the edge cells)."""
+    from lcpfric.contact import hertz_contact
+
+    m = sphere(Q1=0.95, nodes=2000)
+    h = hertz_contact(P0, R, E, 0.0)
+    rr = m.x / h["a"]
+    inner = rr < 0.9
+    p = m.tractions(m.normal_forces([0.0])[0])
+    np.testing.assert_allclose(p[inner] / h["p0"], np.sqrt(1 - rr[inner] ** 2), atol=5e-3)
+    r = m.solve(400, record=True, max_cycles=1, on_nonconvergence="ignore")
+    j = 40  # Q = 0.95 sin(2π 40/400) μ P0 on first loading
+    x = 0.95 * np.sin(2 * np.pi * j / 400)
+    c = cattaneo_stick_ratio(x)
+    tau = -m.tractions(r.F[j]) / (MU * h["p0"])
+    exact = np.sqrt(1 - rr ** 2) - c * np.sqrt(np.clip(1 - (rr / c) ** 2, 0, None))
+    err = np.abs(tau - exact)[inner]
+    assert np.median(err) < 1e-3 and err.max() < 0.05  # the largest: at the stick edge

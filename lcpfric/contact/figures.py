@@ -7,8 +7,8 @@
   the phase of the largest W over the (P1, Q1) plane (where the maximum over φ lies);
 * :func:`figure_zones`: stick, slip and separation over the contact and over the cycle (position
   on one axis, time on the other), with the contact edge;
-* :func:`figure_tractions`: shear tractions of the plane contact at chosen instants of the first
-  loading, beside Cattaneo's.
+* :func:`figure_tractions`: shear tractions of the plane contact and of the sphere at chosen
+  instants of the first loading, beside Cattaneo's.
 
 :func:`write_contact_figures` computes the data and writes all of them (``lcpfric figures
 --contact``).
@@ -204,45 +204,54 @@ def figure_zones(result, title: str = ""):
 
 
 def figure_tractions(result, model, fractions=(0.3, 0.6, 0.9)):
-    """Shear tractions of the plane contact at the instants of the first loading where Q =
-    x μ P, beside Cattaneo's ``q/(μ p0) = √(1 - ξ²) - (c/a) √(1 - ξ² a²/c²)``, ``c/a = √(1 -
-    x)``; ``result`` is the first cycle of a constant-P, sinusoidal-Q run with ``record=True``."""
-    from .closed_forms import cattaneo_stick_ratio, cylinder_contact
+    """Shear tractions at the instants of the first loading where Q = x μ P, beside Cattaneo's
+    ``q/(μ p0) = √(1 - ξ²) - (c/a) √(1 - ξ² a²/c²)`` with ``c/a = √(1 - x)`` (cylinder, the
+    element tractions) or ``(1 - x)^(1/3)`` (sphere, the inverse MDR transform of the spring
+    forces, :meth:`~lcpfric.contact.mdr.MDRSphere.tractions`); ``result`` is the first cycle of
+    a constant-P, sinusoidal-Q run with ``record=True``."""
+    from .closed_forms import cattaneo_stick_ratio, cylinder_contact, hertz_contact
 
+    plane = hasattr(model, "pressure")
     with style():
         from matplotlib.lines import Line2D
 
         from ..plotting import ramp
 
-        ref = cylinder_contact(model.P0, model.R, model.E, model.nu)
+        ref = (cylinder_contact if plane else hertz_contact)(model.P0, model.R, model.E,
+                                                             model.nu)
         a, p0, mu = ref["a"], ref["p0"], model.mu
         Q = np.asarray(model.Q(result.t))
         quarter = result.t.size // 4 + 1
-        fig = figure(figsize=(COLUMN_WIDTH, 2.7), layout="constrained")
+        fig = figure(figsize=(COLUMN_WIDTH, 3.2), layout="constrained")
         ax = fig.add_subplot()
         colours = ramp(len(fractions))
         xi = np.linspace(-1, 1, 801)
         for i, x in enumerate(fractions):
             j = int(np.argmin(np.abs(Q[:quarter] - x * mu * model.P0)))
             xj = Q[j] / (mu * model.P0)
-            q = -result.F[j] / model.dx * np.sign(Q[j])
+            if plane:
+                q = -result.F[j] / model.dx * np.sign(Q[j])
+            else:
+                q = -model.tractions(result.F[j]) * np.sign(Q[j])
             ax.plot(model.x / a, q / (mu * p0), ls="none", marker="o", ms=2.2,
-                    color=colours[i], label=f"Q/(μP) = {xj:.3f}")
-            c = cattaneo_stick_ratio(xj, "cylinder")
+                    color=colours[i], label=f"Q/(μP) = {xj:.3f}",
+                    markevery=1 if plane else max(1, model.nodes // 150))
+            c = cattaneo_stick_ratio(xj, "cylinder" if plane else "sphere")
             exact = np.sqrt(np.clip(1 - xi ** 2, 0, None)) - c * np.sqrt(
                 np.clip(1 - (xi / c) ** 2 if c > 0 else 0.0, 0, None))
             ax.plot(xi, exact, color=colours[i], lw=0.9)
-        ax.set_xlabel("x/a")
+        ax.set_xlabel("x/a" if plane else "r/a")
         ax.set_ylabel(r"shear traction $q/(\mu p_0)$")
-        ax.set_xlim(-1.1, 1.1)
+        ax.set_xlim(-1.1 if plane else 0.0, 1.1)
         handles, labels = ax.get_legend_handles_labels()
         handles.append(Line2D([], [], color="0.3", lw=0.9))
         labels.append("Cattaneo (closed form)")
         handles.append(Line2D([], [], color="0.3", ls="none", marker="o", ms=2.2))
-        labels.append(f"half-plane elements ({model.nodes_across} across)")
-        ax.legend(handles, labels, fontsize=SMALL, frameon=False, loc="lower center",
-                  ncols=2)
-        ax.set_ylim(-0.45, 1.05)
+        labels.append(f"half-plane elements ({model.nodes_across} across)" if plane else
+                      f"MDR, inverse transform ({model.nodes} springs)")
+        fig.legend(handles, labels, fontsize=SMALL, frameon=False, loc="outside lower center",
+                   ncols=2)
+        ax.set_ylim(-0.03, 1.05)
         return finish(fig)
 
 
@@ -277,5 +286,8 @@ def write_contact_figures(out_dir, grid: int = 41, formats=("png", "pdf"), nodes
                               nodes=200)
     first = plane.solve(400, record=True, max_cycles=1, on_nonconvergence="ignore")
     paths += save(figure_tractions(first, plane), out_dir, "cylinder-tractions", formats)
+    ball = MDRSphere(1.0, 1.0, 0.0, 1.0, Harmonic(1.0, 0.0), Harmonic(0.0, 0.95), nodes=1000)
+    first = ball.solve(400, record=True, max_cycles=1, on_nonconvergence="ignore")
+    paths += save(figure_tractions(first, ball), out_dir, "sphere-tractions", formats)
     say(f"all contact figures: {time.perf_counter() - t0:.1f} s")
     return paths

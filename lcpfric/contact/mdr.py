@@ -232,6 +232,20 @@ class MDRSphere(ContactModel):
         share = d * (hi - lo) - (G(np.maximum(hi, lo)) - G(lo))   # ∫_cell (d - g) dx
         return np.where(hi > lo, 2.0 * self.moduli["E*"] * share, 0.0)
 
+    def tractions(self, F) -> np.ndarray:
+        """The 3-D shear traction at the spring positions (as radii) from spring forces F: the
+        inverse MDR transform ``τ(r) = -(1/π) ∫_r^a q'(x) / √(x² - r²) dx`` of the line load
+        ``q = F / (2 Δx)`` (piecewise constant, so ``q'`` is a sum of jumps at the cell
+        edges). lcpfric's force sign: the traction transmitted is ``-τ``."""
+        q = np.asarray(F, dtype=float) / (2.0 * self.dx)
+        edges = (np.arange(self.nodes) + 1.0) * self.dx           # outer edge of each cell
+        jumps = np.append(q[1:], 0.0) - q                       # q(e+) - q(e-)
+        r = self.x
+        with np.errstate(divide="ignore", invalid="ignore"):
+            kernel = np.where(edges[None, :] > r[:, None],
+                              1.0 / np.sqrt(edges[None, :] ** 2 - r[:, None] ** 2), 0.0)
+        return -(kernel @ jumps) / math.pi
+
     # -- the model protocol of lcpfric.contact.steady ------------------------------------------
     def limits(self, t) -> np.ndarray:
         """Friction limits ``μ N_i(t)``, ``(len(t), nodes)``."""
