@@ -235,16 +235,22 @@ class MDRSphere(ContactModel):
     def tractions(self, F) -> np.ndarray:
         """The 3-D shear traction at the spring positions (as radii) from spring forces F: the
         inverse MDR transform ``τ(r) = -(1/π) ∫_r^a q'(x) / √(x² - r²) dx`` of the line load
-        ``q = F / (2 Δx)`` (piecewise constant, so ``q'`` is a sum of jumps at the cell
-        edges). lcpfric's force sign: the traction transmitted is ``-τ``."""
-        q = np.asarray(F, dtype=float) / (2.0 * self.dx)
-        edges = (np.arange(self.nodes) + 1.0) * self.dx           # outer edge of each cell
-        jumps = np.append(q[1:], 0.0) - q                       # q(e+) - q(e-)
-        r = self.x
-        with np.errstate(divide="ignore", invalid="ignore"):
-            kernel = np.where(edges[None, :] > r[:, None],
-                              1.0 / np.sqrt(edges[None, :] ** 2 - r[:, None] ** 2), 0.0)
-        return -(kernel @ jumps) / math.pi
+        ``q = F / (2 Δx)``, taken piecewise linear between the spring positions (flat at the
+        centre, zero half a cell beyond the last spring), so that each piece integrates in
+        closed form: ``∫ dx / √(x² - r²) = ln(x + √(x² - r²))``. lcpfric's force sign: the
+        traction transmitted is ``-τ``; from the normal forces it gives the pressure."""
+        q = np.append(np.asarray(F, dtype=float) / (2.0 * self.dx), 0.0)
+        X = np.append(self.x, self.x[-1] + 0.5 * self.dx)
+        slope = np.diff(q) / np.diff(X)                          # on [X_k, X_k+1]
+        r = self.x[:, None]
+
+        def L(x):
+            return np.log(x + np.sqrt(np.maximum(x * x - r * r, 0.0)))
+
+        lo = np.maximum(X[None, :-1], r)
+        hi = X[None, 1:]
+        piece = np.where(hi > r, L(hi) - L(np.minimum(lo, hi)), 0.0)
+        return -(piece @ slope) / math.pi
 
     # -- the model protocol of lcpfric.contact.steady ------------------------------------------
     def limits(self, t) -> np.ndarray:
