@@ -87,7 +87,7 @@ from .blocks import OperatorBlock, make_block
 from .checks import residuals, worst
 from .events import first_event, path_is_exact
 
-__all__ = ["ActiveSetStepper", "ActiveSetData"]
+__all__ = ["ActiveSetStepper", "ActiveSetData", "PatternUpdate"]
 
 STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
                                         int(State.BACKWARD), int(State.SEPARATION))
@@ -504,13 +504,8 @@ class ActiveSetStepper(Stepper):
         F = F_tr.copy()
         free = np.zeros(plan.m, dtype=bool)
         up = dn = free
-        nup = bounded & (F_tr > hi)
-        ndn = bounded & (F_tr < lo)
-        if warm is not None:
-            nup |= bounded & warm[0] & ~ndn
-            ndn |= bounded & warm[1] & ~nup
-        seen = set()
-        single = False
+        updates = PatternUpdate(bounded, stats)
+        nup, ndn = updates.first(F_tr, lo, hi, warm)
         for _ in range(self.max_iter):
             nfree = nup | ndn | free_always
             stop = np.flatnonzero(free & ~nfree)
@@ -520,23 +515,10 @@ class ActiveSetStepper(Stepper):
             up, dn, free = nup, ndn, nfree
             r = np.where(up, hi, np.where(dn, lo, 0.0))
             self._correct(plan, F_tr, r, free, delta, F, stats)
-            z = F - delta * kd
-            nup = bounded & (z > hi)
-            ndn = bounded & (z < lo)
-            changed = (nup != up) | (ndn != dn)
-            stats["iterations"] += 1
-            if not changed.any():
+            nxt = updates.next(F - delta * kd, lo, hi, up, dn)
+            if nxt is None:
                 return delta, F, (up, dn)
-            if not single:
-                key = np.packbits(nup).tobytes() + np.packbits(ndn).tobytes()
-                if key in seen:
-                    single = True
-                seen.add(key)
-            if single:  # least index: change only the first node whose state is wrong
-                i = int(np.flatnonzero(changed)[0])
-                nup, ndn = up.copy(), dn.copy()
-                nup[i], ndn[i] = (z[i] > hi[i]) & bounded[i], (z[i] < lo[i]) & bounded[i]
-                stats["single_changes"] += 1
+            nup, ndn = nxt
         raise self._unsettled(k, "the pattern")
 
     def _pattern_operator(self, plan, F_tr, lo, hi, free_always, stats, k, warm=None):
@@ -554,13 +536,8 @@ class ActiveSetStepper(Stepper):
         bounded = ~free_always
         tol = 1e-13 * plan.compliance_scale * plan.force_scale
         F = F_tr.copy()
-        nup = bounded & (F_tr > hi)
-        ndn = bounded & (F_tr < lo)
-        if warm is not None:
-            nup |= bounded & warm[0] & ~ndn
-            ndn |= bounded & warm[1] & ~nup
-        seen = set()
-        single = False
+        updates = PatternUpdate(bounded, stats)
+        nup, ndn = updates.first(F_tr, lo, hi, warm)
         for _ in range(self.max_iter):
             up, dn = nup, ndn
             F[up], F[dn], F[free_always] = hi[up], lo[dn], 0.0
@@ -570,23 +547,10 @@ class ActiveSetStepper(Stepper):
                 x, Cx = block.solve(S, -delta[S], tol)
                 F[S] += x
                 delta += Cx
-            z = F - delta * kd
-            nup = bounded & (z > hi)
-            ndn = bounded & (z < lo)
-            changed = (nup != up) | (ndn != dn)
-            stats["iterations"] += 1
-            if not changed.any():
+            nxt = updates.next(F - delta * kd, lo, hi, up, dn)
+            if nxt is None:
                 return delta, F, (up, dn)
-            if not single:
-                key = np.packbits(nup).tobytes() + np.packbits(ndn).tobytes()
-                if key in seen:
-                    single = True
-                seen.add(key)
-            if single:  # least index: change only the first node whose state is wrong
-                i = int(np.flatnonzero(changed)[0])
-                nup, ndn = up.copy(), dn.copy()
-                nup[i], ndn[i] = (z[i] > hi[i]) & bounded[i], (z[i] < lo[i]) & bounded[i]
-                stats["single_changes"] += 1
+            nup, ndn = nxt
         raise self._unsettled(k, "the pattern")
 
     @staticmethod
@@ -694,6 +658,51 @@ class ActiveSetStepper(Stepper):
         raise SolverError(f"active-set: increment {k}: the answer fails lcpfric's residual "
                           f"check ({name} {res[name]:.3g} > check_tol {self.check_tol:g})",
                           backend=self.name, status="residual", residuals=res)
+
+
+class PatternUpdate:
+    """The pattern update of a box-constrained problem (d = 1), shared by the stiffness and
+    compliance forms here and by the half-plane contact: from the natural map ``z`` (``z >
+    hi``: on the upper bound; ``z < lo``: on the lower; else stick), the semismooth Newton
+    (primal-dual active-set) step; once a pattern repeats, Murty's least-index rule (change only
+    the lowest-numbered node whose state is wrong), which terminates for a symmetric positive
+    definite matrix. ``bounded``: the nodes that can be on a bound (the others are free)."""
+
+    def __init__(self, bounded: np.ndarray, stats: dict | None = None):
+        self.bounded = bounded
+        self.stats = stats if stats is not None else {"iterations": 0, "single_changes": 0}
+        self.seen: set = set()
+        self.single = False
+
+    def first(self, F_tr, lo, hi, warm=None):
+        """The first pattern: the nodes whose trial force is out of its bounds, and those on
+        their bounds at the start (``warm = (upper, lower)``)."""
+        b = self.bounded
+        nup, ndn = b & (F_tr > hi), b & (F_tr < lo)
+        if warm is not None:
+            nup = nup | (b & warm[0] & ~ndn)
+            ndn = ndn | (b & warm[1] & ~nup)
+        return nup, ndn
+
+    def next(self, z, lo, hi, up, dn):
+        """The next ``(upper, lower)``, or None when the pattern ``(up, dn)`` is the answer."""
+        b = self.bounded
+        nup, ndn = b & (z > hi), b & (z < lo)
+        changed = (nup != up) | (ndn != dn)
+        self.stats["iterations"] += 1
+        if not changed.any():
+            return None
+        if not self.single:
+            key = np.packbits(nup).tobytes() + np.packbits(ndn).tobytes()
+            if key in self.seen:
+                self.single = True
+            self.seen.add(key)
+        if self.single:
+            i = int(np.flatnonzero(changed)[0])
+            nup, ndn = up.copy(), dn.copy()
+            nup[i], ndn[i] = (z[i] > hi[i]) & b[i], (z[i] < lo[i]) & b[i]
+            self.stats["single_changes"] += 1
+        return nup, ndn
 
 
 def _accumulate(u, lo, du):

@@ -51,6 +51,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _checks
+from ..backends.active_set import PatternUpdate
 from ..backends.blocks import DenseBlock
 from ..errors import InputError, SolverError
 from .closed_forms import cylinder_contact
@@ -219,8 +220,7 @@ class HalfPlaneCylinder(ContactModel):
         s0 = state.v
         contact = b > 0.0
         up, dn = state.up & contact, state.dn & contact
-        seen = set()
-        single = False
+        updates = PatternUpdate(contact)
         block = self._tangential
         for _ in range(_MAX_ITER):
             F = np.where(up, b, np.where(dn, -b, 0.0))
@@ -243,27 +243,14 @@ class HalfPlaneCylinder(ContactModel):
             s = delta + C @ F
             s[S] = s0[S]
             ds = s - s0
-            zz = F - ds / cd
             # a node on its limit that neither slips nor leaves it (F tracks μN, as at the
             # edge of an in-phase contact) is decided within the solve's round-off (forces to
             # about 1e-14 of their scale), not flipped for ever
             tol = 1e-10 * self._force_scale + 64 * _EPS * (b + np.abs(F))
-            nup = contact & (zz > b + tol)
-            ndn = contact & (zz < -b - tol)
-            changed = (nup != up) | (ndn != dn)
-            if not changed.any():
+            nxt = updates.next(F - ds / cd, -b - tol, b + tol, up, dn)
+            if nxt is None:
                 np.clip(F, -b, b, out=F)  # round-off only (tol above)
                 return _Surface(s, delta, up, dn), F, ds
-            if not single:
-                key = np.packbits(nup).tobytes() + np.packbits(ndn).tobytes()
-                if key in seen:
-                    single = True
-                seen.add(key)
-            if single:  # least index (Murty): one change at a time
-                i = int(np.flatnonzero(changed)[0])
-                nup, ndn = up.copy(), dn.copy()
-                nup[i] = bool(zz[i] > b[i]) and contact[i]
-                ndn[i] = bool(zz[i] < -b[i]) and contact[i]
-            up, dn = nup, ndn
+            up, dn = nxt
         raise SolverError(f"half-plane: the stick/slip pattern did not settle in {_MAX_ITER} "
                           f"iterations", backend="halfplane", status="max_iter")
