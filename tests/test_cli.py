@@ -609,7 +609,8 @@ def test_contact_json_against_mindlin_deresiewicz(capsys):
     (("--nu", "0.5"), "--nu"), (("--E", "-1"), "--E"), (("--P0", "0"), "--P0"),
     (("--nodes", "5"), "--nodes"), (("--nodes", "2.5"), "--nodes"),
     (("--P1", "150", "--Q1", "30", "--phi", "0.3pi"), "--k-support"),
-    (("--k-support", "-2"), "--k-support"), (("--R", "nan"), "--R")])
+    (("--k-support", "-2"), "--k-support"), (("--R", "nan"), "--R"),
+    (("--method", "clarabel"), "--method")])
 def test_contact_bad_input_is_one_line(capsys, extra, option):
     args = dict(zip(SPHERE[1::2], SPHERE[2::2]))
     args.update({"--P1": "0", "--Q1": "10"})

@@ -16,6 +16,8 @@ DESCRIPTION = ("The periodic steady state of two identical elastic bodies (effec
                "complete separation) have no equilibrium and are refused.")
 #: the model of each geometry
 MODELS = {"sphere": "mdr", "cylinder": "halfplane"}
+#: the methods that solve each model's increments (the first is the default)
+METHODS = {"mdr": ("exact-increment",), "halfplane": ("active-set",)}
 OPTIONS = {"steps": "--steps", "k_support": "--k-support", "P": "--P0", "Q": "--Q1"}
 #: fewest springs across the largest contact radius that resolve it
 MIN_NODES = 10
@@ -42,6 +44,10 @@ def configure(p) -> None:
                         f"elements across the largest contact width (halfplane, default 400); "
                         f"at least {MIN_NODES}")
     p.add_argument("--steps", default="400", metavar="N", help="increments per cycle")
+    p.add_argument("--method", default=None, metavar="M",
+                   help="how each increment is solved: exact-increment (mdr: the bar's "
+                        "equation in closed form, no solver) or active-set (halfplane: "
+                        "primal-dual active set on the stick set); default: the model's")
     p.add_argument("--json", action="store_true", help="print one JSON object")
 
 
@@ -59,6 +65,10 @@ def run(args) -> int:
     if MODELS[args.geometry] != model_name:
         raise InputError("--model", f"{model_name!r} does not solve the {args.geometry}; use "
                                     f"--model {MODELS[args.geometry]}")
+    method = args.method or METHODS[model_name][0]
+    if method not in METHODS[model_name]:
+        raise InputError("--method", f"{method!r} does not solve the {model_name} model; "
+                                     f"use one of {', '.join(METHODS[model_name])}")
     default = "2000" if model_name == "mdr" else "400"
     nodes = _count(args.nodes or default, "--nodes")
     steps = _count(args.steps, "--steps")
@@ -77,7 +87,8 @@ def run(args) -> int:
     out = {"W": r.W, "W_normalized": r.W_normalized, "normalization": r.normalization,
            "contact_size_max": r.contact_size_max, "nodes": r.nodes,
            "steps_per_cycle": r.steps_per_cycle, "cycles": r.cycles, "converged": r.converged,
-           "seconds": r.seconds, "geometry": args.geometry, "model": model_name}
+           "seconds": r.seconds, "geometry": args.geometry, "model": model_name,
+           "method": method}
     if r.k_t0 is not None:
         out["k_t0"] = r.k_t0
     if args.json:
