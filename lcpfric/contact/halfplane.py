@@ -107,6 +107,16 @@ class HalfPlaneCylinder(ContactModel):
         two elements) beyond it on each side.
     profile : callable, optional
         The gap profile ``h(x)`` (default the cylinder's ``x² / (2R)``).
+
+    Attributes
+    ----------
+    nodes : int
+        Every element of the grid (the unknowns; ``nodes_across`` is the ``nodes`` given).
+    x, dx : ndarray, float
+        Element centres and width.
+    A, C : ndarray
+        The influence matrix (displacement per unit traction) and the compliance per unit
+        force on an element, ``A / Δ``.
     """
 
     max_nodes = MAX_NODES
