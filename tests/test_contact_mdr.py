@@ -133,3 +133,24 @@ def test_inverse_transform_gives_hertz_pressure_and_cattaneo_traction():
     exact = np.sqrt(1 - rr ** 2) - c * np.sqrt(np.clip(1 - (rr / c) ** 2, 0, None))
     err = np.abs(tau - exact)[inner]
     assert np.median(err) < 1e-3 and err.max() < 0.05  # the largest: at the stick edge
+
+
+def test_as_an_lcpfric_system():
+    """With a support, the MDR contact is an lcpfric ContactSystem (matrix-free compliance
+    ``diag(1/k) + 1 1ᵀ/k_s``, its own normal model): the backends give the same W on the same
+    scene; under pure load control it is refused (a singular stiffness)."""
+    import lcpfric
+    from lcpfric.scene import make_scene
+
+    m = sphere(P1=1.5, Q1=0.6, phi=1.0, nu=0.3, nodes=60, k_support=2e4)
+    system = m.system()
+    assert system.matrix_free and system.n == 60
+    scene = make_scene(system, 150)
+    assert scene.steps > 150  # the springs' contact instants are on the grid
+    ref = m.solve(t=scene.t, tol=1e-12).W
+    for method in ("active-set", "clarabel"):
+        r = lcpfric.steady_state(scene, method, tol=1e-12, locate_events=False)
+        assert r.W == pytest.approx(ref, rel=1e-9), method
+    with pytest.raises(InputError) as err:
+        sphere(nodes=10).system()
+    assert err.value.parameter == "k_support"

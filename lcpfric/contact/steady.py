@@ -116,10 +116,18 @@ class ContactResult:
 
 
 def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int = 200,
-                 on_nonconvergence: str = "raise", record: bool = False) -> ContactResult:
-    """The periodic steady state of ``model`` on ``steps`` uniform increments per cycle, from
-    the virgin contact (see the module docstring)."""
+                 on_nonconvergence: str = "raise", record: bool = False,
+                 t=None) -> ContactResult:
+    """The periodic steady state of ``model`` on ``steps`` uniform increments per cycle (or on
+    the grid ``t``, increasing from 0 to the period: a scene's, say), from the virgin contact
+    (see the module docstring)."""
     start = time.perf_counter()
+    if t is not None:
+        t = _checks.finite_array("t", t).ravel()
+        if t.size < 5 or t[0] != 0.0 or not np.all(np.diff(t) > 0) or not math.isclose(
+                t[-1], model.period, rel_tol=1e-12):
+            raise InputError("t", "must increase from 0 to the period, with at least 4 steps")
+        steps = t.size - 1
     steps = _checks.positive_int("steps", steps, 4)
     tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
                                                                 on_nonconvergence)
@@ -128,7 +136,8 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
     if need > MAX_BYTES:
         raise InputError("steps", f"{steps} steps x {n} nodes would take {need / 2**30:.1f} GiB "
                                   f"(more than {MAX_BYTES / 2**30:.0f}); fewer steps or nodes")
-    t = np.linspace(0.0, model.period, steps + 1)
+    if t is None:
+        t = np.linspace(0.0, model.period, steps + 1)
     b = model.limits(t)                                       # (steps + 1, n)
     Q = np.asarray(model.Q(t), dtype=float)
     state = model.start()
@@ -238,13 +247,13 @@ class ContactModel:
         self.P_max = float(max(np.max(self.P(ts)), self.P0))
 
     def solve(self, steps: int = 400, *, tol: float = 1e-10, max_cycles: int = 200,
-              on_nonconvergence: str = "raise", record: bool = False) -> ContactResult:
-        """The periodic steady state on ``steps`` uniform increments per cycle, from the virgin
-        contact: :func:`steady_state`. With ``k_support = 0`` loads with ``|Q| > μ P`` at some
-        instant are refused first (:func:`gross_sliding`)."""
-        gross_sliding(self, _checks.positive_int("steps", steps, 4))
+              on_nonconvergence: str = "raise", record: bool = False, t=None) -> ContactResult:
+        """The periodic steady state on ``steps`` uniform increments per cycle (or the grid
+        ``t``), from the virgin contact: :func:`steady_state`. With ``k_support = 0`` loads with
+        ``|Q| > μ P`` at some instant are refused first (:func:`gross_sliding`)."""
+        gross_sliding(self, _checks.positive_int("steps", steps if t is None else 4, 4))
         return steady_state(self, steps, tol=tol, max_cycles=max_cycles,
-                            on_nonconvergence=on_nonconvergence, record=record)
+                            on_nonconvergence=on_nonconvergence, record=record, t=t)
 
 
 def load(name: str, x) -> Load:
