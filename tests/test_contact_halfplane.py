@@ -65,3 +65,23 @@ def test_separation_held_by_a_support_and_refusals():
     with pytest.raises(InputError) as err:
         cylinder(nodes=10 ** 5)
     assert err.value.parameter == "nodes"
+
+
+def test_as_an_lcpfric_system():
+    """Held by a support, the plane contact is an lcpfric ContactSystem (compliance C + 1 1ᵀ/k_s,
+    the elements' entry loads as its normal model's transitions, exact for the discrete
+    problem): the backends give the same W on the same scene."""
+    import lcpfric
+    from lcpfric.scene import make_scene
+
+    m = cylinder(P1=1.5, Q1=0.6, phi=1.0, nodes=40, k_support=2e3)
+    levels = m.entry_loads()
+    for i in np.flatnonzero(np.isfinite(levels) & (levels > 0))[:4]:
+        assert m.pressure(levels[i] * (1 - 1e-6))[i] == 0.0 < m.pressure(levels[i] * (1 + 1e-6))[i]
+    scene = make_scene(m.system(), 150)
+    ref = m.solve(t=scene.t, tol=1e-12).W
+    for method in ("active-set", "clarabel"):
+        r = lcpfric.steady_state(scene, method, tol=1e-12, locate_events=False)
+        assert r.W == pytest.approx(ref, rel=1e-9), method
+    with pytest.raises(InputError):
+        cylinder(nodes=20).system()

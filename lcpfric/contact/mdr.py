@@ -59,7 +59,7 @@ from .. import _checks
 from ..errors import InputError
 from .steady import ContactModel
 
-__all__ = ["MDRSphere", "MDRNormal", "MAX_NODES", "Sphere", "PowerLaw", "Axisymmetric"]
+__all__ = ["MDRSphere", "MAX_NODES", "Sphere", "PowerLaw", "Axisymmetric"]
 
 #: largest number of springs (the arrays are nodes x steps)
 MAX_NODES = 200_000
@@ -258,56 +258,18 @@ class MDRSphere(ContactModel):
         a = np.asarray(a, dtype=float)
         return 2.0 * self.moduli["E*"] * (a * self.profile.g(a) - self.profile.G(a))
 
-    def normal_model(self) -> "MDRNormal":
-        """The springs' normal forces as an lcpfric normal model
-        (:class:`~lcpfric.model.normal.NormalModel`)."""
-        return MDRNormal(self)
+    def entry_loads(self) -> np.ndarray:
+        """Per spring, the normal load at which it comes into contact (the contact radius
+        reaches its cell's inner edge)."""
+        return np.asarray(self.load_at_radius(self.x - 0.5 * self.dx), dtype=float)
 
-    def system(self):
-        """This contact as an lcpfric :class:`~lcpfric.model.ContactSystem` (matrix-free), for
-        the other methods (``active-set`` at any size): the bar eliminated, the friction forces
-        ``F = K v - k Q / (Σk + k_s)`` with ``K = diag(k) - k kᵀ / (Σk + k_s)``, whose inverse
-        is known in closed form, ``C = diag(1/k) + 1 1ᵀ / k_s``: a product costs O(n), and no
-        matrix is formed. Needs ``k_support > 0``: under pure load control K is singular (a
-        common slip of every spring is a rigid shift of the bar)."""
-        from scipy.sparse.linalg import LinearOperator
+    def springs(self):
+        """``(compliance operator, C⁻¹ 1)`` of the springs alone (the bar held fixed):
+        ``diag(1/k)`` and ``k``, for :meth:`ContactModel.system`."""
+        from scipy.sparse.linalg import aslinearoperator
+        import scipy.sparse as sp
 
-        from ..model import ContactSystem
-        from ..model.loads import Harmonic, Periodic
-
-        ks = self.k_support
-        if ks <= 0.0:
-            raise InputError("k_support", "is 0: under pure load control the springs' "
-                                          "stiffness is singular (a rigid shift of the bar), so "
-                                          "the contact is no ContactSystem; use solve(), or "
-                                          "give k_support > 0")
-        k = self.k
-        total = float(k.sum()) + ks
-
-        class _Compliance(LinearOperator):
-            def __init__(self):
-                super().__init__(dtype=float, shape=(k.size, k.size))
-
-            def _matvec(self, x):
-                x = np.asarray(x, dtype=float).reshape(-1)
-                return x / k + x.sum() / ks
-
-            def _rmatvec(self, x):
-                return self._matvec(x)
-
-            def diagonal(self):
-                return 1.0 / k + 1.0 / ks
-
-        Q = self.Q
-        loads = []
-        for c in -k / total:
-            if isinstance(Q, Harmonic):
-                loads.append(Harmonic(c * Q.mean, abs(c) * Q.amplitude,
-                                      Q.phase + (math.pi if c < 0 else 0.0), Q.omega))
-            else:
-                loads.append(Periodic(lambda t, c=c: c * Q(t), self.period, c * Q.mean))
-        return ContactSystem(None, np.full(self.nodes, self.mu), tuple(loads),
-                             self.normal_model(), compliance=_Compliance())
+        return aslinearoperator(sp.diags(1.0 / self.k)), self.k.copy(), 1.0 / self.k
 
     # -- the model protocol of lcpfric.contact.steady ------------------------------------------
     def limits(self, t) -> np.ndarray:
@@ -367,61 +329,6 @@ class MDRSphere(ContactModel):
         stick = np.abs(k * (v - u1)) <= b
         v1 = np.where(stick, v, u1 + F / k)
         return u1, F, v1
-
-
-class MDRNormal:
-    """The MDR springs' normal forces as an lcpfric normal model: spring i is in contact while
-    the contact radius exceeds its cell's inner edge, i.e. while P(t) exceeds the load at that
-    radius; those crossings are the transitions (sampled on 4096 points per period, then
-    polished by Brent's method)."""
-
-    def __init__(self, model: MDRSphere):
-        self.model = model
-        inner = model.x - 0.5 * model.dx
-        self.levels = np.asarray(model.load_at_radius(inner), dtype=float)  # P at contact
-
-    @property
-    def n(self) -> int:
-        return self.model.nodes
-
-    @property
-    def period(self):
-        return None if self.model.P.is_constant else self.model.period
-
-    def reactions(self, t) -> np.ndarray:
-        t = np.asarray(t, dtype=float)
-        return self.model.normal_forces(t.ravel()).reshape(t.shape + (self.n,))
-
-    def scale(self, t) -> np.ndarray:
-        t = np.asarray(t, dtype=float)
-        P = np.abs(np.asarray(self.model.P(t), dtype=float))
-        return np.broadcast_to(P[..., None], t.shape + (self.n,)).copy()
-
-    def always_in_contact(self) -> np.ndarray:
-        ts = np.linspace(0.0, self.model.period, 4097)
-        return self.levels < float(np.min(self.model.P(ts)))
-
-    def transitions(self, t0: float, t1: float) -> np.ndarray:
-        from scipy.optimize import brentq
-
-        P = self.model.P
-        if P.is_constant:
-            return np.empty(0)
-        T = self.model.period
-        count = max(2, int(math.ceil(4096 * (t1 - t0) / T)))
-        ts = np.linspace(t0, t1, count + 1)
-        Ps = np.asarray(P(ts), dtype=float)
-        out = []
-        lo, hi = np.minimum(Ps[:-1], Ps[1:]), np.maximum(Ps[:-1], Ps[1:])
-        levels = np.sort(np.unique(self.levels))
-        for j in np.flatnonzero(hi > lo):
-            inside = levels[np.searchsorted(levels, lo[j], side="right"):
-                            np.searchsorted(levels, hi[j], side="left")]
-            for c in inside:
-                out.append(brentq(lambda x, c=c: float(P(x)) - c, ts[j], ts[j + 1],
-                                  xtol=1e-14 * T))
-        out = np.unique(np.asarray(out, dtype=float))
-        return out[(out > t0) & (out < t1)]
 
 
 @dataclass

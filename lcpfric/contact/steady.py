@@ -35,7 +35,8 @@ from ..results import State
 from ..steppers.dissipation import increment_dissipation
 from .closed_forms import moduli
 
-__all__ = ["ContactResult", "ContactModel", "steady_state", "gross_sliding", "load"]
+__all__ = ["ContactResult", "ContactModel", "LevelNormal", "steady_state", "gross_sliding",
+           "load"]
 
 STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
                                         int(State.BACKWARD), int(State.SEPARATION))
@@ -254,6 +255,113 @@ class ContactModel:
         gross_sliding(self, _checks.positive_int("steps", steps if t is None else 4, 4))
         return steady_state(self, steps, tol=tol, max_cycles=max_cycles,
                             on_nonconvergence=on_nonconvergence, record=record, t=t)
+
+
+    # -- as an lcpfric system ---------------------------------------------------------------
+    def normal_model(self) -> "LevelNormal":
+        """The nodes' normal forces as an lcpfric normal model
+        (:class:`~lcpfric.model.normal.NormalModel`)."""
+        return LevelNormal(self)
+
+    def system(self):
+        """This contact as an lcpfric :class:`~lcpfric.model.ContactSystem` (matrix-free), for
+        the other methods. With the nodes' own compliance ``C_s`` (the body held fixed), the
+        rigid displacement eliminated gives ``F = K v - C_s⁻¹ 1 Q / (1ᵀ C_s⁻¹ 1 + k_s)`` with
+        ``K⁻¹ = C_s + 1 1ᵀ / k_s`` (Sherman-Morrison): products only, no matrix formed. Needs
+        ``k_support > 0``: under pure load control K is singular (a common slip of every node
+        is a rigid shift of the body)."""
+        from scipy.sparse.linalg import LinearOperator
+
+        from ..model import ContactSystem
+        from ..model.loads import Harmonic, Periodic
+
+        ks = self.k_support
+        if ks <= 0.0:
+            raise InputError("k_support", "is 0: under pure load control the contact's "
+                                          "stiffness is singular (a rigid shift of the body), "
+                                          "so it is no ContactSystem; use solve(), or give "
+                                          "k_support > 0")
+        Cs, w, cdiag = self.springs()
+        n = w.size
+        total = float(w.sum()) + ks
+
+        class _Compliance(LinearOperator):
+            def __init__(self):
+                super().__init__(dtype=float, shape=(n, n))
+
+            def _matvec(self, x):
+                x = np.asarray(x, dtype=float).reshape(-1)
+                return np.asarray(Cs.matvec(x), dtype=float).reshape(-1) + x.sum() / ks
+
+            def _rmatvec(self, x):
+                return self._matvec(x)
+
+            def diagonal(self):
+                return cdiag + 1.0 / ks
+
+        Q = self.Q
+        loads = []
+        for c in -w / total:
+            if isinstance(Q, Harmonic):
+                loads.append(Harmonic(c * Q.mean, abs(c) * Q.amplitude,
+                                      Q.phase + (math.pi if c < 0 else 0.0), Q.omega))
+            else:
+                loads.append(Periodic(lambda t, c=c: c * Q(t), self.period, c * Q.mean))
+        return ContactSystem(None, np.full(n, self.mu), tuple(loads), self.normal_model(),
+                             compliance=_Compliance())
+
+
+class LevelNormal:
+    """A contact model's normal forces as an lcpfric normal model: node i is in contact while
+    P(t) exceeds its entry load (``model.entry_loads()``); those crossings are the transitions,
+    sampled on 4096 points per period and polished by Brent's method."""
+
+    def __init__(self, model):
+        self.model = model
+        self.levels = np.asarray(model.entry_loads(), dtype=float)
+
+    @property
+    def n(self) -> int:
+        return self.model.nodes
+
+    @property
+    def period(self):
+        return None if self.model.P.is_constant else self.model.period
+
+    def reactions(self, t) -> np.ndarray:
+        t = np.asarray(t, dtype=float)
+        return (self.model.limits(t.ravel()) / self.model.mu).reshape(t.shape + (self.n,))
+
+    def scale(self, t) -> np.ndarray:
+        t = np.asarray(t, dtype=float)
+        P = np.abs(np.asarray(self.model.P(t), dtype=float))
+        return np.broadcast_to(P[..., None], t.shape + (self.n,)).copy()
+
+    def always_in_contact(self) -> np.ndarray:
+        ts = np.linspace(0.0, self.model.period, 4097)
+        return self.levels < float(np.min(self.model.P(ts)))
+
+    def transitions(self, t0: float, t1: float) -> np.ndarray:
+        from scipy.optimize import brentq
+
+        P = self.model.P
+        if P.is_constant:
+            return np.empty(0)
+        T = self.model.period
+        count = max(2, int(math.ceil(4096 * (t1 - t0) / T)))
+        ts = np.linspace(t0, t1, count + 1)
+        Ps = np.asarray(P(ts), dtype=float)
+        out = []
+        lo, hi = np.minimum(Ps[:-1], Ps[1:]), np.maximum(Ps[:-1], Ps[1:])
+        levels = np.sort(np.unique(self.levels[np.isfinite(self.levels)]))
+        for j in np.flatnonzero(hi > lo):
+            inside = levels[np.searchsorted(levels, lo[j], side="right"):
+                            np.searchsorted(levels, hi[j], side="left")]
+            for c in inside:
+                out.append(brentq(lambda x, c=c: float(P(x)) - c, ts[j], ts[j + 1],
+                                  xtol=1e-14 * T))
+        out = np.unique(np.asarray(out, dtype=float))
+        return out[(out > t0) & (out < t1)]
 
 
 def load(name: str, x) -> Load:
