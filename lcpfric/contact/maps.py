@@ -8,11 +8,8 @@ lengths in units of a0 = a(P0), the spring normal forces are ``N_i = (3/2) ∫_c
 with ``a = P^(1/3)``, the spring stiffnesses ``k_i = Δx`` (so ``Σ k_i = 1`` at a0), and the
 support stiffness is given as ``k_support / k_t0``.
 
-Each increment is the MDR increment (the bar's monotone piecewise-linear equilibrium), solved
-here for all points together by a safeguarded Newton iteration on the bar displacement, started
-from its previous value: on the segment where the root lies the equation is linear, so an
-iteration whose step keeps the springs' stick/slip split is exact; a bracket keeps the iteration
-inside. The result equals :meth:`MDRSphere.solve` on the same grid to round-off
+Each increment is the MDR increment (:func:`~lcpfric.contact.mdr.bar_increment`, the one the
+model uses), here for all points together. The result equals :meth:`MDRSphere.solve` on the same grid to round-off
 (``tests/test_contact_maps.py``). Under pure load control (``k_support = 0``) a point whose loads
 have ``|Q| > μ P`` at some instant has no equilibrium: its value is NaN.
 """
@@ -26,6 +23,7 @@ import numpy as np
 from .. import _checks
 from ..errors import InputError
 from ..periodic import cycle_change
+from .mdr import bar_increment
 
 __all__ = ["mdr_W_normalized", "gross_sliding_points"]
 
@@ -104,11 +102,7 @@ def _batch(P1, Q1, phi, n, steps, ks, tol, max_cycles):
         W = np.zeros(m)
         for j in range(steps):
             b = limits(j + 1)
-            u = _bar(v, u, k, b, Q[:, j + 1], ks)
-            trial = k * (v - u[:, None])
-            F1 = np.minimum(np.maximum(trial, -b), b)
-            stick = np.abs(trial) <= b
-            v1 = np.where(stick, v, u[:, None] + F1 / k)
+            u, F1, v1 = bar_increment(v, u, k, b, Q[:, j + 1], ks)
             dv = v1 - v
             share = -0.5 * (F + F1) * dv
             W += np.where(share > 0.0, share, 0.0).sum(axis=1)
@@ -126,59 +120,3 @@ def _batch(P1, Q1, phi, n, steps, ks, tol, max_cycles):
         prev = W
     result[active] = W[active]  # not converged in max_cycles: the last cycle's W
     return result
-
-
-def _bar(v, u, k, b, Q, ks):
-    """The bar displacement of every point: the root of ``h(u) = Σ clip(k (v - u), -b, b) - ks
-    u + Q`` (decreasing in u), by a safeguarded Newton iteration from u (module docstring)."""
-    lo = np.min(v - b / k, axis=1)   # below: every spring at +b
-    hi = np.max(v + b / k, axis=1)   # above: every spring at -b
-    total = b.sum(axis=1)
-    h_lo = total - ks * lo + Q
-    h_hi = -total - ks * hi + Q
-    out = np.empty_like(u)
-    below, above = h_lo <= 0.0, h_hi >= 0.0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        out[below] = np.where(ks > 0, lo[below] + h_lo[below] / ks, lo[below])
-        out[above] = np.where(ks > 0, hi[above] + h_hi[above] / ks, hi[above])
-    inside = ~(below | above)
-    if not inside.any():
-        return out
-    i = np.flatnonzero(inside)
-    every = i.size == u.size
-    vv, kk, bb, qq = (v, k, b, Q) if every else (v[i], k[i], b[i], Q[i])
-    L, H = lo[i].copy(), hi[i].copy()
-    x = np.clip(u[i], L, H)
-    todo = None  # None: every point (no gathering on the first, usually last, iteration)
-    eps = 4 * np.finfo(float).eps
-    for _ in range(200):
-        if todo is None:
-            xv, Vv, Kv, Bv, qv, Lt, Ht = x, vv, kk, bb, qq, L, H
-        else:
-            xv, Vv, Kv, Bv, qv = x[todo], vv[todo], kk[todo], bb[todo], qq[todo]
-            Lt, Ht = L[todo], H[todo]
-        t = Kv * (Vv - xv[:, None])
-        c = np.minimum(np.maximum(t, -Bv), Bv)
-        side = np.sign(c - t)                             # 0: sticking; ±1: at -b / +b
-        h = c.sum(axis=1) - ks * xv + qv
-        slope = -(Kv * (side == 0)).sum(axis=1) - ks
-        Lt = np.where(h > 0.0, xv, Lt)
-        Ht = np.where(h < 0.0, xv, Ht)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            step = np.where(slope < 0.0, xv - h / slope, 0.5 * (Lt + Ht))
-        step = np.where((step >= Lt) & (step <= Ht), step, 0.5 * (Lt + Ht))
-        new = np.where(h == 0.0, xv, step)
-        t2 = Kv * (Vv - new[:, None])
-        same = np.all(np.sign(np.minimum(np.maximum(t2, -Bv), Bv) - t2) == side, axis=1)
-        finished = ((h == 0.0) | (same & (slope < 0.0)) | (new == xv)
-                    | (Ht - Lt <= eps * np.maximum(np.abs(Lt), np.abs(Ht))))
-        if todo is None:
-            x, L, H = new, Lt, Ht
-            todo = np.flatnonzero(~finished)
-        else:
-            x[todo], L[todo], H[todo] = new, Lt, Ht
-            todo = todo[~finished]
-        if not todo.size:
-            break
-    out[i] = x
-    return out

@@ -27,9 +27,9 @@ projection of the trial state, for this system: given the bar's displacement u t
 independent, and each one's answer is its return mapping ``F_i(u) = clip(k_i (v_i - u), -b_i,
 b_i)``, ``b_i = μ N_i(t_{j+1})`` (lcpfric's sign: ``F_i = k_i (v_i - u)`` is the friction
 force, and the slip opposes it). The bar's equilibrium ``h(u) = Σ F_i(u) - k_support u + Q = 0``
-is one monotone piecewise-linear equation in u, solved exactly: its 2n breakpoints ``v_i ∓
-b_i/k_i`` are sorted, the segment holding the root is found by bisection on them, and the root
-by linear interpolation. O(n log n) per increment; the rank-one coupling of the springs through
+is one monotone piecewise-linear equation in u, solved exactly (:func:`bar_root`: a safeguarded
+Newton iteration from the previous u, exact once a step keeps every spring on its side of its
+breakpoints ``v_i ∓ b_i/k_i``; usually two or three O(n) passes); the rank-one coupling of the springs through
 the bar is never formed as a matrix. With ``k_support = 0`` the equation has a root only when
 ``|Q| <= μ P`` (else the whole contact slides): such loads are refused before any work, naming
 the instants and the fix (a support stiffness).
@@ -59,7 +59,8 @@ from .. import _checks
 from ..errors import InputError
 from .steady import ContactModel
 
-__all__ = ["MDRSphere", "MAX_NODES", "Sphere", "PowerLaw", "Axisymmetric"]
+__all__ = ["MDRSphere", "MAX_NODES", "Sphere", "PowerLaw", "Axisymmetric", "bar_increment",
+           "bar_root"]
 
 #: largest number of springs (the arrays are nodes x steps)
 MAX_NODES = 200_000
@@ -296,39 +297,80 @@ class MDRSphere(ContactModel):
 
     def _increment(self, v, u, b, Q):
         """The exact increment (module docstring): ``(u, F, v)`` at the next instant."""
-        k, ks = self.k, self.k_support
-        lo_bp, hi_bp = v - b / k, v + b / k  # below lo: F = +b; above hi: F = -b
+        if self.k_support == 0.0 and abs(Q) > float(b.sum()) * (1.0 + 1e-12):
+            _no_root(Q, b)
+        u1, F, v1 = bar_increment(v[None], np.array([u]), self.k[None], b[None],
+                                  np.array([Q]), self.k_support)
+        return float(u1[0]), F[0], v1[0]
 
-        def h(x):
-            return float(np.sum(np.clip(k * (v - x), -b, b))) - ks * x + Q
 
-        pts = np.sort(np.concatenate([lo_bp, hi_bp]))
-        h_lo, h_hi = h(pts[0]), h(pts[-1])
-        if h_lo <= 0.0:  # the root is below every breakpoint: every spring at +b
-            if ks == 0.0:
-                u1 = pts[0] if h_lo == 0.0 else _no_root(Q, b)
-            else:
-                u1 = pts[0] + h_lo / ks
-        elif h_hi >= 0.0:  # above every breakpoint: every spring at -b
-            if ks == 0.0:
-                u1 = pts[-1] if h_hi == 0.0 else _no_root(Q, b)
-            else:
-                u1 = pts[-1] + h_hi / ks
+def bar_increment(v, u, k, b, Q, ks):
+    """The increment of m bars at once (rows of the ``(m, n)`` arrays v, k, b; u and Q of
+    length m): the bar displacements (:func:`bar_root`), then each spring's return mapping.
+    Returns ``(u, F, v)``."""
+    u1 = bar_root(v, u, k, b, Q, ks)
+    trial = k * (v - u1[:, None])
+    F = np.minimum(np.maximum(trial, -b), b)
+    return u1, F, np.where(np.abs(trial) <= b, v, u1[:, None] + F / k)
+
+
+def bar_root(v, u, k, b, Q, ks):
+    """The bar displacement of every row: the root of ``h(u) = Σ clip(k (v - u), -b, b) - ks
+    u + Q`` (decreasing in u), by a safeguarded Newton iteration from the previous u. h is
+    linear between the breakpoints ``v ∓ b/k``, so a step that keeps every spring's stick/slip
+    side lands on the root exactly; a bracket keeps the iteration inside. Under pure load
+    control with |Q| beyond every limit there is no root: the caller checks."""
+    lo = np.min(v - b / k, axis=1)   # below: every spring at +b
+    hi = np.max(v + b / k, axis=1)   # above: every spring at -b
+    total = b.sum(axis=1)
+    h_lo = total - ks * lo + Q
+    h_hi = -total - ks * hi + Q
+    out = np.empty_like(u)
+    below, above = h_lo <= 0.0, h_hi >= 0.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out[below] = np.where(ks > 0, lo[below] + h_lo[below] / ks, lo[below])
+        out[above] = np.where(ks > 0, hi[above] + h_hi[above] / ks, hi[above])
+    inside = ~(below | above)
+    if not inside.any():
+        return out
+    i = np.flatnonzero(inside)
+    every = i.size == u.size
+    vv, kk, bb, qq = (v, k, b, Q) if every else (v[i], k[i], b[i], Q[i])
+    L, H = lo[i].copy(), hi[i].copy()
+    x = np.clip(u[i], L, H)
+    todo = None  # None: every point (no gathering on the first, usually last, iteration)
+    eps = 4 * np.finfo(float).eps
+    for _ in range(200):
+        if todo is None:
+            xv, Vv, Kv, Bv, qv, Lt, Ht = x, vv, kk, bb, qq, L, H
         else:
-            i, j = 0, pts.size - 1  # h(pts[i]) > 0 > h(pts[j])
-            while j - i > 1:
-                mid = (i + j) // 2
-                if h(pts[mid]) > 0.0:
-                    i = mid
-                else:
-                    j = mid
-            x0, x1 = pts[i], pts[j]
-            h0, h1 = h(x0), h(x1)
-            u1 = x0 + (x1 - x0) * h0 / (h0 - h1) if h0 != h1 else x0
-        F = np.clip(k * (v - u1), -b, b)
-        stick = np.abs(k * (v - u1)) <= b
-        v1 = np.where(stick, v, u1 + F / k)
-        return u1, F, v1
+            xv, Vv, Kv, Bv, qv = x[todo], vv[todo], kk[todo], bb[todo], qq[todo]
+            Lt, Ht = L[todo], H[todo]
+        t = Kv * (Vv - xv[:, None])
+        c = np.minimum(np.maximum(t, -Bv), Bv)
+        side = np.sign(c - t)                             # 0: sticking; ±1: at -b / +b
+        h = c.sum(axis=1) - ks * xv + qv
+        slope = -(Kv * (side == 0)).sum(axis=1) - ks
+        Lt = np.where(h > 0.0, xv, Lt)
+        Ht = np.where(h < 0.0, xv, Ht)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = np.where(slope < 0.0, xv - h / slope, 0.5 * (Lt + Ht))
+        step = np.where((step >= Lt) & (step <= Ht), step, 0.5 * (Lt + Ht))
+        new = np.where(h == 0.0, xv, step)
+        t2 = Kv * (Vv - new[:, None])
+        same = np.all(np.sign(np.minimum(np.maximum(t2, -Bv), Bv) - t2) == side, axis=1)
+        finished = ((h == 0.0) | (same & (slope < 0.0)) | (new == xv)
+                    | (Ht - Lt <= eps * np.maximum(np.abs(Lt), np.abs(Ht))))
+        if todo is None:
+            x, L, H = new, Lt, Ht
+            todo = np.flatnonzero(~finished)
+        else:
+            x[todo], L[todo], H[todo] = new, Lt, Ht
+            todo = todo[~finished]
+        if not todo.size:
+            break
+    out[i] = x
+    return out
 
 
 @dataclass
