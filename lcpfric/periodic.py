@@ -228,16 +228,10 @@ def _extrapolate(starts: list, scene: Scene):
     cone (``F = Π(Q + K u)``, ``u = K⁻¹ (F - Q)``). Nothing is taken from it but a starting
     point: convergence is still confirmed by two whole cycles that repeat.
     """
-    if len(starts) < 4:
-        return None
-    d = [np.linalg.norm(starts[i + 1] - starts[i]) for i in range(len(starts) - 4, len(starts) - 1)]
-    if d[0] == 0 or d[1] == 0:
-        return None
-    r1, r2 = d[1] / d[0], d[2] / d[1]
-    if not (0.3 <= r2 <= 0.999 and abs(r2 - r1) <= 0.05 * r2):
+    u = aitken(starts)
+    if u is None:
         return None
     system = scene.system
-    u = starts[-1] + r2 / (1.0 - r2) * (starts[-1] - starts[-2])
     Q0, bound = scene.Q[0], scene.N[0] * system.friction
     F = Q0 + system.stiffness_times(u)
     if system.dims == 1:
@@ -250,6 +244,21 @@ def _extrapolate(starts: list, scene: Scene):
     if np.any(Fp != F):
         u = u + system.solve(Fp - F)
     return u, Fp
+
+
+def aitken(starts: list):
+    """Aitken's jump ``s + ρ/(1 - ρ) d`` from the last of the cycles' starting states, when the
+    last three differences d shrink at one steady ratio ρ in [0.3, 0.999]; else None (see
+    :func:`_extrapolate`)."""
+    if len(starts) < 4:
+        return None
+    d = [np.linalg.norm(starts[i + 1] - starts[i]) for i in range(len(starts) - 4, len(starts) - 1)]
+    if d[0] == 0 or d[1] == 0:
+        return None
+    r1, r2 = d[1] / d[0], d[2] / d[1]
+    if not (0.3 <= r2 <= 0.999 and abs(r2 - r1) <= 0.05 * r2):
+        return None
+    return starts[-1] + r2 / (1.0 - r2) * (starts[-1] - starts[-2])
 
 
 #: beyond this many unknowns the compliance scale is estimated (C is not formed)

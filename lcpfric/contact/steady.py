@@ -12,7 +12,12 @@ HalfPlaneCylinder`) provides
   the new state, the friction forces and the slips of the increment (lcpfric's signs: the slip
   opposes F);
 * ``scales()``: ``(displacement, force)`` scales for the convergence test, and
-  ``normalization()``: ``(name, factor)`` with ``W_normalized = factor · W``.
+  ``normalization()``: ``(name, factor)`` with ``W_normalized = factor · W``;
+* optionally ``restart(state, v)``: the state with the slips v. The driver then jumps a slowly
+  contracting cycle map to its fixed point (Aitken's extrapolation of the cycles' starting
+  slips, the rule of the discrete driver, :func:`lcpfric.periodic.aitken`); convergence is
+  still two whole cycles that repeat. A model with ``dims = 2`` gives forces and slips node
+  by node (n·2).
 
 :func:`steady_state` runs cycles until the slips repeat, with the driver's own criterion
 (:func:`~lcpfric.periodic.cycle_change`), and returns one :class:`ContactResult`.
@@ -30,7 +35,7 @@ import numpy as np
 from .. import _checks
 from ..errors import ConvergenceError, ConvergenceWarning, InputError
 from ..model.loads import Harmonic, Load
-from ..periodic import cycle_change
+from ..periodic import aitken, cycle_change
 from ..results import State
 from ..steppers.dissipation import increment_dissipation
 from .closed_forms import moduli
@@ -73,6 +78,8 @@ class ContactResult:
         The instants of the last cycle (``steps + 1``) and the node positions.
     size : ndarray
         The contact size at each instant.
+    extrapolations : int
+        Aitken jumps of the cycles' starting slips (models with ``restart``).
     state, F : ndarray or None
         ``(steps + 1, nodes)`` node states (:class:`~lcpfric.results.State`: stick, slipping
         forward or backward, separated) and friction forces of the last cycle, with
@@ -97,6 +104,7 @@ class ContactResult:
     size: np.ndarray
     state: np.ndarray | None = None
     F: np.ndarray | None = None
+    extrapolations: int = 0
 
     def stick_size(self) -> np.ndarray:
         """At each instant of the last cycle, the largest |x| of the sticking nodes that hold
@@ -133,7 +141,8 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
     tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
                                                                 on_nonconvergence)
     n = model.nodes
-    need = n * (steps + 1) * 8 * (1 + (2 if record else 0))
+    dims = getattr(model, "dims", 1)
+    need = n * (steps + 1) * 8 * (1 + (1 + dims if record else 0))
     if need > MAX_BYTES:
         raise InputError("steps", f"{steps} steps x {n} nodes would take {need / 2**30:.1f} GiB "
                                   f"(more than {MAX_BYTES / 2**30:.0f}); fewer steps or nodes")
@@ -142,23 +151,25 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
     b = model.limits(t)                                       # (steps + 1, n)
     Q = np.asarray(model.Q(t), dtype=float)
     state = model.start()
-    F = np.zeros(n)
+    F = np.zeros(n * dims)
     W_cycles, change, prev = [], math.inf, None
     scales = model.scales()
     Fs = Ss = None
+    starts = [state.v.copy()]
+    jumps = 0
     for _ in range(max_cycles):
         v0 = state.v.copy()
         if record:
-            Fs = np.empty((steps + 1, n))
+            Fs = np.empty((steps + 1, n * dims))
             Ss = np.empty((steps + 1, n), dtype=np.int8)
             Fs[0], Ss[0] = F, _states(b[0], None)
         W = 0.0
         vmin, vmax = v0.copy(), v0.copy()
         for j in range(steps):
             state, F1, dv = model.increment(state, b[j + 1], Q[j + 1])
-            W += increment_dissipation(F, F1, dv)
+            W += increment_dissipation(F, F1, dv, dims)
             if record:
-                Fs[j + 1], Ss[j + 1] = F1, _states(b[j + 1], dv)
+                Fs[j + 1], Ss[j + 1] = F1, _states(b[j + 1], dv, dims)
             F = F1
             np.minimum(vmin, state.v, out=vmin)
             np.maximum(vmax, state.v, out=vmax)
@@ -169,6 +180,12 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
             if change <= tol:
                 break
         prev = W
+        starts.append(state.v.copy())
+        jump = aitken(starts) if hasattr(model, "restart") else None
+        if jump is not None:
+            state = model.restart(state, jump)
+            starts = [jump]
+            jumps += 1
     converged = bool(change <= tol)
     if not converged and on_nonconvergence != "ignore":
         msg = (f"{type(model).__name__}: no periodic steady state after {len(W_cycles)} cycles "
@@ -185,13 +202,19 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
                          nodes_in_contact_max=int(np.max(np.count_nonzero(b > 0, axis=1))),
                          steps_per_cycle=steps, cycles=len(W_cycles), converged=converged,
                          change=change, seconds=time.perf_counter() - start, t=t, x=model.x,
-                         size=size, state=Ss, F=Fs)
+                         size=size, state=Ss, F=Fs, extrapolations=jumps)
 
 
-def _states(b, dv) -> np.ndarray:
-    """Node states: separated (no normal force), slipping (moved in the increment), sticking."""
+def _states(b, dv, dims: int = 1) -> np.ndarray:
+    """Node states: separated (no normal force), slipping (moved in the increment; for d = 2,
+    forward means along +x), sticking."""
     s = np.full(b.shape, STICK, dtype=np.int8)
-    if dv is not None:
+    if dv is not None and dims == 2:
+        d2 = dv.reshape(-1, 2)
+        moved = np.hypot(d2[:, 0], d2[:, 1]) > 0.0
+        s[moved & (d2[:, 0] >= 0.0)] = FORWARD
+        s[moved & (d2[:, 0] < 0.0)] = BACKWARD
+    elif dv is not None:
         s[dv > 0.0] = FORWARD
         s[dv < 0.0] = BACKWARD
     s[b <= 0.0] = SEPARATION

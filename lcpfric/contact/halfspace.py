@@ -1,0 +1,493 @@
+r"""The three-dimensional contact of two identical elastic bodies by boundary elements on the
+half-space: any surface on a square grid, tangential tractions along the load (d = 1) or in the
+plane (d = 2, the full Cerruti coupling).
+
+The bodies (each E, ν) touch over a square grid of N x N square elements of side h carrying
+uniform tractions; the nodes are the elements' centres. The surface is the gap at zero approach
+``g0`` (``(N, N)``): a sphere (:meth:`HalfSpace.sphere`), a flat punch with rounded edges
+(:meth:`HalfSpace.punch`) or a user height map (:class:`HalfSpace` itself). The loads are the
+total normal force P(t) and the tangential force Q(t) along x.
+
+Influence coefficients and products: :mod:`.influence` (Love's rectangle solutions, products by
+zero-padded FFT; no matrix is formed).
+
+The normal problem
+------------------
+At each instant, frictionless contact under P(t) (uncoupled from the shear: identical bodies),
+by constrained conjugate gradients (:mod:`.normal3d`), each instant started from the previous
+one's pressures. The friction limits are ``b_i = μ p_i h²``.
+
+The tangential problem
+----------------------
+Friction forces ``F_i`` on the nodes in contact (lcpfric's sign: the slip opposes F; the shear
+traction transmitted is ``-F_i/h²``), ``|F_i| <= b_i``; the relative slips s and the rigid
+tangential displacement δ of the body satisfy ``s = δ + C F`` with C the Cerruti operator per
+unit force (:mod:`.influence` divided by h²); the body is held by Q(t) and by a support of
+stiffness ``k_support``: ``Σ F_i − k_support δ + Q = 0``. Each increment is problem (P), the
+maximum-dissipation projection: the sticking nodes keep their slip, the slipping ones sit on
+their limit with the slip opposite to the force.
+
+It is solved as the nonsmooth equation ``F = proj_b(F − Δs(F)/c)`` (c the diagonal of C) by a
+semismooth Newton method, warm-started from the previous increment (its forces extrapolated,
+its pattern). With the pattern of a Newton iterate fixed, the step is one symmetric positive
+definite linear system on the sticking components and, for d = 2, the components of the
+slipping nodes' forces tangent to their circle (with the diagonal term ``|Δs_i| / b_i``), under
+the equilibrium as a linear constraint; it is solved by conjugate gradients, projected onto the
+constraint (``k_support = 0``) or with the support's rank-d term (``k_support > 0``), one
+product with C per iteration. For d = 1 this is the primal-dual active-set iteration of the
+``active-set`` backend (the slipping forces are known), and its answer is exact once the
+pattern is right; for d = 2 the slip directions converge quadratically near the answer. The
+answer is accepted when the natural-map residual is below ``tol × force scale`` on every node;
+an iteration that does not get there raises :class:`~lcpfric.errors.SolverError`.
+
+Nodes out of contact carry no force and no unknown. d = 1 with ν > 0 takes the tractions along
+the load with the x-x Cerruti coefficient (Mindlin's approximation); d = 2 adds the
+transverse tractions and the coupling.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _checks
+from ..errors import InputError, SolverError
+from .closed_forms import hertz_contact
+from .influence import Convolution
+from .normal3d import normal_contact
+from .steady import ContactModel
+
+__all__ = ["HalfSpace", "MAX_GRID", "MIN_ACROSS"]
+
+#: largest grid side (the FFT works on a grid about twice as large)
+MAX_GRID = 2048
+#: fewest elements across the contact at the mean load
+MIN_ACROSS = 8
+_MAX_NEWTON = 60
+#: d = 2: the linear solves of the Newton steps are to this fraction of the residual
+_ETA = 1e-3
+
+
+@dataclass
+class _Tangential:
+    """The tangential state: slips of every node (``v``, flat, n·d), the rigid displacement δ,
+    the forces and the last increment's changes (the next increment's warm start)."""
+
+    v: np.ndarray
+    delta: np.ndarray
+    F: np.ndarray
+    dF: np.ndarray
+    ddelta: np.ndarray
+
+
+class HalfSpace(ContactModel):
+    """Two identical elastic bodies touching over a surface on a square grid (module docstring).
+
+    Parameters
+    ----------
+    E, nu, mu : float
+        Each body's modulus and Poisson's ratio (``0 <= ν < 0.5``), friction coefficient.
+    P, Q : Load or float
+        Total normal and tangential (along x) loads.
+    heights : (N, N) array_like
+        The gap at zero approach (the sum of the two surfaces' heights), on the grid; index
+        ``[i, j]`` is the element at ``(x_i, y_j)``.
+    spacing : float
+        The element side h.
+    dims : {1, 2}
+        Tangential directions: 1 (tractions along the load) or 2 (in the plane).
+    k_support : float
+        Tangential support stiffness in parallel with the contact (0: pure load control).
+    tol : float
+        Relative tolerance of the tangential increments (natural-map residual / force scale).
+
+    Attributes
+    ----------
+    N, h : int, float
+        Grid side and element side; ``nodes = N²``.
+    g0 : ndarray
+        The surface.
+    op : Convolution
+        The influence operators.
+    a0, k_t0 : float
+        The contact radius at P0 (Hertz's for the sphere, else the radius of the discrete
+        contact's area) and ``k_t0 = 2 a0 G*``, the normalization.
+    stats : dict
+        Time and products spent on the normal and on the tangential problems, Newton and CG
+        iterations.
+    """
+
+    max_nodes = MAX_GRID * MAX_GRID
+
+    def __init__(self, E, nu, mu, P, Q, *, heights, spacing, dims: int = 1,
+                 k_support: float = 0.0, tol: float = 1e-10, _a0=None, geometry="heightmap"):
+        g0 = _checks.finite_array("heights", heights)
+        if g0.ndim != 2 or g0.shape[0] != g0.shape[1] or g0.shape[0] < 4:
+            raise InputError("heights", f"must be a square 2-D array (N x N, N >= 4), got "
+                                        f"shape {g0.shape}")
+        N = g0.shape[0]
+        if N > MAX_GRID:
+            raise InputError("heights", f"grid {N} x {N} exceeds {MAX_GRID} x {MAX_GRID}")
+        if dims not in (1, 2):
+            raise InputError("dims", f"must be 1 or 2, got {dims!r}")
+        super().__init__(E, nu, mu, P, Q, k_support, N * N)
+        self.h = _checks.positive("spacing", spacing)
+        self.tol = _checks.positive("tol", tol)
+        self.N, self.dims, self.geometry = N, int(dims), geometry
+        self.g0 = g0 - g0.min()
+        self._check_memory()
+        self.op = Convolution(N, self.h, self.E, self.nu, self.dims)
+        self.c = self.op.diagonal("xx") / self.h ** 2
+        coords = (np.arange(N) - (N - 1) / 2.0) * self.h
+        X, Y = np.meshgrid(coords, coords, indexing="ij")
+        self.xy = np.stack([X.ravel(), Y.ravel()], axis=1)
+        self.x = np.hypot(X, Y).ravel()            # distance from the grid's centre
+        self.stats = {"normal_seconds": 0.0, "normal_products": 0, "normal_solves": 0,
+                      "tangential_seconds": 0.0, "tangential_products": 0, "increments": 0,
+                      "newton": 0, "cg": 0}
+        self._cache: dict[float, np.ndarray] = {}
+        self._last_p = None
+        top = self.pressure(self.P_max)
+        self.contact_max = int(np.count_nonzero(top))
+        self._force_scale = self.mu * float(top.max()) * self.h ** 2
+        p0 = self.pressure(self.P0)
+        self.a_eq0 = math.sqrt(np.count_nonzero(p0) * self.h ** 2 / math.pi)
+        across = 2.0 * self.a_eq0 / self.h
+        if across < MIN_ACROSS:
+            raise InputError("grid", f"the contact at the mean load spans about {across:.1f} "
+                                     f"elements across, fewer than {MIN_ACROSS}: the grid is "
+                                     f"too coarse to resolve it; refine the grid")
+        edge = top.reshape(N, N)
+        if np.any(edge[0]) or np.any(edge[-1]) or np.any(edge[:, 0]) or np.any(edge[:, -1]):
+            raise InputError("heights", "the contact at the largest load reaches the grid's "
+                                        "edge: the grid does not hold the contact; a larger "
+                                        "grid (or surface) is needed")
+        self.a0 = float(_a0) if _a0 is not None else self.a_eq0
+        self.k_t0 = 2.0 * self.a0 * self.moduli["G*"]
+
+    # -- constructors ---------------------------------------------------------------------------
+    @classmethod
+    def sphere(cls, R, E, nu, mu, P, Q, *, grid: int = 40, dims: int = 1,
+               k_support: float = 0.0, tol: float = 1e-10):
+        """Two spheres (effective radius R): ``g0 = r²/(2R)`` on a grid of ``grid`` elements
+        across the largest Hertz contact diameter, plus 3 % (at least two elements) on each
+        side. ``a0`` and ``k_t0`` are Hertz's (the normalization of the other models)."""
+        R = _checks.positive("R", R)
+        probe = ContactModel(E, nu, mu, P, Q, k_support, 1)
+        a_max = hertz_contact(probe.P_max, R, E, nu)["a"]
+        a0 = hertz_contact(probe.P0, R, E, nu)["a"]
+        g, N, h = cls._grid(grid, a_max)
+        r2 = g[:, None] ** 2 + g[None, :] ** 2
+        model = cls(E, nu, mu, P, Q, heights=r2 / (2.0 * R), spacing=h, dims=dims,
+                    k_support=k_support, tol=tol, _a0=a0, geometry="sphere")
+        model.R, model.a_max, model.grid_across = R, a_max, grid
+        return model
+
+    @classmethod
+    def punch(cls, R, radius, E, nu, mu, P, Q, *, grid: int = 40, dims: int = 1,
+              k_support: float = 0.0, tol: float = 1e-10):
+        """A flat punch of radius ``radius`` with edges rounded to the radius R:
+        ``g0 = max(0, r − radius)²/(2R)``; the grid spans the largest contact (its radius by
+        the method of dimensionality reduction, exact for axisymmetric bodies) as for
+        :meth:`sphere`."""
+        from .mdr import Axisymmetric
+        from .closed_forms import moduli
+
+        R, b = _checks.positive("R", R), _checks.positive("radius", radius)
+        probe = ContactModel(E, nu, mu, P, Q, k_support, 1)
+        shape = Axisymmetric(lambda r: np.maximum(r - b, 0.0) / R)
+        a_max = float(np.max(shape.radius(probe.P_max, moduli(E, nu)["E*"])))
+        g, N, h = cls._grid(grid, a_max)
+        r = np.hypot(g[:, None], g[None, :])
+        model = cls(E, nu, mu, P, Q, heights=np.maximum(r - b, 0.0) ** 2 / (2.0 * R),
+                    spacing=h, dims=dims, k_support=k_support, tol=tol, geometry="punch")
+        model.R, model.flat_radius, model.a_max, model.grid_across = R, b, a_max, grid
+        return model
+
+    @staticmethod
+    def _grid(grid, a_max):
+        grid = _checks.positive_int("grid", grid, MIN_ACROSS)
+        extra = max(2, math.ceil(0.03 * grid))
+        N = grid + 2 * extra
+        if N > MAX_GRID:
+            raise InputError("grid", f"{grid} elements across (+{2 * extra}) exceed {MAX_GRID}")
+        h = 2.0 * a_max / grid
+        return (np.arange(N) - (N - 1) / 2.0) * h, N, h
+
+    def _check_memory(self, steps: int = 400):
+        M = 2 * self.N
+        need = 8 * (M * M * (3 + 2 * self.dims) + 12 * self.N ** 2 * self.dims)
+        if need > 4 << 30:
+            raise InputError("heights", f"a {self.N} x {self.N} grid needs about "
+                                        f"{need / 2**30:.1f} GiB for its FFTs; at most 4 GiB")
+
+    # -- the normal problem ---------------------------------------------------------------------
+    def pressure(self, P: float) -> np.ndarray:
+        """The frictionless contact pressures ``(N²,)`` under the load P."""
+        P = float(P)
+        if P <= 0.0:
+            return np.zeros(self.nodes)
+        got = self._cache.get(P)
+        if got is not None:
+            return got
+        start, count = time.perf_counter(), self.op.products
+        sol = normal_contact(self.op, self.g0, P, p0=self._last_p)
+        self.stats["normal_seconds"] += time.perf_counter() - start
+        self.stats["normal_products"] += self.op.products - count
+        self.stats["normal_solves"] += 1
+        self._last_p = sol.p
+        p = sol.p.ravel()
+        if len(self._cache) < 20_000:
+            self._cache[P] = p
+        return p
+
+    def limits(self, t) -> np.ndarray:
+        P = np.atleast_1d(np.asarray(self.P(np.asarray(t, dtype=float)), dtype=float))
+        out = np.empty((P.size, self.nodes))
+        for j, x in enumerate(P):
+            out[j] = self.pressure(x)
+        out *= self.mu * self.h ** 2
+        return out
+
+    def sizes(self, t) -> np.ndarray:
+        """The radius of a disc of the discrete contact's area."""
+        P = np.atleast_1d(np.asarray(self.P(np.asarray(t, dtype=float)), dtype=float))
+        return np.array([math.sqrt(np.count_nonzero(self.pressure(x)) * self.h ** 2 / math.pi)
+                         for x in P])
+
+    # -- the model protocol of lcpfric.contact.steady ------------------------------------------
+    def start(self) -> _Tangential:
+        m, d = self.nodes * self.dims, self.dims
+        return _Tangential(np.zeros(m), np.zeros(d), np.zeros(m), np.zeros(m), np.zeros(d))
+
+    def restart(self, state: _Tangential, v: np.ndarray) -> _Tangential:
+        """The state with the slips v (the driver's extrapolation): the slips are the state,
+        the forces only the next solve's starting point."""
+        return _Tangential(np.asarray(v, dtype=float).copy(), state.delta, state.F,
+                           np.zeros_like(state.dF), np.zeros_like(state.ddelta))
+
+    def scales(self) -> tuple[float, float]:
+        q = self.Q.amplitude if not self.Q.is_constant else abs(self.Q.mean)
+        return q / self.k_t0, self.mu * self.P_max
+
+    def normalization(self) -> tuple[str, float]:
+        return "W k_t0/(mu^2 P0^2)", self.k_t0 / (self.mu * self.P0) ** 2
+
+    def compliance(self, F: np.ndarray) -> np.ndarray:
+        """``C F``: relative tangential displacements ``(n, d)`` from forces ``(n, d)``."""
+        return self._apply(self.op.tangential, F, 1.0 / self.h ** 2)
+
+    def _apply(self, operator, F, factor):
+        """``operator`` (an FFT pair of :class:`~.influence.Convolution`) on node-major forces
+        ``(n, d)`` or flat, times ``factor``: ``(n, d)``."""
+        N, n = self.N, self.nodes
+        if self.dims == 1:
+            return (operator(F.reshape(N, N)) * factor).reshape(n, 1)
+        out = operator(F.reshape(n, 2).T.reshape(2, N, N)) * factor
+        return out.reshape(2, n).T
+
+    def increment(self, state: _Tangential, b: np.ndarray, Q: float):
+        """Problem (P) (module docstring): ``(state, F, Δs)``."""
+        start, count = time.perf_counter(), self.op.products
+        try:
+            return self._increment(state, b, Q)
+        finally:
+            self.stats["tangential_seconds"] += time.perf_counter() - start
+            self.stats["tangential_products"] += self.op.products - count
+            self.stats["increments"] += 1
+
+    def _increment(self, state, b, Q):
+        n, d, ks, c = self.nodes, self.dims, self.k_support, self.c
+        scale = self._force_scale
+        tolF = self.tol * scale
+        contact = b > 1e-10 * scale
+        s0 = state.v.reshape(n, d)
+        F = (state.F + state.dF).reshape(n, d).copy()
+        F[~contact] = 0.0
+        _project(F, b)
+        delta = state.delta + state.ddelta
+        Qv = np.zeros(d)
+        Qv[0] = Q
+        for it in range(_MAX_NEWTON):
+            ds = delta + self.compliance(F) - s0
+            z = F - ds / c
+            zn = np.abs(z[:, 0]) if d == 1 else np.hypot(z[:, 0], z[:, 1])
+            slip = contact & (zn > b)
+            proj = z.copy()
+            proj[slip] *= (b[slip] / zn[slip])[:, None]
+            proj[~contact] = 0.0
+            R = F - proj
+            eq = F.sum(axis=0) - ks * delta + Qv
+            worst = float(np.max(np.abs(R), initial=0.0))
+            if worst <= tolF and float(np.max(np.abs(eq))) <= tolF * max(1, contact.sum()):
+                break
+            self.stats["newton"] += 1
+            dF, dd = self._newton(F, ds, z, zn, b, contact, slip, eq, worst)
+            F += dF
+            delta = delta + dd
+        else:
+            raise SolverError(f"half-space tangential increment: residual {worst:.3g} above "
+                              f"{tolF:.3g} after {_MAX_NEWTON} Newton iterations",
+                              backend="halfspace", status="max_iter")
+        _project(F, b)
+        stick = contact & ~slip
+        ds[stick] = 0.0
+        v = s0 + ds
+        F_flat = F.ravel()
+        new = _Tangential(v.ravel(), delta, F_flat.copy(), F_flat - state.F,
+                          delta - state.delta)
+        return new, F_flat, ds.ravel()
+
+    def _newton(self, F, ds, z, zn, b, contact, slip, eq, worst):
+        """One semismooth Newton step (module docstring): ``(ΔF, Δδ)``. For d = 2 the linear
+        solve is inexact while the residual ``worst`` is large (to ``1e-3`` of it: the slip
+        directions are corrected by the next step anyway); for d = 1 it is exact, which ends
+        the iteration when the pattern is right."""
+        n, d, ks, c = self.nodes, self.dims, self.k_support, self.c
+        stick = np.flatnonzero(contact & ~slip)
+        L = np.flatnonzero(slip)
+        known = np.zeros((n, d))
+        known[~contact] = -F[~contact]
+        if d == 1:
+            known[L, 0] = np.sign(z[L, 0]) * b[L] - F[L, 0]
+            space = _Space(stick, None, None, n, 1)
+            rhs = -ds[stick, 0]
+        else:
+            e = z[L] / zn[L, None]
+            known[L] = e * (b[L] - np.sum(F[L] * e, axis=1))[:, None]
+            tang = np.stack([-e[:, 1], e[:, 0]], axis=1)
+            beta = b[L] / zn[L]
+            space = _Space(stick, L, tang, n, 2, c * (1.0 - beta) / beta)
+            rhs = np.concatenate([-ds[stick].ravel(), -(c / beta) * np.sum(F[L] * tang, axis=1)])
+        if space.size == 0:
+            if ks <= 0.0:
+                raise SolverError("half-space: every node in contact slips or is separated "
+                                  "under pure load control (gross sliding)",
+                                  backend="halfspace", status="gross_sliding")
+            return known, (eq + known.sum(axis=0)) / ks
+        g = rhs - space.restrict(self.compliance(known)) if np.any(known) else rhs
+        cons = -(eq + known.sum(axis=0))
+        B = space.constraint()                                        # (d, size)
+        h2 = self.h ** 2
+
+        def M(x):
+            return (space.restrict(self._apply(self.op.tangential, space.embed(x), 1.0 / h2))
+                    + space.diagonal * x)
+
+        def pre(r):
+            return space.restrict(self._apply(self.op.precondition, space.embed(r), h2))
+
+        tol = 0.1 * c * self.tol * self._force_scale
+        if d == 2:
+            tol = max(tol, _ETA * c * worst)
+        if ks > 0.0:
+            x, _ = _cg(lambda y: M(y) + B.T @ (B @ y) / ks, g + B.T @ cons / ks,
+                       np.zeros(space.size), None, pre, tol, self.stats)
+            dd = (B @ x - cons) / ks
+        else:
+            BBt = B @ B.T
+            if np.linalg.cond(BBt) > 1e12:
+                raise SolverError("half-space: the sticking nodes cannot carry the load in "
+                                  "every direction (gross sliding)", backend="halfspace",
+                                  status="gross_sliding")
+            W = np.linalg.solve(BBt, B)                                # (d, size)
+            x0 = W.T @ cons
+
+            def project(r):
+                return r - B.T @ (W @ r)
+
+            x, res = _cg(M, g, x0, project, pre, tol, self.stats)
+            dd = W @ res
+        return space.embed(x).reshape(n, d) + known, dd
+
+
+class _Space:
+    """The unknowns of a Newton step: both components of the sticking nodes, and for d = 2 the
+    component of each slipping node's force along its circle (``tang``), with the diagonal
+    term of those; ``embed`` puts them in a flat force vector of the grid, ``restrict`` takes
+    them out."""
+
+    def __init__(self, stick, L, tang, n, d, tdiag=None):
+        self.d = d
+        if d == 1:
+            self.idx = stick
+            self.L = np.zeros(0, dtype=int)
+        else:
+            self.idx = (2 * stick[:, None] + np.arange(2)).ravel()
+            self.L, self.tx, self.ty = L, tang[:, 0].copy(), tang[:, 1].copy()
+        self.k = self.idx.size
+        self.size = self.k + self.L.size
+        self.diagonal = (np.concatenate([np.zeros(self.k), tdiag]) if d == 2
+                         else np.zeros(self.k))
+        self.buf = np.zeros(n * d)
+
+    def embed(self, x):
+        buf = self.buf
+        buf.fill(0.0)
+        buf[self.idx] = x[: self.k]
+        if self.L.size:
+            t = x[self.k:]
+            buf[2 * self.L] = t * self.tx
+            buf[2 * self.L + 1] = t * self.ty
+        return buf
+
+    def restrict(self, full):
+        full = full.reshape(-1) if full.flags.c_contiguous else full.ravel()
+        head = full[self.idx]
+        if not self.L.size:
+            return head
+        return np.concatenate([head, full[2 * self.L] * self.tx
+                               + full[2 * self.L + 1] * self.ty])
+
+    def constraint(self):
+        """``B``: the sum of the forces along each direction, as rows over the unknowns."""
+        n = self.buf.size // self.d
+        rows = []
+        for j in range(self.d):
+            ones = np.zeros((n, self.d))
+            ones[:, j] = 1.0
+            rows.append(self.restrict(ones))
+        return np.stack(rows)
+
+
+def _project(F, b):
+    """Forces onto their discs (d = 1: the interval), in place."""
+    if F.shape[1] == 1:
+        np.clip(F[:, 0], -b, b, out=F[:, 0])
+        return
+    norm = np.hypot(F[:, 0], F[:, 1])
+    over = norm > b
+    F[over] *= (b[over] / norm[over])[:, None]
+
+
+def _cg(M, g, x, project, pre, tol, stats, max_iter=None):
+    """Preconditioned conjugate gradients for ``M x = g`` from x (on the null space of the
+    constraint when ``project`` is given: the preconditioner is then ``Π pre Π``), until the
+    (projected) residual is below ``tol`` everywhere. Returns x and the unprojected residual
+    ``g - M x`` (whose part off the null space gives the constraint's multiplier)."""
+    res = g - M(x) if np.any(x) else g.copy()
+    r = res if project is None else project(res)
+    if float(np.max(np.abs(r))) <= tol:
+        return x, res
+    z = pre(r) if project is None else project(pre(r))
+    p = z.copy()
+    rz = float(r @ z)
+    limit = max_iter or max(200, 4 * r.size)
+    for _ in range(limit):
+        stats["cg"] += 1
+        Mp = M(p)
+        alpha = rz / float(p @ Mp)
+        x = x + alpha * p
+        res = res - alpha * Mp
+        r = res if project is None else project(res)
+        if float(np.max(np.abs(r))) <= tol:
+            return x, res
+        z = pre(r) if project is None else project(pre(r))
+        rz_new = float(r @ z)
+        p = z + (rz_new / rz) * p
+        rz = rz_new
+    raise SolverError(f"half-space: conjugate gradients did not reach {tol:.3g} in {limit} "
+                      f"iterations", backend="halfspace", status="max_iter")

@@ -1,0 +1,173 @@
+r"""Influence coefficients of the elastic half-space on a square grid, and their products by FFT.
+
+Two identical elastic bodies (each E, ν; G = E/(2(1 + ν)), E* = E/(2(1 − ν²))) touch over a
+plane surface cut into square elements of side h carrying uniform tractions. The relative
+surface displacement at an element's centre due to a unit traction on an element at offset
+``(x, y)`` (centre to centre) is, from the point-load solutions integrated over the square
+(Love's rectangle solutions; Johnson, Contact Mechanics, §3.2-3.3):
+
+* normal (Boussinesq): ``A = I₁ / (π E*)``;
+* tangential (Cerruti), along x due to a shear along x: ``(1/(π G)) ((1 − ν) I₁ + ν I_xx)``;
+  along y due to a shear along x (the coupling, zero at ν = 0): ``(ν/(π G)) I_xy``; along y
+  due to y: the x-x coefficient with x and y swapped;
+
+with ``I₁ = ∬ 1/r``, ``I_xx = ∬ x²/r³``, ``I_xy = ∬ xy/r³`` over the element. Their
+antiderivatives ``F`` (``∂²F/∂x∂y`` the integrand) are ``x asinh(y/|x|) + y asinh(x/|y|)``,
+``y asinh(x/|y|)`` and ``−r``; each integral is F's alternating sum over the four corners (the
+terms ``x ln|x|`` and ``y ln|y|`` that the asinh forms drop cancel in that sum). At ν = 0 the
+tangential coefficient equals the normal one (G = E*), as the contact notes say.
+
+On a grid of N x N elements the product with an influence matrix is a discrete convolution:
+zero-padded to at least 2N − 1 per side (a non-periodic half-space: Liu, Wang and Liu, Wear
+2000), it is one real FFT pair, O(N² log N) and nothing N⁴ in memory.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.fft as sfft
+
+__all__ = ["element_integrals", "kernels", "Convolution"]
+
+
+def _asinh_ratio(a, b):
+    """``a asinh(b/|a|)``, 0 where a = 0."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(a == 0.0, 0.0, a * np.arcsinh(b / np.abs(a)))
+
+
+def element_integrals(x, y, h):
+    """``(I₁, I_xx, I_xy)`` over a square of side h centred at offset ``(x, y)`` from the field
+    point (any broadcastable arrays)."""
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    out = [np.zeros(np.broadcast(x, y).shape) for _ in range(3)]
+    for sx, sy, sign in ((1, 1, 1.0), (-1, 1, -1.0), (1, -1, -1.0), (-1, -1, 1.0)):
+        u, v = x + sx * h / 2, y + sy * h / 2
+        out[0] += sign * (_asinh_ratio(u, v) + _asinh_ratio(v, u))
+        out[1] += sign * _asinh_ratio(v, u)
+        out[2] += sign * -np.hypot(u, v)
+    return tuple(out)
+
+
+def kernels(N: int, h: float, E: float, nu: float, dims: int = 1) -> dict:
+    """The influence coefficients at every offset ``(i, j) h``, ``|i|, |j| < N``, as arrays of
+    shape ``(2N − 1, 2N − 1)`` indexed by ``(i + N − 1, j + N − 1)`` (i along x): ``"n"``
+    (normal), ``"xx"`` (and with ``dims = 2`` and ν > 0, ``"xy"`` and ``"yy"``)."""
+    k = np.arange(-(N - 1), N) * h
+    X, Y = np.meshgrid(k, k, indexing="ij")
+    I1, Ixx, Ixy = element_integrals(X, Y, h)
+    G = E / (2.0 * (1.0 + nu))
+    Estar = E / (2.0 * (1.0 - nu * nu))
+    out = {"n": I1 / (math.pi * Estar), "xx": ((1.0 - nu) * I1 + nu * Ixx) / (math.pi * G)}
+    if dims == 2:
+        if nu != 0.0:
+            out["xy"] = nu * Ixy / (math.pi * G)
+        out["yy"] = out["xx"].T.copy()
+    return out
+
+
+class Convolution:
+    """Products with the influence matrices of an ``N x N`` grid by zero-padded FFT.
+
+    ``normal(p)`` maps pressures ``(N, N)`` to normal displacements; ``tangential(q)`` maps
+    shears ``(N, N)`` (d = 1, along x) or ``(2, N, N)`` (d = 2) to tangential displacements of
+    the same shape. ``dense(name)`` forms one influence matrix (small grids only: tests and the
+    cross-checks with the convex backends). ``products`` counts the FFT pairs done."""
+
+    def __init__(self, N: int, h: float, E: float, nu: float, dims: int = 1):
+        self.N, self.h, self.dims = int(N), float(h), int(dims)
+        self.M = sfft.next_fast_len(2 * self.N - 1, real=True)
+        self.kernel = kernels(self.N, self.h, E, nu, self.dims)
+        self.spectra = {name: self._spectrum(k) for name, k in self.kernel.items()}
+        self.coupled = "xy" in self.spectra
+        self.products = 0
+
+    def _spectrum(self, k):
+        N, M = self.N, self.M
+        pad = np.zeros((M, M))
+        idx = np.r_[np.arange(0, N), np.arange(M - N + 1, M)]   # offsets 0..N-1, -(N-1)..-1
+        src = np.r_[np.arange(N - 1, 2 * N - 1), np.arange(0, N - 1)]
+        pad[np.ix_(idx, idx)] = k[np.ix_(src, src)]
+        return sfft.rfft2(pad)
+
+    def _forward(self, x):
+        return sfft.rfft2(x, s=(self.M, self.M))
+
+    def _back(self, X):
+        return sfft.irfft2(X, s=(self.M, self.M))[..., : self.N, : self.N]
+
+    def normal(self, p):
+        self.products += 1
+        return self._back(self._forward(p) * self.spectra["n"])
+
+    def tangential(self, q):
+        """Tangential displacements from shears ``(N, N)`` (d = 1) or ``(2, N, N)`` (d = 2,
+        the x and y components)."""
+        self.products += 1
+        if q.ndim == 2:
+            return self._back(self._forward(q) * self.spectra["xx"])
+        return self._back(self._mix(self._forward(q), "xx", "xy", "yy"))
+
+    def _mix(self, X, xx, xy, yy):
+        out = np.empty_like(X)
+        K = self.spectra if xx == "xx" else self._inverse
+        if xy in K:
+            np.multiply(X[0], K[xx], out=out[0])
+            out[0] += X[1] * K[xy]
+            np.multiply(X[0], K[xy], out=out[1])
+            out[1] += X[1] * K[yy]
+        else:
+            np.multiply(X[0], K[xx], out=out[0])
+            np.multiply(X[1], K[yy], out=out[1])
+        return out
+
+    @property
+    def _inverse(self):
+        """The inverse of the padded (circulant) operators' spectra, each 2 x 2 block's
+        eigenvalues floored at 1e-3 of the largest (the padded Cerruti spectrum dips a little
+        below zero at the highest frequencies): a symmetric positive definite
+        preconditioner."""
+        inv = self.__dict__.get("_inv")
+        if inv is None:
+            K = {k: v.real for k, v in self.spectra.items()}
+            floor = 1e-3 * float(K["xx"].max())
+            inv = {"n": 1.0 / np.maximum(K["n"], floor)}
+            if "xy" in K:
+                a, b, c = K["xx"], K["xy"], K["yy"]
+                m, r = 0.5 * (a + c), np.hypot(0.5 * (a - c), b)
+                l1, l2 = m + r, m - r
+                i1, i2 = 1.0 / np.maximum(l1, floor), 1.0 / np.maximum(l2, floor)
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    w = np.where(r > 0, 0.5 / r, 0.0)        # P1 = (A - l2 I) / (l1 - l2)
+                p_xx = np.where(r > 0, (a - l2) * w, 0.5)
+                p_yy = np.where(r > 0, (c - l2) * w, 0.5)
+                p_xy = b * w
+                inv.update(ixx=i2 + (i1 - i2) * p_xx, iyy=i2 + (i1 - i2) * p_yy,
+                           ixy=(i1 - i2) * p_xy)
+            else:
+                inv.update(ixx=1.0 / np.maximum(K["xx"], floor),
+                           iyy=1.0 / np.maximum(K.get("yy", K["xx"]), floor))
+            self.__dict__["_inv"] = inv
+        return inv
+
+    def precondition(self, q):
+        """The (floored) inverse of the padded circulant tangential operator applied to ``q``:
+        a symmetric positive definite preconditioner for the operator restricted to any set of
+        nodes. One FFT pair."""
+        self.products += 1
+        if q.ndim == 2:
+            return self._back(self._forward(q) * self._inverse["ixx"])
+        return self._back(self._mix(self._forward(q), "ixx", "ixy", "iyy"))
+
+    def diagonal(self, name: str) -> float:
+        """The self-influence of an element (every diagonal entry)."""
+        return float(self.kernel[name][self.N - 1, self.N - 1])
+
+    def dense(self, name: str) -> np.ndarray:
+        """The ``N² x N²`` influence matrix ``name`` (row-major nodes: ``i N + j``)."""
+        N = self.N
+        i, j = np.divmod(np.arange(N * N), N)
+        return self.kernel[name][(i[:, None] - i[None, :]) + N - 1,
+                                 (j[:, None] - j[None, :]) + N - 1]
