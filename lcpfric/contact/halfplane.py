@@ -57,7 +57,7 @@ from ..errors import InputError, SolverError
 from .closed_forms import cylinder_contact
 from .steady import ContactModel
 
-__all__ = ["HalfPlaneCylinder", "MAX_NODES", "log_kernel"]
+__all__ = ["HalfPlaneCylinder", "MAX_NODES", "log_kernel", "entry_loads"]
 
 #: largest number of elements (the influence matrix is dense: 8 N² bytes)
 MAX_NODES = 6000
@@ -210,45 +210,8 @@ class HalfPlaneCylinder(ContactModel):
 
     def entry_loads(self) -> np.ndarray:
         """Per element, the normal load at which it comes into contact (inf: not below the
-        largest load of the cycle). Exact for the discrete problem: with the contact set fixed,
-        pressures and gaps are affine in P, so each next element's entry is where its gap, an
-        affine function of the approach d, reaches zero; one solve per change of the set."""
-        A, h, dx, N = self.A, self.h, self.dx, self.total
-        levels = np.full(N, np.inf)
-        S = np.flatnonzero(h <= h.min() + 1e-14 * (np.abs(h).max() + 1e-300))
-        levels[S] = 0.0
-        block = DenseBlock(A)
-        P = 0.0
-        for _ in range(N):
-            block.set(S)
-            z, y = np.zeros(N), np.zeros(N)
-            e = np.zeros(N)
-            e[S] = 1.0
-            idx, zz = block.solve(e)
-            z[idx] = zz
-            hh = np.zeros(N)
-            hh[S] = h[S]
-            idx, yy = block.solve(hh)
-            y[idx] = yy
-            Z, Y = z.sum(), y.sum()
-            Az, Ay = A[:, S] @ z[S], A[:, S] @ y[S]
-            d_now = (P / dx + Y) / Z
-            closing = 1.0 - Az
-            out = np.ones(N, dtype=bool)
-            out[S] = False
-            with np.errstate(divide="ignore", invalid="ignore"):
-                d_star = np.where(out & (closing > 0), (h - Ay) / closing, np.inf)
-            d_star[d_star < d_now * (1 - 1e-12)] = np.inf
-            d_next = float(d_star.min())
-            if not np.isfinite(d_next):
-                break
-            P = (d_next * Z - Y) * dx
-            if P > self.P_max:
-                break
-            new = np.flatnonzero(d_star <= d_next + 1e-12 * abs(d_next))
-            levels[new] = P
-            S = np.union1d(S, new)
-        return levels
+        largest load of the cycle): :func:`entry_loads`."""
+        return entry_loads(self.A, self.h, self.dx, self.P_max)
 
     # -- the model protocol of lcpfric.contact.steady ------------------------------------------
     def limits(self, t) -> np.ndarray:
@@ -319,3 +282,50 @@ class HalfPlaneCylinder(ContactModel):
             up, dn = nxt
         raise SolverError(f"half-plane: the stick/slip pattern did not settle in {_MAX_ITER} "
                           f"iterations", backend="halfplane", status="max_iter")
+
+
+def entry_loads(A: np.ndarray, h: np.ndarray, area: float, P_max: float) -> np.ndarray:
+    """Per element of a boundary-element grid (dense influence matrix A per unit pressure, gap
+    h at zero approach, element area), the normal load at which it comes into contact (inf: not
+    below ``P_max``). Exact for the discrete problem: with the contact set fixed, pressures and
+    gaps are affine in the load, so each next element's entry is where its gap, an affine
+    function of the approach d, reaches zero; one solve per change of the set (elements that
+    enter together, as symmetric ones do, are added together). Assumes the set only grows with
+    the load (a convex surface)."""
+    h = np.asarray(h, dtype=float).ravel()
+    N = h.size
+    levels = np.full(N, np.inf)
+    S = np.flatnonzero(h <= h.min() + 1e-14 * (np.abs(h).max() + 1e-300))
+    levels[S] = 0.0
+    block = DenseBlock(A)
+    P = 0.0
+    for _ in range(N):
+        block.set(S)
+        z, y = np.zeros(N), np.zeros(N)
+        e = np.zeros(N)
+        e[S] = 1.0
+        idx, zz = block.solve(e)
+        z[idx] = zz
+        hh = np.zeros(N)
+        hh[S] = h[S]
+        idx, yy = block.solve(hh)
+        y[idx] = yy
+        Z, Y = z.sum(), y.sum()
+        Az, Ay = A[:, S] @ z[S], A[:, S] @ y[S]
+        d_now = (P / area + Y) / Z
+        closing = 1.0 - Az
+        out = np.ones(N, dtype=bool)
+        out[S] = False
+        with np.errstate(divide="ignore", invalid="ignore"):
+            d_star = np.where(out & (closing > 0), (h - Ay) / closing, np.inf)
+        d_star[d_star < d_now * (1 - 1e-12)] = np.inf
+        d_next = float(d_star.min())
+        if not np.isfinite(d_next):
+            break
+        P = (d_next * Z - Y) * area
+        if P > P_max:
+            break
+        new = np.flatnonzero(d_star <= d_next + 1e-12 * abs(d_next))
+        levels[new] = P
+        S = np.union1d(S, new)
+    return levels

@@ -54,6 +54,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _checks
+from ..backends.active_set import PatternUpdate
 from ..errors import InputError, SolverError
 from .closed_forms import hertz_contact
 from .influence import Convolution
@@ -67,6 +68,9 @@ MAX_GRID = 2048
 #: fewest elements across the contact at the mean load
 MIN_ACROSS = 8
 _MAX_NEWTON = 60
+_EPS = np.finfo(float).eps
+#: largest number of unknowns for the dense forms (cross-checks with the convex backends)
+DENSE_MAX = 2000
 #: d = 2: the linear solves of the Newton steps are to this fraction of the residual
 _ETA = 1e-3
 
@@ -81,6 +85,7 @@ class _Tangential:
     F: np.ndarray
     dF: np.ndarray
     ddelta: np.ndarray
+    side: np.ndarray          # d = 1: +1 / -1 on the upper / lower limit, else 0
 
 
 class HalfSpace(ContactModel):
@@ -258,16 +263,61 @@ class HalfSpace(ContactModel):
         return np.array([math.sqrt(np.count_nonzero(self.pressure(x)) * self.h ** 2 / math.pi)
                          for x in P])
 
+    # -- as an lcpfric system (ContactModel.system), small grids --------------------------------
+    def compliance_matrix(self) -> np.ndarray:
+        """The dense tangential compliance per unit force, ``(n·d, n·d)``, node-major (small
+        grids only: the cross-checks with the convex backends)."""
+        m = self.nodes * self.dims
+        if m > DENSE_MAX:
+            raise InputError("grid", f"the dense compliance of {m} unknowns is refused (at "
+                                     f"most {DENSE_MAX}); the model's own solve() is "
+                                     f"matrix-free")
+        h2 = self.h ** 2
+        if self.dims == 1:
+            return self.op.dense("xx") / h2
+        C = np.empty((m, m))
+        C[0::2, 0::2] = self.op.dense("xx") / h2
+        C[1::2, 1::2] = self.op.dense("yy") / h2
+        xy = self.op.dense("xy") / h2 if self.op.coupled else 0.0
+        C[0::2, 1::2] = xy
+        C[1::2, 0::2] = xy
+        return C
+
+    def springs(self):
+        """``(compliance operator, C⁻¹ B, diag C)`` with the body held fixed (dense: small
+        grids), for :meth:`ContactModel.system`."""
+        from scipy.linalg import cho_factor, cho_solve
+        from scipy.sparse.linalg import aslinearoperator
+
+        C = self.compliance_matrix()
+        m = C.shape[0]
+        B = np.zeros((m, self.dims))
+        for j in range(self.dims):
+            B[j::self.dims, j] = 1.0
+        W = cho_solve(cho_factor(C), B)
+        return aslinearoperator(C), (W[:, 0] if self.dims == 1 else W), np.diag(C).copy()
+
+    def entry_loads(self) -> np.ndarray:
+        """Per element, the normal load at which it enters the contact (dense: small grids):
+        :func:`~lcpfric.contact.halfplane.entry_loads`, exact for the discrete problem."""
+        from .halfplane import entry_loads
+
+        if self.nodes > DENSE_MAX:
+            raise InputError("grid", f"exact entry loads need the dense influence matrix of "
+                                     f"{self.nodes} elements (at most {DENSE_MAX})")
+        return entry_loads(self.op.dense("n"), self.g0, self.h ** 2, self.P_max)
+
     # -- the model protocol of lcpfric.contact.steady ------------------------------------------
     def start(self) -> _Tangential:
         m, d = self.nodes * self.dims, self.dims
-        return _Tangential(np.zeros(m), np.zeros(d), np.zeros(m), np.zeros(m), np.zeros(d))
+        return _Tangential(np.zeros(m), np.zeros(d), np.zeros(m), np.zeros(m), np.zeros(d),
+                           np.zeros(self.nodes, dtype=np.int8))
 
     def restart(self, state: _Tangential, v: np.ndarray) -> _Tangential:
         """The state with the slips v (the driver's extrapolation): the slips are the state,
         the forces only the next solve's starting point."""
         return _Tangential(np.asarray(v, dtype=float).copy(), state.delta, state.F,
-                           np.zeros_like(state.dF), np.zeros_like(state.ddelta))
+                           np.zeros_like(state.dF), np.zeros_like(state.ddelta), state.side)
 
     def scales(self) -> tuple[float, float]:
         q = self.Q.amplitude if not self.Q.is_constant else abs(self.Q.mean)
@@ -311,34 +361,71 @@ class HalfSpace(ContactModel):
         delta = state.delta + state.ddelta
         Qv = np.zeros(d)
         Qv[0] = Q
-        for it in range(_MAX_NEWTON):
+        updates = PatternUpdate(contact) if d == 1 else None
+        up = dn = None
+        # d = 1: Murty's rule changes one node per iteration, so allow one per node
+        limit = _MAX_NEWTON + (int(contact.sum()) if d == 1 else 0)
+        for it in range(limit):
             ds = delta + self.compliance(F) - s0
             z = F - ds / c
-            zn = np.abs(z[:, 0]) if d == 1 else np.hypot(z[:, 0], z[:, 1])
-            slip = contact & (zn > b)
-            proj = z.copy()
-            proj[slip] *= (b[slip] / zn[slip])[:, None]
-            proj[~contact] = 0.0
-            R = F - proj
             eq = F.sum(axis=0) - ks * delta + Qv
-            worst = float(np.max(np.abs(R), initial=0.0))
-            if worst <= tolF and float(np.max(np.abs(eq))) <= tolF * max(1, contact.sum()):
-                break
+            if d == 1:
+                # the primal-dual active-set pattern, with Murty's rule once one repeats
+                zz = z[:, 0]
+                band = tolF + 64 * _EPS * (b + np.abs(F[:, 0]))
+                if up is None:      # the previous increment's pattern, where still in contact
+                    up, dn = contact & (state.side > 0), contact & (state.side < 0)
+                else:
+                    nxt = updates.next(zz, -b - band, b + band, up, dn)
+                    if nxt is None:
+                        break
+                    up, dn = nxt
+                slip = up | dn
+                zn = np.abs(zz)
+                worst = float(np.max(np.abs(F[:, 0] - np.clip(zz, -b, b))[contact],
+                                     initial=0.0))
+                z = np.where(up, 1.0, -1.0)[:, None]              # the slip nodes' sides
+            else:
+                zn = np.hypot(z[:, 0], z[:, 1])
+                slip = contact & (zn > b)
+                proj = z.copy()
+                proj[slip] *= (b[slip] / zn[slip])[:, None]
+                proj[~contact] = 0.0
+                worst = float(np.max(np.abs(F - proj), initial=0.0))
+                if worst <= tolF and float(np.max(np.abs(eq))) <= tolF * max(1, contact.sum()):
+                    break
+            if ks <= 0.0 and np.any(contact) and not np.any(contact & ~slip):
+                # an iterate with every node slipping has no equilibrium: unless the load
+                # exceeds every limit (gross sliding), the node nearest to sticking sticks
+                total = float(b[contact].sum())
+                if abs(Q) > total * (1.0 + 1e-12):
+                    raise SolverError(f"half-space: |Q| = {abs(Q):.6g} exceeds the sum of "
+                                      f"the friction limits {total:.6g} (gross sliding)",
+                                      backend="halfspace", status="gross_sliding")
+                ratio = np.where(contact, zn / np.where(b > 0, b, 1.0), np.inf)
+                i = int(np.argmin(ratio))
+                slip[i] = False
+                if d == 1:
+                    up[i] = dn[i] = False
             self.stats["newton"] += 1
             dF, dd = self._newton(F, ds, z, zn, b, contact, slip, eq, worst)
             F += dF
             delta = delta + dd
         else:
             raise SolverError(f"half-space tangential increment: residual {worst:.3g} above "
-                              f"{tolF:.3g} after {_MAX_NEWTON} Newton iterations",
+                              f"{tolF:.3g} after {limit} Newton iterations",
                               backend="halfspace", status="max_iter")
         _project(F, b)
         stick = contact & ~slip
         ds[stick] = 0.0
         v = s0 + ds
         F_flat = F.ravel()
+        side = np.zeros(n, dtype=np.int8)
+        if d == 1:
+            side[up] = 1
+            side[dn] = -1
         new = _Tangential(v.ravel(), delta, F_flat.copy(), F_flat - state.F,
-                          delta - state.delta)
+                          delta - state.delta, side)
         return new, F_flat, ds.ravel()
 
     def _newton(self, F, ds, z, zn, b, contact, slip, eq, worst):

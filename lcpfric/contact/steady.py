@@ -290,7 +290,10 @@ class ContactModel:
         """This contact as an lcpfric :class:`~lcpfric.model.ContactSystem` (matrix-free), for
         the other methods. With the nodes' own compliance ``C_s`` (the body held fixed), the
         rigid displacement eliminated gives ``F = K v - C_s⁻¹ 1 Q / (1ᵀ C_s⁻¹ 1 + k_s)`` with
-        ``K⁻¹ = C_s + 1 1ᵀ / k_s`` (Sherman-Morrison): products only, no matrix formed. Needs
+        ``K⁻¹ = C_s + 1 1ᵀ / k_s`` (Sherman-Morrison): products only, no matrix formed. With
+        ``dims = 2`` (the half-space) 1 becomes ``B = [1_x 1_y]`` and the load's coefficients
+        ``-C_s⁻¹ B (k_s I + Bᵀ C_s⁻¹ B)⁻¹ e_x`` (Woodbury); ``springs()`` then gives
+        ``C_s⁻¹ B`` as an ``(n·2, 2)`` array. Needs
         ``k_support > 0``: under pure load control K is singular (a common slip of every node
         is a rigid shift of the body)."""
         from scipy.sparse.linalg import LinearOperator
@@ -305,16 +308,23 @@ class ContactModel:
                                           "so it is no ContactSystem; use solve(), or give "
                                           "k_support > 0")
         Cs, w, cdiag = self.springs()
-        n = w.size
-        total = float(w.sum()) + ks
+        d = getattr(self, "dims", 1)
+        m = np.asarray(cdiag).size
+        n = m // d
+
+        def ones(x):                                                  # Bᵀ x, B = [1_x 1_y]
+            return np.asarray(x, dtype=float).reshape(-1, 2).sum(axis=0)
 
         class _Compliance(LinearOperator):
             def __init__(self):
-                super().__init__(dtype=float, shape=(n, n))
+                super().__init__(dtype=float, shape=(m, m))
 
             def _matvec(self, x):
                 x = np.asarray(x, dtype=float).reshape(-1)
-                return np.asarray(Cs.matvec(x), dtype=float).reshape(-1) + x.sum() / ks
+                out = np.asarray(Cs.matvec(x), dtype=float).reshape(-1)
+                if d == 1:
+                    return out + x.sum() / ks
+                return (out.reshape(-1, 2) + ones(x) / ks).reshape(-1)
 
             def _rmatvec(self, x):
                 return self._matvec(x)
@@ -322,16 +332,24 @@ class ContactModel:
             def diagonal(self):
                 return cdiag + 1.0 / ks
 
+        # the loads: F = K v + c Q(t), c = -W (k_s I + Bᵀ W)⁻¹ e_x, W = C_s⁻¹ B (Woodbury)
+        if d == 1:
+            w = np.asarray(w, dtype=float).reshape(-1)
+            coef = -w / (float(w.sum()) + ks)
+        else:
+            W = np.asarray(w, dtype=float).reshape(m, 2)
+            BW = np.stack([W[0::2].sum(axis=0), W[1::2].sum(axis=0)])
+            coef = -W @ np.linalg.solve(ks * np.eye(2) + BW, np.array([1.0, 0.0]))
         Q = self.Q
         loads = []
-        for c in -w / total:
+        for c in coef:
             if isinstance(Q, Harmonic):
                 loads.append(Harmonic(c * Q.mean, abs(c) * Q.amplitude,
                                       Q.phase + (math.pi if c < 0 else 0.0), Q.omega))
             else:
                 loads.append(Periodic(lambda t, c=c: c * Q(t), self.period, c * Q.mean))
         return ContactSystem(None, np.full(n, self.mu), tuple(loads), self.normal_model(),
-                             compliance=_Compliance())
+                             dims=d, compliance=_Compliance())
 
 
 class LevelNormal:
