@@ -118,12 +118,13 @@ def _crop(model, result, margin: float = 0.15):
 
 
 def _loads_label(model, t: float, period: float) -> str:
-    P = float(np.asarray(model.P(t)))
-    Q = float(np.asarray(model.Q(t)))
+    P = float(np.asarray(model.P(t))) / model.P0 + 0.0
+    Q = float(np.asarray(model.Q(t))) / (model.mu * model.P0)
+    Q = 0.0 if abs(Q) < 5e-3 else Q                     # no "-0.00"
     f = t / period
     f = 0.0 if abs(f - 1.0) < 1e-9 else f               # t = T is t = 0 of the periodic state
     return (f"t/T = {f:.3g}\n"
-            rf"$P/P_0$ = {P / model.P0:.2f}, $Q/(\mu P_0)$ = {Q / (model.mu * model.P0):+.2f}")
+            rf"$P/P_0$ = {P:.2f}, $Q/(\mu P_0)$ = {Q:+.2f}")
 
 
 def _zone_legend(model, extra=()):
@@ -244,12 +245,16 @@ def figure_zone_maps(model, result, fractions=(0.0, 0.25, 0.5, 0.75), title: str
         return finish(fig)
 
 
-def _caption(model) -> str:
-    return (f"{model.geometry}, {model.N} x {model.N} elements, "
-            + ("tractions along x" if model.dims == 1 else
-               "tractions in the plane (slip sides: the sign of the slip's x-component)")
-            + "\n"
-            r"$a_0$: contact radius at the mean load $P_0$")
+def _caption(model, sides: bool = True) -> str:
+    """The legend's title: the surface, the grid, the tangential directions, a0."""
+    head = f"{model.geometry}, {model.N} x {model.N} elements, "
+    if model.dims == 1:
+        head += "tractions along x"
+    elif sides:
+        head += "tractions in the plane\n(slip towards ±x: the sign of the slip's x-component)"
+    else:
+        head += "tractions in the plane"
+    return head + "\n" + r"$a_0$: contact radius at the mean load $P_0$"
 
 
 def _peak_pressure(model):
@@ -299,7 +304,7 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
         ratio[contact] = np.hypot(F[contact, 0], F[contact, 1]) / b[contact]
         p0, p0_text = _peak_pressure(model)
         q = -F / model.h ** 2 / (model.mu * p0)              # in units of μ p0
-        fig = figure(figsize=(COLUMN_WIDTH, 4.0 + (0.2 if title else 0.0)),
+        fig = figure(figsize=(COLUMN_WIDTH, 4.1 + (0.25 if title else 0.0)),
                      layout="constrained")
         ax = fig.add_subplot()
         cmap = ListedColormap(colormaps[RATIO_CMAP](np.linspace(0.0, RATIO_CMAP_TOP, 256)))
@@ -339,8 +344,9 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
                            color="black", width=0.006, headwidth=3.5, headlength=4.0,
                            headaxislength=3.5, zorder=3)
         ref = _nice(top)
-        ax.quiverkey(arrows, 0.9, 1.035, ref, rf"{ref:g} $\mu p_0$", labelpos="W",
-                     coordinates="axes", fontproperties={"size": SMALL}, labelsep=0.05)
+        # the key in the upper right corner, outside the (round) contact
+        ax.quiverkey(arrows, 0.9, 0.94, ref, rf"{ref:g} $\mu p_0$", labelpos="N",
+                     coordinates="axes", fontproperties={"size": SMALL}, labelsep=0.04)
         ax.set_xlim(-half, half)
         ax.set_ylim(-half, half)
         ax.set_aspect("equal")
@@ -348,17 +354,18 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
         ax.set_xlabel(r"$x/a_0$", labelpad=1)
         ax.set_ylabel(r"$y/a_0$", labelpad=1)
         ax.set_title(_loads_label(model, float(result.t[j]), float(result.t[-1])).replace(
-            "\n", ": "), fontsize=SMALL, loc="left", pad=12)
+            "\n", ": "), fontsize=SMALL, pad=3)
         bar = fig.colorbar(mesh, ax=ax, shrink=0.85, aspect=25, pad=0.02)
         bar.set_label(r"$|q|/(\mu p)$ (1: slipping; white: separated)")
         from matplotlib.lines import Line2D
 
         handles = [Line2D([], [], ls="none", marker=r"$\rightarrow$", ms=8, color="black",
-                          label=rf"shear traction $q = -F/h^2$, {p0_text}"
-                                + (f" (every {k}th element)" if k > 1 else ""))]
+                          label=rf"shear traction $q = -F/h^2$ on the element"
+                                + (f" (one arrow\nper {k} x {k} elements)" if k > 1 else "")
+                                + f"; {p0_text}")]
         handles += _edge_handles(model, stick_edge=stick_edge)
         fig.legend(handles=handles, loc="outside lower center", ncols=1, frameon=False,
-                   fontsize=SMALL, title=_caption(model), title_fontsize=SMALL)
+                   fontsize=SMALL, title=_caption(model, sides=False), title_fontsize=SMALL)
         if title:
             fig.suptitle(title, fontsize=SMALL + 1)
         return finish(fig)

@@ -68,6 +68,8 @@ MAX_GRID = 2048
 #: fewest elements across the contact at the mean load
 MIN_ACROSS = 8
 _MAX_NEWTON = 60
+#: d = 1: pattern iterations from the extrapolated start before the safe restart
+_RESTART = 8
 _EPS = np.finfo(float).eps
 #: largest number of unknowns for the dense forms (cross-checks with the convex backends)
 DENSE_MAX = 2000
@@ -363,6 +365,7 @@ class HalfSpace(ContactModel):
         Qv[0] = Q
         updates = PatternUpdate(contact) if d == 1 else None
         up = dn = None
+        restarted = False
         # d = 1: Murty's rule changes one node per iteration, so allow one per node
         limit = _MAX_NEWTON + (int(contact.sum()) if d == 1 else 0)
         for it in range(limit):
@@ -373,13 +376,27 @@ class HalfSpace(ContactModel):
                 # the primal-dual active-set pattern, with Murty's rule once one repeats
                 zz = z[:, 0]
                 band = tolF + 64 * _EPS * (b + np.abs(F[:, 0]))
-                if up is None:      # the previous increment's pattern, where still in contact
-                    up, dn = contact & (state.side > 0), contact & (state.side < 0)
+                if up is None:      # the previous increment's pattern, where still in contact,
+                    # and (unless restarted) the nodes the extrapolated forces put beyond
+                    warm = (contact & (state.side > 0), contact & (state.side < 0))
+                    up, dn = warm if restarted else updates.first(zz, -b - band, b + band,
+                                                                  warm)
                 else:
                     nxt = updates.next(zz, -b - band, b + band, up, dn)
                     if nxt is None:
                         break
                     up, dn = nxt
+                    if it == _RESTART and not restarted:
+                        # a poor start (a large extrapolated change) can send the pattern
+                        # astray: restart once from the previous increment's forces and
+                        # pattern, the safe start
+                        F = state.F.reshape(n, d).copy()
+                        F[~contact] = 0.0
+                        _project(F, b)
+                        delta = state.delta.copy()
+                        updates = PatternUpdate(contact)
+                        up, restarted = None, True
+                        continue
                 slip = up | dn
                 zn = np.abs(zz)
                 worst = float(np.max(np.abs(F[:, 0] - np.clip(zz, -b, b))[contact],
