@@ -1,35 +1,46 @@
 """``lcpfric contact``: the dissipation per cycle of a continuum contact (the sphere by
-dimensionality reduction, the cylinder by half-plane boundary elements)."""
+dimensionality reduction, the cylinder by half-plane boundary elements, the sphere, a rounded
+flat punch or a height map by half-space boundary elements on a grid)."""
 
 from __future__ import annotations
 
 import json
 
-HELP = "W per cycle of a continuum contact (Hertz sphere, cylinder)"
+HELP = "W per cycle of a continuum contact (sphere, cylinder, punch, height map)"
 DESCRIPTION = ("The periodic steady state of two identical elastic bodies (effective radius R, "
                "each body's E and nu) under P(t) = P0 + P1 sin wt and Q(t) = Q1 sin(wt + phi) "
                "(d = 1): the sphere by the method of dimensionality reduction (--model mdr), "
                "the cylinder in plane strain by half-plane boundary elements (--model "
-               "halfplane; P, Q and W per unit length). Prints W per cycle and W k_t0/(mu^2 "
-               "P0^2) (sphere) or W pi E*/(mu^2 P0^2) (cylinder). With --k-support 0 (pure "
+               "halfplane; P, Q and W per unit length), and the sphere, a flat punch with "
+               "rounded edges or a height map (--heightmap FILE.npy --spacing H) by "
+               "half-space boundary elements on a square grid (--model halfspace; --dims 2 "
+               "for tractions in the plane, Cerruti's coupling). Prints W per cycle and W "
+               "k_t0/(mu^2 P0^2) (3-D) or W pi E*/(mu^2 P0^2) (cylinder). With --k-support 0 "
+               "(pure "
                "load control) loads with |Q| > mu P at some instant (gross sliding, or Q during "
                "complete separation) have no equilibrium and are refused.")
-#: the model of each geometry
-MODELS = {"sphere": "mdr", "cylinder": "halfplane"}
+#: the models of each geometry (the first is the default)
+MODELS = {"sphere": ("mdr", "halfspace"), "cylinder": ("halfplane",), "punch": ("halfspace",),
+          "heightmap": ("halfspace",)}
 #: the methods that solve each model's increments (the first is the default)
-METHODS = {"mdr": ("exact-increment",), "halfplane": ("active-set",)}
+METHODS = {"mdr": ("exact-increment",), "halfplane": ("active-set",),
+           "halfspace": ("newton-cg",)}
 OPTIONS = {"steps": "--steps", "k_support": "--k-support", "P": "--P0", "Q": "--Q1"}
 #: fewest springs across the largest contact radius that resolve it
 MIN_NODES = 10
 
 
 def configure(p) -> None:
-    p.add_argument("--geometry", choices=tuple(MODELS), default="sphere",
-                   help="sphere (3-D Hertz) or cylinder (plane strain)")
-    p.add_argument("--model", choices=tuple(MODELS.values()), default=None,
-                   help="mdr (sphere: dimensionality reduction) or halfplane (cylinder: "
-                        "boundary elements); default: the geometry's")
-    for name, text in (("R", "effective radius"), ("E", "Young's modulus of each body"),
+    p.add_argument("--geometry", choices=("sphere", "cylinder", "punch"), default="sphere",
+                   help="sphere (3-D Hertz), cylinder (plane strain) or punch (a flat punch "
+                        "of radius --radius with edges rounded to --R)")
+    p.add_argument("--model", choices=("mdr", "halfplane", "halfspace"), default=None,
+                   help="mdr (sphere: dimensionality reduction), halfplane (cylinder: "
+                        "boundary elements) or halfspace (sphere, punch, height map: boundary "
+                        "elements on a grid); default: the geometry's first")
+    p.add_argument("--R", default=None, metavar="X",
+                   help="effective radius (sphere, cylinder) or the punch's edge radius")
+    for name, text in (("E", "Young's modulus of each body"),
                        ("nu", "Poisson's ratio of each body, in [0, 0.5)"),
                        ("mu", "coefficient of friction"), ("P0", "mean normal load (> 0)"),
                        ("P1", "normal load amplitude"), ("Q1", "tangential load amplitude")):
@@ -44,6 +55,23 @@ def configure(p) -> None:
                         f"elements across the largest contact width (halfplane, default 400); "
                         f"at least {MIN_NODES}")
     p.add_argument("--steps", default="400", metavar="N", help="increments per cycle")
+    g = p.add_argument_group("half-space (--model halfspace)")
+    g.add_argument("--grid", default=None, metavar="N",
+                   help="elements across the largest contact's diameter (sphere, punch; "
+                        "default 40); the grid adds 3 %% on each side")
+    g.add_argument("--dims", default="1", choices=("1", "2"),
+                   help="tangential directions: 1 (tractions along Q) or 2 (in the plane, "
+                        "Cerruti's coupling when nu > 0)")
+    g.add_argument("--radius", default=None, metavar="X", help="the punch's flat radius")
+    g.add_argument("--heightmap", default=None, metavar="FILE.npy",
+                   help="a square 2-D array of the gap at zero approach (the two surfaces' "
+                        "heights summed), in length units; needs --spacing")
+    g.add_argument("--spacing", default=None, metavar="H", help="the height map's grid spacing")
+    g.add_argument("--figures", default=None, metavar="DIR",
+                   help="also draw the stick/slip/separation maps (and the traction vectors "
+                        "with --dims 2) of the steady cycle into DIR")
+    g.add_argument("--animation", default=None, metavar="FILE.gif",
+                   help="also write an animation of the zones over the steady cycle")
     p.add_argument("--method", default=None, metavar="M",
                    help="how each increment is solved: exact-increment (mdr: the bar's "
                         "equation in closed form, no solver) or active-set (halfplane: "
@@ -58,48 +86,152 @@ def run(args) -> int:
     from ..model.loads import Harmonic
 
     num = {k: _checks.parse_number(getattr(args, k), f"--{k}")
-           for k in ("R", "E", "nu", "mu", "P0", "P1", "Q1")}
+           for k in ("E", "nu", "mu", "P0", "P1", "Q1")}
     phi = _checks.parse_angle(args.phi, "--phi")
     ks = _checks.parse_number(args.k_support, "--k-support")
-    model_name = args.model or MODELS[args.geometry]
-    if MODELS[args.geometry] != model_name:
-        raise InputError("--model", f"{model_name!r} does not solve the {args.geometry}; use "
-                                    f"--model {MODELS[args.geometry]}")
+    geometry = "heightmap" if args.heightmap is not None else args.geometry
+    model_name = args.model or MODELS[geometry][0]
+    if model_name not in MODELS[geometry]:
+        raise InputError("--model", f"{model_name!r} does not solve the {geometry}; use "
+                                    f"--model {' or '.join(MODELS[geometry])}")
     method = args.method or METHODS[model_name][0]
     if method not in METHODS[model_name]:
         raise InputError("--method", f"{method!r} does not solve the {model_name} model; "
                                      f"use one of {', '.join(METHODS[model_name])}")
-    default = "2000" if model_name == "mdr" else "400"
-    nodes = _count(args.nodes or default, "--nodes")
     steps = _count(args.steps, "--steps")
-    if nodes < MIN_NODES:
-        raise InputError("--nodes", f"{nodes} springs are too coarse to resolve the contact; "
-                                    f"give at least {MIN_NODES}")
     if not num["P0"] > 0:
         raise InputError("--P0", f"the mean normal load must be > 0, got {num['P0']:g}")
     for k in ("P1", "Q1"):
         if num[k] < 0:
             raise InputError(f"--{k}", f"an amplitude must be >= 0, got {num[k]:g}")
-    kind = MDRSphere if model_name == "mdr" else HalfPlaneCylinder
-    model = kind(num["R"], num["E"], num["nu"], num["mu"], Harmonic(num["P0"], num["P1"]),
-                 Harmonic(0.0, num["Q1"], phi), k_support=ks, nodes=nodes)
-    r = model.solve(steps)
+    if model_name != "halfspace":
+        for option in ("grid", "radius", "heightmap", "spacing", "figures", "animation"):
+            if getattr(args, option) is not None:
+                raise InputError(f"--{option}", f"applies to --model halfspace only")
+        if args.dims != "1":
+            raise InputError("--dims", "2 applies to --model halfspace only")
+    P, Q = Harmonic(num["P0"], num["P1"]), Harmonic(0.0, num["Q1"], phi)
+    if model_name == "halfspace":
+        model = _halfspace(args, geometry, num, P, Q, ks, steps)
+    else:
+        if args.R is None:
+            raise InputError("--R", f"the {geometry} needs its effective radius")
+        R = _checks.parse_number(args.R, "--R")
+        default = "2000" if model_name == "mdr" else "400"
+        nodes = _count(args.nodes or default, "--nodes")
+        if nodes < MIN_NODES:
+            raise InputError("--nodes", f"{nodes} springs are too coarse to resolve the "
+                                        f"contact; give at least {MIN_NODES}")
+        kind = MDRSphere if model_name == "mdr" else HalfPlaneCylinder
+        model = kind(R, num["E"], num["nu"], num["mu"], P, Q, k_support=ks, nodes=nodes)
+    record = model_name == "halfspace" and (args.figures or args.animation) is not None
+    r = model.solve(steps, record=record)
     out = {"W": r.W, "W_normalized": r.W_normalized, "normalization": r.normalization,
            "contact_size_max": r.contact_size_max, "nodes": r.nodes,
            "steps_per_cycle": r.steps_per_cycle, "cycles": r.cycles, "converged": r.converged,
-           "seconds": r.seconds, "geometry": args.geometry, "model": model_name,
+           "seconds": r.seconds, "geometry": geometry, "model": model_name,
            "method": method}
     if r.k_t0 is not None:
         out["k_t0"] = r.k_t0
+    if model_name == "halfspace":
+        st = model.stats
+        out.update(dims=model.dims, grid=model.N, nodes_in_contact_max=r.nodes_in_contact_max,
+                   normal_seconds=st["normal_seconds"],
+                   tangential_seconds=st["tangential_seconds"])
+        out["files"] = _pictures(args, model, r)
     if args.json:
         print(json.dumps(out))
         return 0
-    size = "radius" if args.geometry == "sphere" else "half-width"
-    unit = "" if args.geometry == "sphere" else " (per unit length)"
+    size = "half-width" if geometry == "cylinder" else "radius"
+    unit = " (per unit length)" if geometry == "cylinder" else ""
     print(f"W = {r.W:.10g} per cycle{unit}; {r.normalization} = {r.W_normalized:.10g} "
           f"(largest contact {size} {r.contact_size_max:.6g}; {r.nodes} nodes, "
           f"{r.steps_per_cycle} steps per cycle, {r.cycles} cycles, {r.seconds:.2f} s)")
+    for path in out.get("files", ()):
+        print(f"wrote {path}")
     return 0
+
+
+def _halfspace(args, geometry, num, P, Q, ks, steps):
+    """The half-space model of the options, every option checked before any work."""
+    import numpy as np
+
+    from .. import _checks
+    from ..contact.halfspace import HalfSpace
+    from ..errors import InputError
+    from ._paths import output_dir, output_file
+
+    dims = int(args.dims)
+    if args.nodes is not None:
+        raise InputError("--nodes", "the half-space takes --grid (elements across the contact)")
+    if args.figures is not None:
+        output_dir(args.figures, "--figures")
+    if args.animation is not None:
+        output_file(args.animation, "--animation", ".gif")
+    common = dict(dims=dims, k_support=ks)
+    if geometry == "heightmap":
+        for option in ("grid", "radius"):
+            if getattr(args, option) is not None:
+                raise InputError(f"--{option}", "does not apply to --heightmap (its grid is "
+                                                "the array's)")
+        if args.spacing is None:
+            raise InputError("--spacing", "the height map needs its grid spacing")
+        spacing = _checks.parse_number(args.spacing, "--spacing")
+        try:
+            heights = np.load(args.heightmap, allow_pickle=False)
+        except (OSError, ValueError) as exc:
+            raise InputError("--heightmap", f"cannot read {args.heightmap!r} as a .npy "
+                                            f"array: {exc}") from None
+        _steps_memory(heights.size, steps, dims, args)
+        return HalfSpace(num["E"], num["nu"], num["mu"], P, Q, heights=heights,
+                         spacing=spacing, **common)
+    if args.spacing is not None:
+        raise InputError("--spacing", "applies to --heightmap only")
+    if args.R is None:
+        raise InputError("--R", f"the {geometry} needs --R (its radius, or the punch's edge "
+                                f"radius)")
+    R = _checks.parse_number(args.R, "--R")
+    grid = _count(args.grid or "40", "--grid")
+    side = grid + 2 * max(2, -(-3 * grid // 100))
+    _steps_memory(side * side, steps, dims, args)
+    if geometry == "punch":
+        if args.radius is None:
+            raise InputError("--radius", "the punch needs its flat radius")
+        radius = _checks.parse_number(args.radius, "--radius")
+        return HalfSpace.punch(R, radius, num["E"], num["nu"], num["mu"], P, Q, grid=grid,
+                               **common)
+    if args.radius is not None:
+        raise InputError("--radius", "applies to --geometry punch only")
+    return HalfSpace.sphere(R, num["E"], num["nu"], num["mu"], P, Q, grid=grid, **common)
+
+
+def _steps_memory(nodes, steps, dims, args) -> None:
+    """Refuse a grid and steps whose recorded cycle would not fit (before any work)."""
+    from ..contact.steady import MAX_BYTES
+    from ..errors import InputError
+
+    record = (args.figures or args.animation) is not None
+    need = nodes * (steps + 1) * 8 * (1 + (1 + dims if record else 0))
+    if need > MAX_BYTES:
+        raise InputError("--grid" if args.heightmap is None else "--heightmap",
+                         f"{nodes} nodes x {steps} steps would take {need / 2**30:.1f} GiB "
+                         f"(at most {MAX_BYTES / 2**30:.0f}); a coarser grid or fewer steps")
+
+
+def _pictures(args, model, r) -> list:
+    files = []
+    if args.figures is not None:
+        from pathlib import Path
+
+        from ..contact.figures_halfspace import write_halfspace_figures
+
+        Path(args.figures).mkdir(exist_ok=True)
+        files += [str(f) for f in write_halfspace_figures(args.figures, model, r)]
+    if args.animation is not None:
+        from ..contact.figures_halfspace import animate_zones
+
+        files.append(str(animate_zones(model, r, args.animation)))
+    return files
 
 
 def _count(text, option: str) -> int:

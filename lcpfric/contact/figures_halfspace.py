@@ -307,8 +307,8 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
         fig = figure(figsize=(COLUMN_WIDTH, 4.1 + (0.25 if title else 0.0)),
                      layout="constrained")
         ax = fig.add_subplot()
-        cmap = ListedColormap(colormaps[RATIO_CMAP](np.linspace(0.0, RATIO_CMAP_TOP, 256)))
-        cmap.set_bad("white")
+        cmap = ListedColormap(colormaps[RATIO_CMAP](np.linspace(0.0, RATIO_CMAP_TOP, 256))
+                              ).with_extremes(bad="white")
         mesh = ax.pcolormesh(x, y, np.ma.masked_invalid(ratio.reshape(N, N)).T, cmap=cmap,
                              vmin=0.0, vmax=1.0, shading="nearest", rasterized=True)
         state = result.state[j].reshape(N, N)
@@ -360,9 +360,9 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
         from matplotlib.lines import Line2D
 
         handles = [Line2D([], [], ls="none", marker=r"$\rightarrow$", ms=8, color="black",
-                          label=rf"shear traction $q = -F/h^2$ on the element"
-                                + (f" (one arrow\nper {k} x {k} elements)" if k > 1 else "")
-                                + f"; {p0_text}")]
+                          label=r"shear traction $q = -F/h^2$ on the element"
+                                + (f",\none arrow per {k} x {k} elements; " if k > 1 else "\n")
+                                + p0_text)]
         handles += _edge_handles(model, stick_edge=stick_edge)
         fig.legend(handles=handles, loc="outside lower center", ncols=1, frameon=False,
                    fontsize=SMALL, title=_caption(model, sides=False), title_fontsize=SMALL)
@@ -405,7 +405,7 @@ def animate_zones(model, result, path, frames=None, fps: int = 10):
     with style():
         from matplotlib.animation import FuncAnimation, PillowWriter
 
-        fig = figure(figsize=(COLUMN_WIDTH, 4.2), layout="constrained")
+        fig = figure(figsize=(COLUMN_WIDTH, 4.6), layout="constrained")
         ax = fig.add_subplot()
         x, y, w = _grid(model)
         half = _crop(model, result)
@@ -420,7 +420,7 @@ def animate_zones(model, result, path, frames=None, fps: int = 10):
         fig.legend(handles=handles, loc="outside lower center", ncols=2, frameon=False,
                    fontsize=SMALL, title=_caption(model), title_fontsize=SMALL)
         finish(fig)
-        fig.canvas.draw()
+        fig.draw_without_rendering()                    # the layout, at the first frame
         fig.set_layout_engine("none")                   # laid out once: the frames keep it
         N = model.N
         from ..results import State

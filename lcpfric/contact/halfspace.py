@@ -357,10 +357,14 @@ class HalfSpace(ContactModel):
         tolF = self.tol * scale
         contact = b > 1e-10 * scale
         s0 = state.v.reshape(n, d)
-        F = (state.F + state.dF).reshape(n, d).copy()
+        # the start: the forces extrapolated by the last increment, unless that one started
+        # from the virgin contact (its change is a load applied at once, not a trend)
+        trend = bool(np.any(state.F != state.dF))
+        F = (state.F + state.dF if trend else state.F).reshape(n, d).copy()
         F[~contact] = 0.0
         _project(F, b)
-        delta = state.delta + state.ddelta
+        delta = state.delta + state.ddelta if trend else state.delta.copy()
+        CF = self.compliance(F)
         Qv = np.zeros(d)
         Qv[0] = Q
         updates = PatternUpdate(contact) if d == 1 else None
@@ -369,7 +373,7 @@ class HalfSpace(ContactModel):
         # d = 1: Murty's rule changes one node per iteration, so allow one per node
         limit = _MAX_NEWTON + (int(contact.sum()) if d == 1 else 0)
         for it in range(limit):
-            ds = delta + self.compliance(F) - s0
+            ds = delta + CF - s0
             z = F - ds / c
             eq = F.sum(axis=0) - ks * delta + Qv
             if d == 1:
@@ -390,10 +394,7 @@ class HalfSpace(ContactModel):
                         # a poor start (a large extrapolated change) can send the pattern
                         # astray: restart once from the previous increment's forces and
                         # pattern, the safe start
-                        F = state.F.reshape(n, d).copy()
-                        F[~contact] = 0.0
-                        _project(F, b)
-                        delta = state.delta.copy()
+                        F, delta, CF = self._safe_start(state, b, contact)
                         updates = PatternUpdate(contact)
                         up, restarted = None, True
                         continue
@@ -411,6 +412,10 @@ class HalfSpace(ContactModel):
                 worst = float(np.max(np.abs(F - proj), initial=0.0))
                 if worst <= tolF and float(np.max(np.abs(eq))) <= tolF * max(1, contact.sum()):
                     break
+                if it == 2 * _RESTART and not restarted:      # as for d = 1 below
+                    F, delta, CF = self._safe_start(state, b, contact)
+                    restarted = True
+                    continue
             if ks <= 0.0 and np.any(contact) and not np.any(contact & ~slip):
                 # an iterate with every node slipping has no equilibrium: unless the load
                 # exceeds every limit (gross sliding), the node nearest to sticking sticks
@@ -426,8 +431,12 @@ class HalfSpace(ContactModel):
                     up[i] = dn[i] = False
             self.stats["newton"] += 1
             dF, dd = self._newton(F, ds, z, zn, b, contact, slip, eq, worst)
-            F += dF
-            delta = delta + dd
+            CdF = self.compliance(dF)
+            alpha = 1.0 if d == 1 else self._step(F, CF, delta, dF, CdF, dd, s0, b,
+                                                   contact, Qv)
+            F += alpha * dF
+            CF += alpha * CdF
+            delta = delta + alpha * dd
         else:
             raise SolverError(f"half-space tangential increment: residual {worst:.3g} above "
                               f"{tolF:.3g} after {limit} Newton iterations",
@@ -444,6 +453,36 @@ class HalfSpace(ContactModel):
         new = _Tangential(v.ravel(), delta, F_flat.copy(), F_flat - state.F,
                           delta - state.delta, side)
         return new, F_flat, ds.ravel()
+
+    def _safe_start(self, state, b, contact):
+        """The previous increment's forces and rigid displacement (no extrapolation)."""
+        F = state.F.reshape(self.nodes, self.dims).copy()
+        F[~contact] = 0.0
+        _project(F, b)
+        return F, state.delta.copy(), self.compliance(F)
+
+    def _merit(self, F, CF, delta, s0, b, contact, Qv):
+        """``|F - proj(F - Δs/c)|² + |equilibrium|²`` (d = 2): the line search's measure."""
+        z = F - (delta + CF - s0) / self.c
+        zn = np.hypot(z[:, 0], z[:, 1])
+        slip = contact & (zn > b)
+        z[slip] *= (b[slip] / zn[slip])[:, None]
+        z[~contact] = 0.0
+        eq = F.sum(axis=0) - self.k_support * delta + Qv
+        return float(np.sum((F - z) ** 2) + eq @ eq)
+
+    def _step(self, F, CF, delta, dF, CdF, dd, s0, b, contact, Qv):
+        """d = 2: the Newton step's length, halved from 1 until the merit decreases (products
+        are linear: ``C(F + α ΔF) = CF + α CΔF``, so a trial costs no FFT)."""
+        m0 = self._merit(F, CF, delta, s0, b, contact, Qv)
+        alpha = 1.0
+        for _ in range(12):
+            m = self._merit(F + alpha * dF, CF + alpha * CdF, delta + alpha * dd, s0, b,
+                            contact, Qv)
+            if m <= (1.0 - 1e-4 * alpha) * m0:
+                return alpha
+            alpha *= 0.5
+        return alpha
 
     def _newton(self, F, ds, z, zn, b, contact, slip, eq, worst):
         """One semismooth Newton step (module docstring): ``(ΔF, Δδ)``. For d = 2 the linear
