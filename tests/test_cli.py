@@ -631,3 +631,70 @@ def test_contact_cylinder_json_against_the_plane_closed_form(capsys):
     code, _, err = run(capsys, *SPHERE, "--geometry", "cylinder", "--model", "mdr", "--P1",
                        "0", "--Q1", "25")
     assert_one_line_error(code, err, "--model")
+
+
+# -- contact: the half-space ----------------------------------------------------------------------
+def test_contact_halfspace_json_and_height_map(capsys, tmp_path):
+    """--model halfspace: the contract's JSON fields plus dims, grid and the time split; a
+    height map from a .npy file gives the sphere's W when it holds the sphere."""
+    from lcpfric.contact.halfspace import HalfSpace
+    from lcpfric.model.loads import Harmonic
+
+    base = (*SPHERE, "--model", "halfspace", "--P1", "50", "--Q1", "20", "--phi", "0.5pi",
+            "--grid", "12", "--steps", "40", "--json")
+    code, out, err = run(capsys, *base)
+    assert code == 0, err
+    res = json.loads(out)
+    for key in ("W", "W_normalized", "normalization", "k_t0", "contact_size_max", "nodes",
+                "steps_per_cycle", "cycles", "converged", "seconds", "dims", "grid",
+                "nodes_in_contact_max", "normal_seconds", "tangential_seconds"):
+        assert key in res, key
+    assert res["model"] == "halfspace" and res["method"] == "newton-cg" and res["dims"] == 1
+    m = HalfSpace.sphere(10.0, 200e3, 0.0, 0.5, Harmonic(100.0, 50.0), Harmonic(0.0, 20.0,
+                         0.5 * np.pi), grid=12)
+    assert res["W"] == pytest.approx(m.solve(40).W, rel=1e-12)
+    np.save(tmp_path / "h.npy", m.g0)
+    code, out, err = run(capsys, "contact", "--heightmap", tmp_path / "h.npy", "--spacing",
+                         m.h, *[a for a in base[1:] if a not in ("--model", "halfspace")
+                                ][:-5], "--steps", "40", "--json")
+    assert code == 0, err
+    assert json.loads(out)["W"] == pytest.approx(res["W"], rel=1e-12)
+
+
+@pytest.mark.parametrize("extra, option", [
+    (("--grid", "4"), "--grid"), (("--grid", "900", "--steps", "4000"), "--grid"),
+    (("--dims", "3"), "--dims"), (("--heightmap", "missing.npy", "--spacing", "1"),
+                                  "--heightmap"),
+    (("--geometry", "punch"), "--radius"), (("--radius", "1"), "--radius"),
+    (("--spacing", "1"), "--spacing"), (("--animation", "zones.mp4"), "--animation"),
+    (("--figures", "/nonexistent/dir/x"), "--figures"), (("--nodes", "30"), "--nodes")])
+def test_contact_halfspace_bad_input_is_one_line(capsys, extra, option):
+    args = dict(zip(SPHERE[1::2], SPHERE[2::2]))
+    args.update({"--P1": "0", "--Q1": "10", "--model": "halfspace"})
+    args.update(dict(zip(extra[0::2], extra[1::2])))
+    code, _, err = run(capsys, "contact", *[x for kv in args.items() for x in kv])
+    assert_one_line_error(code, err, option)
+
+
+def test_map_contact_halfspace_resumes(capsys, tmp_path):
+    """lcpfric map --contact sphere --contact-model halfspace: through sweep, resumable, equal
+    to the model's own solve."""
+    from lcpfric.contact.halfspace import HalfSpace
+    from lcpfric.model.loads import Harmonic
+
+    out = tmp_path / "hs.nc"
+    args = ("map", "--contact", "sphere", "--contact-model", "halfspace", "--grid", "10",
+            "--P1", "0:0.5:2", "--Q1", "0.2:0.4:2", "--phi", "0:pi/2:2", "--steps", "40",
+            "--out", out, "--no-progress")
+    code, _, err = run(capsys, *args)
+    assert code == 0, err
+    code, text, err = run(capsys, *args)
+    assert code == 0 and "1 of 1 chunks reused" in text, text + err
+    import xarray as xr
+
+    with xr.open_dataset(out) as ds:
+        got = float(ds.W_normalized.sel(phi=np.pi / 2, P1=0.5, Q1=0.4))
+        assert ds.attrs["model"] == "halfspace" and ds.attrs["grid"] == 10
+    m = HalfSpace.sphere(1.0, 1.0, 0.0, 1.0, Harmonic(1.0, 0.5, 0.0), Harmonic(0.0, 0.4,
+                         np.pi / 2), grid=10)
+    assert got == pytest.approx(m.solve(40, tol=1e-8).W_normalized, rel=1e-12)

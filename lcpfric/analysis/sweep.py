@@ -247,27 +247,52 @@ _VARIABLES = {
                      "description": "W_hat = k11 W / (f P0 Q1), Eq. (6) of the paper"}),
     "sphere": ("W_normalized", {"long_name": "dimensionless dissipation per cycle",
                                 "description": "W k_t0 / (mu^2 P0^2), k_t0 = 2 a0 G*: the "
-                                               "Hertz contact by dimensionality reduction"}),
+                                               "Hertz contact (the attribute 'model': mdr, "
+                                               "dimensionality reduction; halfspace, "
+                                               "boundary elements)"}),
 }
-#: a continuum contact's options and defaults (``sweep(..., contact=)``)
-CONTACT_DEFAULTS = {"geometry": "sphere", "nodes": 200, "k_support": 0.0, "tol": 1e-8}
+#: a continuum contact's options and defaults (``sweep(..., contact=)``), per model
+CONTACT_DEFAULTS = {"geometry": "sphere", "model": "mdr", "nodes": 200, "k_support": 0.0,
+                    "tol": 1e-8}
+HALFSPACE_DEFAULTS = {"geometry": "sphere", "model": "halfspace", "grid": 20, "dims": 1,
+                      "nu": 0.0, "k_support": 0.0, "tol": 1e-8}
 _CONTACT_STEPS = 200
+_HALFSPACE_STEPS = 100
 
 
 def _contact(contact, steps_per_cycle):
     """``(function, options, seconds per point)`` of a contact map (``contact``: a dict of
-    :data:`CONTACT_DEFAULTS` keys)."""
+    :data:`CONTACT_DEFAULTS` keys, or of :data:`HALFSPACE_DEFAULTS` keys with ``"model":
+    "halfspace"``)."""
     if not isinstance(contact, dict):
         raise InputError("contact", f"must be a dict of {sorted(CONTACT_DEFAULTS)}, got "
                                     f"{type(contact).__name__}")
-    unknown = sorted(set(contact) - set(CONTACT_DEFAULTS))
+    model = contact.get("model", "mdr")
+    if model not in ("mdr", "halfspace"):
+        raise InputError("contact", f"model must be 'mdr' or 'halfspace', got {model!r}")
+    defaults = CONTACT_DEFAULTS if model == "mdr" else HALFSPACE_DEFAULTS
+    unknown = sorted(set(contact) - set(defaults))
     if unknown:
         raise InputError("contact", f"unknown key {unknown[0]!r}; keys: "
-                                    f"{', '.join(sorted(CONTACT_DEFAULTS))}")
-    spec = {**CONTACT_DEFAULTS, **contact}
+                                    f"{', '.join(sorted(defaults))}")
+    spec = {**defaults, **contact}
     if spec["geometry"] != "sphere":
-        raise InputError("contact", f"maps are available for the sphere (MDR), got geometry "
+        raise InputError("contact", f"maps are available for the sphere, got geometry "
                                     f"{spec['geometry']!r}")
+    if model == "halfspace":
+        from ..contact.maps import halfspace_W_normalized
+
+        steps = _checks.positive_int("steps_per_cycle", steps_per_cycle or _HALFSPACE_STEPS, 4)
+        grid = _checks.positive_int("grid", spec["grid"], 8)
+        if spec["dims"] not in (1, 2):
+            raise InputError("dims", f"must be 1 or 2, got {spec['dims']!r}")
+        options = {"grid": grid, "dims": int(spec["dims"]),
+                   "nu": _checks.nonnegative("nu", spec["nu"]),
+                   "k_support": _checks.nonnegative("k_support", spec["k_support"]),
+                   "tol": _checks.positive("tol", spec["tol"]), "steps_per_cycle": steps}
+        # measured: about 35 ns per grid node, step and cycle at d = 1 (three cycles)
+        return halfspace_W_normalized, options, 1.1e-7 * 1.8 * grid * grid * steps * \
+            (3 if options["dims"] == 2 else 1)
     from ..contact.maps import mdr_W_normalized
 
     steps = _checks.positive_int("steps_per_cycle", steps_per_cycle or _CONTACT_STEPS, 4)
@@ -360,8 +385,12 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
         (μ² P0²)`` of the Hertz contact by dimensionality reduction
         (:func:`lcpfric.contact.maps.mdr_W_normalized`) over ``P1 = P1/P0``, ``Q1 = Q1/(μ
         P0)`` and φ, with ``k_support`` in units of k_t0 and ``steps_per_cycle`` 200 by
-        default; ``method`` is then not used. NaN marks loads that have no equilibrium under
-        pure load control (``k_support = 0`` and ``|Q| > μ P`` at some instant).
+        default; ``method`` is then not used. ``{"model": "halfspace", "grid": 20, "dims": 1,
+        "nu": 0.0, "k_support": 0.0, "tol": 1e-8}`` (its defaults; ``steps_per_cycle`` 100)
+        maps the same quantity on the half-space boundary elements
+        (:func:`lcpfric.contact.maps.halfspace_W_normalized`). NaN marks loads that have no
+        equilibrium under pure load control (``k_support = 0`` and ``|Q| > μ P`` at some
+        instant).
 
     Returns
     -------
@@ -384,7 +413,8 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
     geometry = None
     if contact is not None:
         func, options, cost = _contact(contact, steps_per_cycle)
-        geometry, method, entry, batched = "sphere", "mdr", None, False
+        method = contact.get("model", "mdr")
+        geometry, entry, batched = "sphere", None, False
     else:
         method, func, entry = _check_method(method)
         options = _options(entry, steps_per_cycle)
@@ -405,8 +435,9 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
     in_flight = largest * (1 if scheduler is not None else workers)
     need = (memory.map_bytes(n, P1.size + Q1.size + phi.size, method, steps, largest,
                              1 if scheduler is not None else workers) if contact is None else
-            8.0 * (4 * n + P1.size + Q1.size + phi.size) + 8.0 * 24 * options["nodes"]
-            * in_flight)  # the contact batch: about 24 arrays of points x nodes
+            8.0 * (4 * n + P1.size + Q1.size + phi.size)
+            + (8.0 * 24 * options["nodes"] * in_flight if "nodes" in options  # MDR batch
+               else 8.0 * 40 * 1.2 * options["grid"] ** 2 * steps * workers))  # one model
     memory.check(need, "P1", f"a map of {n} points ({phi.size} x {P1.size} x {Q1.size})")
     digest = hashlib.sha256(b"".join(a.tobytes() for a in (phi, P1, Q1))).hexdigest()[:16]
     description = {"dims": list(DIMS), "shape": [phi.size, P1.size, Q1.size],
@@ -419,8 +450,9 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
              "steps_per_cycle": options.get("steps_per_cycle", -1),
              "lcpfric_version": _version(), "fingerprint": key, "chunks": len(chunks)}
     if contact is not None:
-        attrs.update(geometry=geometry, model="mdr", nodes=options["nodes"],
-                     k_support_over_k_t0=options["k_support"], tol=options["tol"])
+        attrs.update(geometry=geometry, model=method, k_support_over_k_t0=options["k_support"],
+                     tol=options["tol"])
+        attrs.update({k: options[k] for k in ("nodes", "grid", "dims", "nu") if k in options})
 
     if out is not None and resume and out.exists():
         try:

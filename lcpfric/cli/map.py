@@ -41,13 +41,22 @@ def configure(p) -> None:
     g = p.add_argument_group("continuum contact",
                              "map a continuum contact instead of the single node")
     g.add_argument("--contact", choices=("sphere",), default=None,
-                   help="sphere: the Hertz contact by dimensionality reduction (then --Q1 is "
-                        "Q1/(mu P0) and --method is not used)")
+                   help="sphere: the Hertz contact (then --Q1 is Q1/(mu P0) and --method is "
+                        "not used)")
+    g.add_argument("--contact-model", choices=("mdr", "halfspace"), default="mdr",
+                   help="mdr (dimensionality reduction, default) or halfspace (boundary "
+                        "elements on a grid)")
     g.add_argument("--k-support", default="0", metavar="K",
                    help="tangential support stiffness over k_t0 (default 0: pure load control; "
                         "loads with |Q| > mu P at some instant are then NaN)")
     g.add_argument("--nodes", default="200", metavar="N",
-                   help="springs across the largest contact radius (default 200)")
+                   help="mdr: springs across the largest contact radius (default 200)")
+    g.add_argument("--grid", default="20", metavar="N",
+                   help="halfspace: elements across the largest contact (default 20)")
+    g.add_argument("--dims", default="1", choices=("1", "2"),
+                   help="halfspace: tangential directions (default 1)")
+    g.add_argument("--nu", default="0", metavar="X",
+                   help="halfspace: Poisson's ratio (default 0)")
     p.add_argument("--steps", default=None, metavar="N",
                    help="steps per cycle for time-stepping methods")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
@@ -158,10 +167,17 @@ def run(args) -> int:
     contact = None
     if args.contact is not None:
         contact = {"geometry": args.contact,
-                   "nodes": _checks.positive_int("--nodes", args.nodes),
                    "k_support": _checks.nonnegative(
                        "--k-support", _checks.parse_number(args.k_support, "--k-support"))}
-        method = "mdr"
+        if args.contact_model == "halfspace":
+            nu = _checks.parse_number(args.nu, "--nu")
+            if not 0.0 <= nu < 0.5:
+                raise InputError("--nu", f"must be in [0, 0.5), got {args.nu!r}")
+            contact.update(model="halfspace", grid=_checks.positive_int("--grid", args.grid, 8),
+                           dims=int(args.dims), nu=nu)
+        else:
+            contact["nodes"] = _checks.positive_int("--nodes", args.nodes)
+        method = args.contact_model
     modules = ["xarray"] + ([] if _common.installed("netCDF4") else ["h5netcdf", "h5py"])
     if args.scheduler is not None:
         modules.append("distributed")

@@ -217,10 +217,16 @@ def figure_zone_maps(model, result, fractions=(0.0, 0.25, 0.5, 0.75), title: str
     with style():
         ncols = min(4, len(steps))
         nrows = math.ceil(len(steps) / ncols)
-        panel = (PAGE_WIDTH - 0.55) / ncols if ncols > 1 else COLUMN_WIDTH - 0.6
         width = PAGE_WIDTH if ncols > 1 else COLUMN_WIDTH
-        fig = figure(figsize=(width, nrows * (panel + 0.5) + 0.85 + (0.2 if title else 0.0)),
-                     layout="constrained")
+        panel = (width - 0.55) / ncols                  # square panels; 0.55 in: y labels
+        handles = _zone_legend(model, _edge_handles(model))
+        legend_cols = 3 if ncols > 1 else 2
+        caption = _caption(model)
+        lines = caption.count("\n") + 1 + math.ceil(len(handles) / legend_cols)
+        # per row: the panel, its two-line title and the x tick labels and label; then the
+        # legend (about 0.15 in a line) and the title
+        height = nrows * (panel + 0.62) + 0.14 * lines + 0.1 + (0.2 if title else 0.0)
+        fig = figure(figsize=(width, height), layout="constrained")
         axes = fig.subplots(nrows, ncols, squeeze=False, sharex=True, sharey=True)
         x, y, w = _grid(model)
         half = _crop(model, result)
@@ -232,14 +238,14 @@ def figure_zone_maps(model, result, fractions=(0.0, 0.25, 0.5, 0.75), title: str
                          pad=3, linespacing=1.3)
         for ax in axes.flat[len(steps):]:
             ax.set_visible(False)
-        for ax in axes[-1, :]:
-            ax.set_xlabel(r"$x/a_0$", labelpad=1)
+        for col in range(ncols):                        # x labels on each column's last panel
+            last = axes[(len(steps) - 1 - col) // ncols, col]
+            last.xaxis.set_tick_params(labelbottom=True)
+            last.set_xlabel(r"$x/a_0$", labelpad=1)
         for ax in axes[:, 0]:
             ax.set_ylabel(r"$y/a_0$", labelpad=1)
-        handles = _zone_legend(model, _edge_handles(model))
-        fig.legend(handles=handles, loc="outside lower center", ncols=3 if ncols > 1 else 2,
-                   frameon=False, fontsize=SMALL,
-                   title=_caption(model), title_fontsize=SMALL)
+        fig.legend(handles=handles, loc="outside lower center", ncols=legend_cols,
+                   frameon=False, fontsize=SMALL, title=caption, title_fontsize=SMALL)
         if title:
             fig.suptitle(title, fontsize=SMALL + 1)
         return finish(fig)

@@ -1,4 +1,6 @@
-r"""Dissipation maps of the Hertz contact (MDR): many load cases advanced together.
+r"""Dissipation maps of the Hertz contact: by MDR (many load cases advanced together) and by
+the half-space boundary elements (:func:`halfspace_W_normalized`, point by point, the normal
+problem shared by the points of one P̂1).
 
 :func:`mdr_W_normalized` evaluates ``W k_t0 / (μ² P0²)`` of the MDR sphere
 (:class:`~lcpfric.contact.mdr.MDRSphere`) at many points ``(P̂1, Q̂1, φ)`` = ``(P1/P0,
@@ -24,8 +26,9 @@ from .. import _checks
 from ..errors import InputError
 from ..periodic import cycle_change
 from .mdr import bar_increment
+from .steady import steady_state
 
-__all__ = ["mdr_W_normalized", "gross_sliding_points"]
+__all__ = ["mdr_W_normalized", "halfspace_W_normalized", "gross_sliding_points"]
 
 _SAMPLES = 20001
 
@@ -120,3 +123,39 @@ def _batch(P1, Q1, phi, n, steps, ks, tol, max_cycles):
         prev = W
     result[active] = W[active]  # not converged in max_cycles: the last cycle's W
     return result
+
+
+def halfspace_W_normalized(P1, Q1, phi, *, grid: int = 20, dims: int = 1, nu: float = 0.0,
+                           steps_per_cycle: int = 100, k_support: float = 0.0,
+                           tol: float = 1e-8, max_cycles: int = 200):
+    """``W k_t0 / (μ² P0²)`` of the sphere on the half-space
+    (:class:`~lcpfric.contact.halfspace.HalfSpace`) at the points ``(P1, Q1, phi)`` (flat
+    arrays of P̂1, Q̂1, φ), ``grid`` elements across the largest contact, ``k_support`` in
+    units of k_t0. The points of one P̂1 share one model, so the normal problem of each instant
+    is solved once. NaN where pure load control has no equilibrium; 0 where Q̂1 = 0."""
+    from ..model.loads import Harmonic
+    from .halfspace import HalfSpace
+
+    P1, Q1, phi = (np.atleast_1d(np.asarray(x, dtype=float)).ravel() for x in (P1, Q1, phi))
+    steps = _checks.positive_int("steps_per_cycle", steps_per_cycle, 4)
+    ks = _checks.nonnegative("k_support", k_support)
+    if not (P1.size == Q1.size == phi.size):
+        raise InputError("P1", "P1, Q1 and phi must have one value per point")
+    out = np.zeros(P1.size)
+    run = Q1 > 0
+    if ks == 0.0:
+        bad = gross_sliding_points(P1, Q1, phi)
+        out[bad] = np.nan
+        run &= ~bad
+    two_pi = 2.0 * math.pi
+    for p1 in np.unique(P1[run]):
+        idx = np.flatnonzero(run & (P1 == p1))
+        # P0 = μ = 1, R = E = 1: W k_t0 / (μ² P0²) does not depend on them
+        model = HalfSpace.sphere(1.0, 1.0, nu, 1.0, Harmonic(1.0, p1, 0.0, two_pi),
+                                 Harmonic(0.0, 1.0, 0.0, two_pi), grid=grid, dims=dims)
+        model.k_support = ks * model.k_t0
+        for i in idx:
+            model.Q = Harmonic(0.0, float(Q1[i]), float(phi[i]), two_pi)
+            out[i] = steady_state(model, steps, tol=tol, max_cycles=max_cycles,
+                                  on_nonconvergence="warn").W_normalized
+    return out
