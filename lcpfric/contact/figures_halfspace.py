@@ -51,14 +51,14 @@ def _check_result(model, result):
                                    f"{model.nodes}: not this model's result")
 
 
-def _index(result, fraction: float) -> int:
+def _index(result, fraction: float, name: str = "fractions") -> int:
     """The recorded instant nearest to ``fraction`` of the period. The first instant (t = 0)
     is taken at the end of the cycle instead (t = T, the same instant of the periodic state):
     the first recorded states carry no slip (no increment ends there)."""
     t = np.asarray(result.t, dtype=float)
     f = float(fraction)
     if not math.isfinite(f) or not 0.0 <= f <= 1.0:
-        raise InputError("fractions", f"must be fractions of the period in [0, 1], got {f!r}")
+        raise InputError(name, f"must be fractions of the period in [0, 1], got {f!r}")
     j = int(np.argmin(np.abs(t / t[-1] - f)))
     return t.size - 1 if j == 0 else j
 
@@ -196,7 +196,7 @@ def _edge_handles(model, stick_edge: bool = False):
     return out
 
 
-def _ticks(ax, half):
+def _ticks(ax):
     from matplotlib.ticker import MaxNLocator
 
     for axis in (ax.xaxis, ax.yaxis):
@@ -233,7 +233,7 @@ def figure_zone_maps(model, result, fractions=(0.0, 0.25, 0.5, 0.75), title: str
         period = float(result.t[-1])
         for ax, j in zip(axes.flat, steps):
             _draw_zones(ax, model, result, j, x, y, w, half)
-            _ticks(ax, half)
+            _ticks(ax)
             ax.set_title(_loads_label(model, float(result.t[j]), period), fontsize=SMALL,
                          pad=3, linespacing=1.3)
         for ax in axes.flat[len(steps):]:
@@ -292,7 +292,7 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
                                  f"(dims=2); this model has dims={model.dims} (tractions "
                                  f"along x only): build it with dims=2")
     _check_result(model, result)
-    j = _index(result, fraction)
+    j = _index(result, fraction, "fraction")
     from ..results import State
 
     with style():
@@ -356,7 +356,7 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
         ax.set_xlim(-half, half)
         ax.set_ylim(-half, half)
         ax.set_aspect("equal")
-        _ticks(ax, half)
+        _ticks(ax)
         ax.set_xlabel(r"$x/a_0$", labelpad=1)
         ax.set_ylabel(r"$y/a_0$", labelpad=1)
         ax.set_title(_loads_label(model, float(result.t[j]), float(result.t[-1])).replace(
@@ -417,7 +417,7 @@ def animate_zones(model, result, path, frames=None, fps: int = 10):
         half = _crop(model, result)
         period = float(result.t[-1])
         mesh, edge, circle = _draw_zones(ax, model, result, int(index[0]), x, y, w, half)
-        _ticks(ax, half)
+        _ticks(ax)
         ax.set_xlabel(r"$x/a_0$", labelpad=1)
         ax.set_ylabel(r"$y/a_0$", labelpad=1)
         head = ax.set_title(_loads_label(model, float(result.t[index[0]]), period),

@@ -430,8 +430,7 @@ class HalfSpace(ContactModel):
                 if d == 1:
                     up[i] = dn[i] = False
             self.stats["newton"] += 1
-            dF, dd = self._newton(F, ds, z, zn, b, contact, slip, eq, worst)
-            CdF = self.compliance(dF)
+            dF, dd, CdF = self._newton(F, ds, z, zn, b, contact, slip, eq, worst)
             alpha = 1.0 if d == 1 else self._step(F, CF, delta, dF, CdF, dd, s0, b,
                                                    contact, Qv)
             F += alpha * dF
@@ -510,15 +509,20 @@ class HalfSpace(ContactModel):
                 raise SolverError("half-space: every node in contact slips or is separated "
                                   "under pure load control (gross sliding)",
                                   backend="halfspace", status="gross_sliding")
-            return known, (eq + known.sum(axis=0)) / ks
-        g = rhs - space.restrict(self.compliance(known)) if np.any(known) else rhs
+            return known, (eq + known.sum(axis=0)) / ks, self.compliance(known)
+        Ck = self.compliance(known) if np.any(known) else np.zeros((n, d))
+        g = rhs - space.restrict(Ck)
         cons = -(eq + known.sum(axis=0))
         B = space.constraint()                                        # (d, size)
         h2 = self.h ** 2
+        acc = {"last": None, "sum": np.zeros((n, d))}   # C of the unknowns' part, by products
 
         def M(x):
-            return (space.restrict(self._apply(self.op.tangential, space.embed(x), 1.0 / h2))
-                    + space.diagonal * x)
+            acc["last"] = self._apply(self.op.tangential, space.embed(x), 1.0 / h2)
+            return space.restrict(acc["last"]) + space.diagonal * x
+
+        def step(alpha):
+            acc["sum"] += alpha * acc["last"]
 
         def pre(r):
             return space.restrict(self._apply(self.op.precondition, space.embed(r), h2))
@@ -528,7 +532,7 @@ class HalfSpace(ContactModel):
             tol = max(tol, _ETA * c * worst)
         if ks > 0.0:
             x, _ = _cg(lambda y: M(y) + B.T @ (B @ y) / ks, g + B.T @ cons / ks,
-                       np.zeros(space.size), None, pre, tol, self.stats)
+                       np.zeros(space.size), None, pre, tol, self.stats, step)
             dd = (B @ x - cons) / ks
         else:
             BBt = B @ B.T
@@ -542,9 +546,9 @@ class HalfSpace(ContactModel):
             def project(r):
                 return r - B.T @ (W @ r)
 
-            x, res = _cg(M, g, x0, project, pre, tol, self.stats)
+            x, res = _cg(M, g, x0, project, pre, tol, self.stats, step)
             dd = W @ res
-        return space.embed(x).reshape(n, d) + known, dd
+        return space.embed(x).reshape(n, d) + known, dd, acc["sum"] + Ck
 
 
 class _Space:
@@ -606,12 +610,19 @@ def _project(F, b):
     F[over] *= (b[over] / norm[over])[:, None]
 
 
-def _cg(M, g, x, project, pre, tol, stats, max_iter=None):
+def _cg(M, g, x, project, pre, tol, stats, step=None, max_iter=None):
     """Preconditioned conjugate gradients for ``M x = g`` from x (on the null space of the
     constraint when ``project`` is given: the preconditioner is then ``Π pre Π``), until the
     (projected) residual is below ``tol`` everywhere. Returns x and the unprojected residual
-    ``g - M x`` (whose part off the null space gives the constraint's multiplier)."""
-    res = g - M(x) if np.any(x) else g.copy()
+    ``g - M x`` (whose part off the null space gives the constraint's multiplier). ``step(α)``
+    is told each multiple of the last product of M added to x (1 for the start), so the
+    caller can sum the products into ``C x`` without one more."""
+    if np.any(x):
+        res = g - M(x)
+        if step is not None:
+            step(1.0)
+    else:
+        res = g.copy()
     r = res if project is None else project(res)
     if float(np.max(np.abs(r))) <= tol:
         return x, res
@@ -623,6 +634,8 @@ def _cg(M, g, x, project, pre, tol, stats, max_iter=None):
         stats["cg"] += 1
         Mp = M(p)
         alpha = rz / float(p @ Mp)
+        if step is not None:
+            step(alpha)
         x = x + alpha * p
         res = res - alpha * Mp
         r = res if project is None else project(res)
