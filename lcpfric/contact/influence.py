@@ -152,6 +152,11 @@ class Convolution:
             self.__dict__["_inv"] = inv
         return inv
 
+    def precondition_normal(self, p):
+        """The (floored) inverse of the padded circulant normal operator applied to ``p``."""
+        self.products += 1
+        return self._back(self._forward(p) * self._inverse["n"])
+
     def precondition(self, q):
         """The (floored) inverse of the padded circulant tangential operator applied to ``q``:
         a symmetric positive definite preconditioner for the operator restricted to any set of
