@@ -107,7 +107,7 @@ def run(args) -> int:
     if model_name != "halfspace":
         for option in ("grid", "radius", "heightmap", "spacing", "figures", "animation"):
             if getattr(args, option) is not None:
-                raise InputError(f"--{option}", f"applies to --model halfspace only")
+                raise InputError(f"--{option}", "applies to --model halfspace only")
         if args.dims != "1":
             raise InputError("--dims", "2 applies to --model halfspace only")
     P, Q = Harmonic(num["P0"], num["P1"]), Harmonic(0.0, num["Q1"], phi)
