@@ -101,12 +101,17 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true", help="coarser grids, fewer steps")
     ap.add_argument("--no-heightmap", action="store_true", help="skip the 256 x 256 height map")
     ap.add_argument("--heightmap-only", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("--readme-figure", action="store_true",
+                    help="only draw docs/halfspace_zones.png (a 128 x 128 rough sphere, by "
+                         "the command users run)")
     ap.add_argument("--out", default=str(Path(__file__).parent / "results"))
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(exist_ok=True)
     if args.heightmap_only:
         return heightmap(args.quick)
+    if args.readme_figure:
+        return readme_figure()
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
                             text=True, cwd=Path(__file__).parent).stdout.strip()
     lines = ["# The 3-D half-space contact (issue 13)", "",
@@ -287,6 +292,25 @@ def heightmap(quick: bool):
           f"(setup included), peak resident memory {peak:.0f} MB. {split(m, wall)}.")
     print(f"\nGoal: a steady state in at most 10 minutes under 4 GB: {wall / 60:.1f} min, "
           f"{peak / 1024:.2f} GB.")
+
+
+def readme_figure():
+    """docs/halfspace_zones.png: ``lcpfric contact --heightmap`` on a 128 x 128 rough sphere."""
+    import shutil
+    import tempfile
+
+    heights, h = rough_sphere(128)
+    docs = Path(__file__).resolve().parents[1] / "docs"
+    with tempfile.TemporaryDirectory() as tmp:
+        np.save(Path(tmp) / "rough128.npy", heights)
+        cmd = ["lcpfric", "contact", "--heightmap", "rough128.npy", "--spacing", repr(h),
+               "--E", f"{E:g}", "--nu", "0", "--mu", str(MU), "--P0", f"{P0:g}", "--P1",
+               f"{0.5 * P0:g}", "--Q1", f"{0.4 * MU * P0:g}", "--phi", "0.5pi", "--steps",
+               "100", "--figures", "figs"]
+        print(" ".join(cmd))
+        subprocess.run(cmd, cwd=tmp, check=True)
+        shutil.copy(Path(tmp) / "figs" / "halfspace-zones.png", docs / "halfspace_zones.png")
+    print(f"wrote {docs / 'halfspace_zones.png'}")
 
 
 if __name__ == "__main__":
