@@ -667,7 +667,8 @@ def test_contact_halfspace_json_and_height_map(capsys, tmp_path):
                                   "--heightmap"),
     (("--geometry", "punch"), "--radius"), (("--radius", "1"), "--radius"),
     (("--spacing", "1"), "--spacing"), (("--animation", "zones.mp4"), "--animation"),
-    (("--figures", "/nonexistent/dir/x"), "--figures"), (("--nodes", "30"), "--nodes")])
+    (("--figures", "/nonexistent/dir/x"), "--figures"), (("--nodes", "30"), "--nodes"),
+    (("--instants", "0.2,1.5"), "--instants")])
 def test_contact_halfspace_bad_input_is_one_line(capsys, extra, option):
     args = dict(zip(SPHERE[1::2], SPHERE[2::2]))
     args.update({"--P1": "0", "--Q1": "10", "--model": "halfspace"})

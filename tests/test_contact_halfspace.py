@@ -216,3 +216,11 @@ def test_bad_input_is_refused_before_work():
         g = np.linspace(-1, 1, 24)
         HalfSpace(1.0, 0.0, 0.5, 50.0, 0.0, heights=(g[:, None] ** 2 + g[None, :] ** 2) / 2,
                   spacing=g[1] - g[0])
+
+
+def test_recorded_cycle_starts_where_it_ends():
+    """The recorded states of the steady cycle's first instant are those of its last (the
+    previous cycle's last increment), not a blank 'stick'."""
+    r = sphere(Q1=0.25, grid=12).solve(40, record=True)
+    assert np.array_equal(r.state[0], r.state[-1])
+    assert np.any((r.state[0] == 1) | (r.state[0] == 2))      # the edge slips at t = 0

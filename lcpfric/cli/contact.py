@@ -70,6 +70,9 @@ def configure(p) -> None:
     g.add_argument("--figures", default=None, metavar="DIR",
                    help="also draw the stick/slip/separation maps (and the traction vectors "
                         "with --dims 2) of the steady cycle into DIR")
+    g.add_argument("--instants", default="0,0.25,0.5,0.75", metavar="F,F,...",
+                   help="fractions of the period at which --figures draws the zones "
+                        "(default 0,0.25,0.5,0.75)")
     g.add_argument("--animation", default=None, metavar="FILE.gif",
                    help="also write an animation of the zones over the steady cycle")
     p.add_argument("--method", default=None, metavar="M",
@@ -166,6 +169,7 @@ def _halfspace(args, geometry, num, P, Q, ks, steps):
         raise InputError("--nodes", "the half-space takes --grid (elements across the contact)")
     if args.figures is not None:
         output_dir(args.figures, "--figures")
+    args.fractions = _fractions(args.instants)
     if args.animation is not None:
         output_file(args.animation, "--animation", ".gif")
     common = dict(dims=dims, k_support=ks)
@@ -205,6 +209,23 @@ def _halfspace(args, geometry, num, P, Q, ks, steps):
     return HalfSpace.sphere(R, num["E"], num["nu"], num["mu"], P, Q, grid=grid, **common)
 
 
+def _fractions(text) -> tuple:
+    """``--instants``: fractions of the period in [0, 1]."""
+    import math
+
+    from .. import _checks
+    from ..errors import InputError
+
+    parts = [x for x in str(text).split(",") if x.strip()]
+    if not parts:
+        raise InputError("--instants", "must name at least one fraction of the period")
+    out = tuple(_checks.parse_number(x, "--instants") for x in parts)
+    if any(not (math.isfinite(f) and 0.0 <= f <= 1.0) for f in out) or len(out) > 12:
+        raise InputError("--instants", f"must be 1 to 12 fractions of the period in [0, 1], "
+                                       f"got {text!r}")
+    return out
+
+
 def _steps_memory(nodes, steps, dims, args) -> None:
     """Refuse a grid and steps whose recorded cycle would not fit (before any work)."""
     from ..contact.steady import MAX_BYTES
@@ -226,7 +247,8 @@ def _pictures(args, model, r) -> list:
         from ..contact.figures_halfspace import write_halfspace_figures
 
         Path(args.figures).mkdir(exist_ok=True)
-        files += [str(f) for f in write_halfspace_figures(args.figures, model, r)]
+        files += [str(f) for f in write_halfspace_figures(args.figures, model, r,
+                                                          fractions=args.fractions)]
     if args.animation is not None:
         from ..contact.figures_halfspace import animate_zones
 

@@ -53,8 +53,8 @@ def _check_result(model, result):
 
 def _index(result, fraction: float, name: str = "fractions") -> int:
     """The recorded instant nearest to ``fraction`` of the period. The first instant (t = 0)
-    is taken at the end of the cycle instead (t = T, the same instant of the periodic state):
-    the first recorded states carry no slip (no increment ends there)."""
+    is taken at the end of the cycle instead (t = T, the same instant of the periodic
+    state)."""
     t = np.asarray(result.t, dtype=float)
     f = float(fraction)
     if not math.isfinite(f) or not 0.0 <= f <= 1.0:
@@ -447,14 +447,26 @@ def animate_zones(model, result, path, frames=None, fps: int = 10):
     return path
 
 
-def write_halfspace_figures(out_dir, model, result, formats=("png", "pdf")) -> list[Path]:
-    """Write the zone maps (``halfspace-zones``) and, for ``dims = 2``, the traction vectors
-    (``halfspace-tractions``) of a solved half-space contact into ``out_dir``: the paths."""
+def write_halfspace_figures(out_dir, model, result, formats=("png", "pdf"),
+                            fractions=(0.0, 0.25, 0.5, 0.75)) -> list[Path]:
+    """Write the zone maps at ``fractions`` of the period (``halfspace-zones``) and, for
+    ``dims = 2``, the traction vectors at the first of them with a tangential load (``halfspace-
+    tractions``, at the largest |Q| if none has one) of a solved half-space contact into
+    ``out_dir``: the paths."""
     _check_result(model, result)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    paths = save(figure_zone_maps(model, result), out_dir, "halfspace-zones", formats)
+    paths = save(figure_zone_maps(model, result, fractions), out_dir, "halfspace-zones",
+                 formats)
     if model.dims == 2:
-        paths += save(figure_traction_vectors(model, result), out_dir, "halfspace-tractions",
-                      formats)
+        T = float(result.t[-1])
+        Q = [abs(float(model.Q(f * T))) for f in fractions]
+        big = max(Q) > 1e-12 * max(abs(float(model.Q.amplitude)), 1e-300)
+        if big:
+            fraction = float(fractions[int(np.argmax(np.asarray(Q) > 0.5 * max(Q)))])
+        else:
+            qs = np.abs(np.asarray(model.Q(result.t), dtype=float))
+            fraction = float(result.t[int(np.argmax(qs))] / T)
+        paths += save(figure_traction_vectors(model, result, fraction), out_dir,
+                      "halfspace-tractions", formats)
     return paths

@@ -164,9 +164,10 @@ class HalfSpace(ContactModel):
         self.a_eq0 = math.sqrt(np.count_nonzero(p0) * self.h ** 2 / math.pi)
         across = 2.0 * self.a_eq0 / self.h
         if across < MIN_ACROSS:
-            raise InputError("grid", f"the contact at the mean load spans about {across:.1f} "
-                                     f"elements across, fewer than {MIN_ACROSS}: the grid is "
-                                     f"too coarse to resolve it; refine the grid")
+            raise InputError("grid" if geometry in ("sphere", "punch") else "spacing",
+                             f"the contact at the mean load spans about {across:.1f} "
+                             f"elements across, fewer than {MIN_ACROSS}: the grid is too "
+                             f"coarse to resolve it; refine the grid")
         edge = top.reshape(N, N)
         if np.any(edge[0]) or np.any(edge[-1]) or np.any(edge[:, 0]) or np.any(edge[:, -1]):
             raise InputError("heights", "the contact at the largest load reaches the grid's "

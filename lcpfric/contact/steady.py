@@ -157,12 +157,13 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
     Fs = Ss = None
     starts = [state.v.copy()]
     jumps = 0
+    dv = None                 # the last increment's slips: the states at a cycle's start
     for _ in range(max_cycles):
         v0 = state.v.copy()
         if record:
             Fs = np.empty((steps + 1, n * dims))
             Ss = np.empty((steps + 1, n), dtype=np.int8)
-            Fs[0], Ss[0] = F, _states(b[0], None)
+            Fs[0], Ss[0] = F, _states(b[0], dv, dims)
         W = 0.0
         vmin, vmax = v0.copy(), v0.copy()
         for j in range(steps):
