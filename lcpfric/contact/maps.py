@@ -45,17 +45,12 @@ def gross_sliding_points(P1, Q1, phi) -> np.ndarray:
     return out
 
 
-def mdr_W_normalized(P1, Q1, phi, *, nodes: int = 200, steps_per_cycle: int = 200,
-                     k_support: float = 0.0, tol: float = 1e-8, max_cycles: int = 200):
-    """``W k_t0 / (μ² P0²)`` of the MDR sphere at the points ``(P1, Q1, phi)`` (flat arrays of
-    P̂1, Q̂1 and φ); ``k_support`` in units of k_t0. NaN where pure load control has no
-    equilibrium; 0 where Q̂1 = 0."""
+def _points(P1, Q1, phi, steps_per_cycle, k_support):
+    """The points as flat arrays, the checked steps and support, the output (NaN where pure
+    load control has no equilibrium, 0 where Q̂1 = 0) and the points left to compute."""
     P1, Q1, phi = (np.atleast_1d(np.asarray(x, dtype=float)).ravel() for x in (P1, Q1, phi))
-    nodes = _checks.positive_int("nodes", nodes)
     steps = _checks.positive_int("steps_per_cycle", steps_per_cycle, 4)
     ks = _checks.nonnegative("k_support", k_support)
-    tol = _checks.positive("tol", tol)
-    max_cycles = _checks.positive_int("max_cycles", max_cycles)
     if not (P1.size == Q1.size == phi.size):
         raise InputError("P1", "P1, Q1 and phi must have one value per point")
     out = np.zeros(P1.size)
@@ -64,6 +59,18 @@ def mdr_W_normalized(P1, Q1, phi, *, nodes: int = 200, steps_per_cycle: int = 20
         bad = gross_sliding_points(P1, Q1, phi)
         out[bad] = np.nan
         run &= ~bad
+    return P1, Q1, phi, steps, ks, out, run
+
+
+def mdr_W_normalized(P1, Q1, phi, *, nodes: int = 200, steps_per_cycle: int = 200,
+                     k_support: float = 0.0, tol: float = 1e-8, max_cycles: int = 200):
+    """``W k_t0 / (μ² P0²)`` of the MDR sphere at the points ``(P1, Q1, phi)`` (flat arrays of
+    P̂1, Q̂1 and φ); ``k_support`` in units of k_t0. NaN where pure load control has no
+    equilibrium; 0 where Q̂1 = 0."""
+    nodes = _checks.positive_int("nodes", nodes)
+    tol = _checks.positive("tol", tol)
+    max_cycles = _checks.positive_int("max_cycles", max_cycles)
+    P1, Q1, phi, steps, ks, out, run = _points(P1, Q1, phi, steps_per_cycle, k_support)
     idx = np.flatnonzero(run)
     if idx.size:
         out[idx] = _batch(P1[idx], Q1[idx], phi[idx], nodes, steps, ks, tol, max_cycles)
@@ -136,17 +143,7 @@ def halfspace_W_normalized(P1, Q1, phi, *, grid: int = 20, dims: int = 1, nu: fl
     from ..model.loads import Harmonic
     from .halfspace import HalfSpace
 
-    P1, Q1, phi = (np.atleast_1d(np.asarray(x, dtype=float)).ravel() for x in (P1, Q1, phi))
-    steps = _checks.positive_int("steps_per_cycle", steps_per_cycle, 4)
-    ks = _checks.nonnegative("k_support", k_support)
-    if not (P1.size == Q1.size == phi.size):
-        raise InputError("P1", "P1, Q1 and phi must have one value per point")
-    out = np.zeros(P1.size)
-    run = Q1 > 0
-    if ks == 0.0:
-        bad = gross_sliding_points(P1, Q1, phi)
-        out[bad] = np.nan
-        run &= ~bad
+    P1, Q1, phi, steps, ks, out, run = _points(P1, Q1, phi, steps_per_cycle, k_support)
     two_pi = 2.0 * math.pi
     for p1 in np.unique(P1[run]):
         idx = np.flatnonzero(run & (P1 == p1))
