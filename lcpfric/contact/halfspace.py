@@ -413,7 +413,9 @@ class HalfSpace(ContactModel):
                 proj = z.copy()
                 proj[slip] *= (b[slip] / zn[slip])[:, None]
                 proj[~contact] = 0.0
-                worst = float(np.max(np.abs(F - proj), initial=0.0))
+                R = F - proj
+                worst = float(np.max(np.abs(R), initial=0.0))
+                merit = float(np.sum(R * R) + eq @ eq)
                 if worst <= tolF and float(np.max(np.abs(eq))) <= tolF * max(1, contact.sum()):
                     break
                 if it == 2 * _RESTART and not restarted:      # as for d = 1 below
@@ -435,7 +437,7 @@ class HalfSpace(ContactModel):
                     up[i] = dn[i] = False
             self.stats["newton"] += 1
             dF, dd, CdF = self._newton(F, ds, z, zn, b, contact, slip, eq, worst)
-            alpha = 1.0 if d == 1 else self._step(F, CF, delta, dF, CdF, dd, s0, b,
+            alpha = 1.0 if d == 1 else self._step(merit, F, CF, delta, dF, CdF, dd, s0, b,
                                                    contact, Qv)
             F += alpha * dF
             CF += alpha * CdF
@@ -474,10 +476,10 @@ class HalfSpace(ContactModel):
         eq = F.sum(axis=0) - self.k_support * delta + Qv
         return float(np.sum((F - z) ** 2) + eq @ eq)
 
-    def _step(self, F, CF, delta, dF, CdF, dd, s0, b, contact, Qv):
-        """d = 2: the Newton step's length, halved from 1 until the merit decreases (products
-        are linear: ``C(F + α ΔF) = CF + α CΔF``, so a trial costs no FFT)."""
-        m0 = self._merit(F, CF, delta, s0, b, contact, Qv)
+    def _step(self, m0, F, CF, delta, dF, CdF, dd, s0, b, contact, Qv):
+        """d = 2: the Newton step's length, halved from 1 until the merit (``m0`` at the
+        start) decreases (products are linear: ``C(F + α ΔF) = CF + α CΔF``, so a trial
+        costs no FFT)."""
         alpha = 1.0
         for _ in range(12):
             m = self._merit(F + alpha * dF, CF + alpha * CdF, delta + alpha * dd, s0, b,
