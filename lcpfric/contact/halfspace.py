@@ -225,7 +225,8 @@ class HalfSpace(ContactModel):
         h = 2.0 * a_max / grid
         return (np.arange(N) - (N - 1) / 2.0) * h, N, h
 
-    def _check_memory(self, steps: int = 400):
+    def _check_memory(self):
+        """Refuse a grid whose FFT arrays (kernels, spectra, work arrays) exceed 4 GiB."""
         M = 2 * self.N
         need = 8 * (M * M * (3 + 2 * self.dims) + 12 * self.N ** 2 * self.dims)
         if need > 4 << 30:
