@@ -77,8 +77,10 @@ def configure(p) -> None:
                    help="also write an animation of the zones over the steady cycle")
     p.add_argument("--method", default=None, metavar="M",
                    help="how each increment is solved: exact-increment (mdr: the bar's "
-                        "equation in closed form, no solver) or active-set (halfplane: "
-                        "primal-dual active set on the stick set); default: the model's")
+                        "equation in closed form, no solver), active-set (halfplane: "
+                        "primal-dual active set on the stick set) or newton-cg (halfspace: "
+                        "semismooth Newton, conjugate gradients on FFT products); default: "
+                        "the model's")
     p.add_argument("--json", action="store_true", help="print one JSON object")
 
 
