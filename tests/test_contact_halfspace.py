@@ -143,14 +143,17 @@ def test_two_directions_at_nu_zero_equal_one():
 
 @pytest.mark.parametrize("dims, nu", [(1, 0.0), (2, 0.3)])
 def test_against_the_convex_backends(dims, nu):
-    """Held by a support, the half-space is an lcpfric ContactSystem (dense on a small grid;
-    the elements' exact entry loads as its normal model's transitions): Clarabel (second-order
-    cones for d = 2) and active-set (d = 1) give the model's W on the same scene."""
+    """Held by a support, the half-space is an lcpfric ContactSystem (its compliance the FFT
+    product; the elements' exact entry loads as its normal model's transitions): Clarabel
+    (second-order cones for d = 2) and active-set (d = 1, matrix-free) give the model's W on
+    the same scene."""
     import lcpfric
     from lcpfric.scene import make_scene
 
     m = sphere(P1=0.5, Q1=0.3, phi=0.7, nu=nu, grid=10, dims=dims, k_support=2.0)
-    scene = make_scene(m.system(), 80)
+    system = m.system()
+    assert system.matrix_free                   # the FFT product; C⁻¹ B by CG
+    scene = make_scene(system, 80)
     ref = m.solve(t=scene.t, tol=1e-12).W
     # Clarabel's answers on the cones pass its own tolerance but not always lcpfric's 1e-6
     # stationarity check; the dissipation agrees to 1e-10 regardless

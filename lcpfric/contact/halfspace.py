@@ -71,7 +71,7 @@ _MAX_NEWTON = 60
 #: d = 1: pattern iterations from the extrapolated start before the safe restart
 _RESTART = 8
 _EPS = np.finfo(float).eps
-#: largest number of unknowns for the dense forms (cross-checks with the convex backends)
+#: most elements for the exact entry loads (dense influence matrix) of ``system()``
 DENSE_MAX = 2000
 #: d = 2: the linear solves of the Newton steps are to this fraction of the residual
 _ETA = 1e-3
@@ -270,39 +270,40 @@ class HalfSpace(ContactModel):
         return np.array([math.sqrt(np.count_nonzero(self.pressure(x)) * self.h ** 2 / math.pi)
                          for x in P])
 
-    # -- as an lcpfric system (ContactModel.system), small grids --------------------------------
-    def compliance_matrix(self) -> np.ndarray:
-        """The dense tangential compliance per unit force, ``(n·d, n·d)``, node-major (small
-        grids only: the cross-checks with the convex backends)."""
-        m = self.nodes * self.dims
-        if m > DENSE_MAX:
-            raise InputError("grid", f"the dense compliance of {m} unknowns is refused (at "
-                                     f"most {DENSE_MAX}); the model's own solve() is "
-                                     f"matrix-free")
-        h2 = self.h ** 2
-        if self.dims == 1:
-            return self.op.dense("xx") / h2
-        C = np.empty((m, m))
-        C[0::2, 0::2] = self.op.dense("xx") / h2
-        C[1::2, 1::2] = self.op.dense("yy") / h2
-        xy = self.op.dense("xy") / h2 if self.op.coupled else 0.0
-        C[0::2, 1::2] = xy
-        C[1::2, 0::2] = xy
-        return C
-
+    # -- as an lcpfric system (ContactModel.system) ---------------------------------------------
     def springs(self):
-        """``(compliance operator, C⁻¹ B, diag C)`` with the body held fixed (dense: small
-        grids), for :meth:`ContactModel.system`."""
-        from scipy.linalg import cho_factor, cho_solve
-        from scipy.sparse.linalg import aslinearoperator
+        """``(compliance operator, C⁻¹ B, diag C)`` with the body held fixed, for
+        :meth:`ContactModel.system`: the operator is the FFT product (matrix-free: the
+        ``active-set`` backend solves d = 1 with products only, the other methods form C from
+        products on small grids), ``C⁻¹ B`` by preconditioned conjugate gradients to 1e-13."""
+        from scipy.sparse.linalg import LinearOperator
 
-        C = self.compliance_matrix()
-        m = C.shape[0]
-        B = np.zeros((m, self.dims))
-        for j in range(self.dims):
-            B[j::self.dims, j] = 1.0
-        W = cho_solve(cho_factor(C), B)
-        return aslinearoperator(C), (W[:, 0] if self.dims == 1 else W), np.diag(C).copy()
+        n, d = self.nodes, self.dims
+        m = n * d
+        model = self
+
+        class _FFT(LinearOperator):
+            def __init__(self):
+                super().__init__(dtype=float, shape=(m, m))
+
+            def _matvec(self, x):
+                return model.compliance(np.asarray(x, dtype=float).reshape(n, d)).reshape(-1)
+
+            def _rmatvec(self, x):
+                return self._matvec(x)
+
+        op = _FFT()
+        h2 = self.h ** 2
+        stats = {"cg": 0}
+        W = np.empty((m, d))
+        for j in range(d):
+            e = np.zeros((n, d))
+            e[:, j] = 1.0
+            x, _ = _cg(op.matvec, e.ravel(), np.zeros(m), None,
+                       lambda r: self._apply(self.op.precondition, r, h2).reshape(-1),
+                       1e-13 * float(np.max(np.abs(e))) * self.c, stats)
+            W[:, j] = x
+        return op, (W[:, 0] if d == 1 else W), np.full(m, self.c)
 
     def entry_loads(self) -> np.ndarray:
         """Per element, the normal load at which it enters the contact (dense: small grids):
