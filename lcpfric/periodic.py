@@ -261,6 +261,37 @@ def aitken(starts: list):
     return starts[-1] + r2 / (1.0 - r2) * (starts[-1] - starts[-2])
 
 
+class Anderson:
+    """Anderson's acceleration (type II, depth m) of a cycle map ``x -> G(x)``: from the last
+    ``m + 1`` pairs ``(x_k, G(x_k))``, the next start is ``G(x_k) - ΔG γ`` with γ the least-squares
+    coefficients of the residuals' differences ``ΔF`` that best cancel ``f_k = G(x_k) - x_k``.
+    Near the steady state the map is affine with a few slow modes (the stick/slip pattern has
+    settled), which this removes in about as many cycles as there are modes, where the plain
+    iteration contracts only by the slowest mode's ratio per cycle. A history whose residuals
+    grow is dropped (the map is not in its affine regime yet). Nothing is taken from the
+    extrapolation but a starting point: convergence is still a whole cycle that repeats."""
+
+    def __init__(self, depth: int = 5):
+        self.depth = depth
+        self.x: list = []
+        self.g: list = []
+
+    def __call__(self, x: np.ndarray, g: np.ndarray):
+        """The next start after the cycle from ``x`` that ended at ``g``, or None (go on
+        from g)."""
+        f = g - x
+        if self.x and np.linalg.norm(f) > np.linalg.norm(self.g[-1] - self.x[-1]):
+            self.x, self.g = [], []
+        self.x = (self.x + [x])[-(self.depth + 1):]
+        self.g = (self.g + [g])[-(self.depth + 1):]
+        if len(self.x) < 2:
+            return None
+        G = np.array(self.g).T
+        R = G - np.array(self.x).T
+        gamma = np.linalg.lstsq(np.diff(R, axis=1), f, rcond=1e-12)[0]
+        return g - np.diff(G, axis=1) @ gamma
+
+
 #: beyond this many unknowns the compliance scale is estimated (C is not formed)
 _COMPLIANCE_DENSE = COMPLIANCE_DENSE
 

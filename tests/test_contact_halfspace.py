@@ -227,3 +227,23 @@ def test_recorded_cycle_starts_where_it_ends():
     r = sphere(Q1=0.25, grid=12).solve(40, record=True)
     assert np.array_equal(r.state[0], r.state[-1])
     assert np.any((r.state[0] == 1) | (r.state[0] == 2))      # the edge slips at t = 0
+
+
+def test_accelerated_cycles_reach_the_plain_iterations_steady_state():
+    """d = 2 with ν > 0: the transverse tractions settle over many cycles (35 here without
+    acceleration). Anderson's acceleration of the cycles' starts reaches the same steady state
+    (W to 1e-9) in a few cycles, and the previous cycle's increments as starts cut the
+    products per cycle once the cycles nearly repeat."""
+    plain = sphere(Q1=0.25, grid=12, nu=0.3, dims=2)
+    plain.restart = None
+    r0 = plain.solve(60, max_cycles=60)
+    fast = sphere(Q1=0.25, grid=12, nu=0.3, dims=2)
+    r1 = fast.solve(60, max_cycles=60)
+    assert r0.converged and r1.converged
+    assert r0.cycles >= 25 and r1.cycles <= 12 and r1.extrapolations >= 3
+    assert r1.W == pytest.approx(r0.W, rel=1e-9)
+    cold = sphere(Q1=0.25, grid=12, nu=0.3, dims=2)
+    cold.guess = None
+    cold.solve(60, max_cycles=60)
+    per = [m.stats["tangential_products"] / m.stats["increments"] for m in (fast, cold)]
+    assert per[0] < 0.6 * per[1]

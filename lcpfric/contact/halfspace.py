@@ -347,29 +347,43 @@ class HalfSpace(ContactModel):
         out = operator(F.reshape(n, 2).T.reshape(2, N, N)) * factor
         return out.reshape(2, n).T
 
-    def increment(self, state: _Tangential, b: np.ndarray, Q: float):
-        """Problem (P) (module docstring): ``(state, F, Δs)``."""
+    def guess(self, state: _Tangential):
+        """What the same increment of the next cycle starts from: this increment's changes of
+        the forces and of δ, and its pattern (the driver keeps one per increment)."""
+        return state.dF, state.ddelta, state.side
+
+    def increment(self, state: _Tangential, b: np.ndarray, Q: float, guess=None):
+        """Problem (P) (module docstring): ``(state, F, Δs)``. ``guess``: the same increment's
+        :meth:`guess` from the previous cycle, the start (else the last increment's changes,
+        extrapolated)."""
         start, count = time.perf_counter(), self.op.products
         try:
-            return self._increment(state, b, Q)
+            return self._increment(state, b, Q, guess)
         finally:
             self.stats["tangential_seconds"] += time.perf_counter() - start
             self.stats["tangential_products"] += self.op.products - count
             self.stats["increments"] += 1
 
-    def _increment(self, state, b, Q):
+    def _increment(self, state, b, Q, guess):
         n, d, ks, c = self.nodes, self.dims, self.k_support, self.c
         scale = self._force_scale
         tolF = self.tol * scale
         contact = b > 1e-10 * scale
         s0 = state.v.reshape(n, d)
-        # the start: the forces extrapolated by the last increment, unless that one started
-        # from the virgin contact (its change is a load applied at once, not a trend)
-        trend = bool(np.any(state.F != state.dF))
-        F = (state.F + state.dF if trend else state.F).reshape(n, d).copy()
+        if guess is not None:
+            # the start: this increment's changes in the previous cycle (exact once the
+            # cycles repeat, so a converging steady state costs less and less per cycle)
+            dF0, dd0, side0 = guess
+        elif np.any(state.F != state.dF):
+            # else the last increment's changes, extrapolated (unless that one started from
+            # the virgin contact: its change is a load applied at once, not a trend)
+            dF0, dd0, side0 = state.dF, state.ddelta, state.side
+        else:
+            dF0, dd0, side0 = 0.0, 0.0, state.side
+        F = (state.F + dF0).reshape(n, d)
         F[~contact] = 0.0
         _project(F, b)
-        delta = state.delta + state.ddelta if trend else state.delta.copy()
+        delta = state.delta + dd0
         CF = self.compliance(F)
         Qv = np.zeros(d)
         Qv[0] = Q
@@ -388,7 +402,8 @@ class HalfSpace(ContactModel):
                 band = tolF + 64 * _EPS * (b + np.abs(F[:, 0]))
                 if up is None:      # the previous increment's pattern, where still in contact,
                     # and (unless restarted) the nodes the extrapolated forces put beyond
-                    warm = (contact & (state.side > 0), contact & (state.side < 0))
+                    side = state.side if restarted else side0
+                    warm = (contact & (side > 0), contact & (side < 0))
                     up, dn = warm if restarted else updates.first(zz, -b - band, b + band,
                                                                   warm)
                 else:

@@ -13,11 +13,15 @@ HalfPlaneCylinder`) provides
   opposes F);
 * ``scales()``: ``(displacement, force)`` scales for the convergence test, and
   ``normalization()``: ``(name, factor)`` with ``W_normalized = factor · W``;
-* optionally ``restart(state, v)``: the state with the slips v. The driver then jumps a slowly
-  contracting cycle map to its fixed point (Aitken's extrapolation of the cycles' starting
-  slips, the rule of the discrete driver, :func:`lcpfric.periodic.aitken`); convergence is
-  still two whole cycles that repeat. A model with ``dims = 2`` gives forces and slips node
-  by node (n·2).
+* optionally ``restart(state, v)``: the state with the slips v. The driver then moves each
+  cycle's start towards the cycle map's fixed point (Anderson's acceleration of the map from a
+  cycle's starting slips to its ending ones, :class:`lcpfric.periodic.Anderson`); convergence
+  is still a whole cycle that repeats. A model with ``dims = 2`` gives forces and slips node
+  by node (n·2);
+* optionally ``guess(state)`` after an increment, and ``increment(state, b, Q, guess)``: the
+  driver keeps the guesses of a cycle's increments (where they fit in memory) and gives each
+  to the same increment of the next cycle, its start: once the cycles nearly repeat, the
+  increments are nearly solved before they begin.
 
 :func:`steady_state` runs cycles until the slips repeat, with the driver's own criterion
 (:func:`~lcpfric.periodic.cycle_change`), and returns one :class:`ContactResult`.
@@ -35,7 +39,7 @@ import numpy as np
 from .. import _checks
 from ..errors import ConvergenceError, ConvergenceWarning, InputError
 from ..model.loads import Harmonic, Load
-from ..periodic import aitken, cycle_change
+from ..periodic import Anderson, cycle_change
 from ..results import State
 from ..steppers.dissipation import increment_dissipation
 from .closed_forms import moduli
@@ -79,7 +83,7 @@ class ContactResult:
     size : ndarray
         The contact size at each instant.
     extrapolations : int
-        Aitken jumps of the cycles' starting slips (models with ``restart``).
+        Accelerated starts (Anderson's) of the cycles (models with ``restart``).
     state, F : ndarray or None
         ``(steps + 1, nodes)`` node states (:class:`~lcpfric.results.State`: stick, slipping
         forward or backward, separated) and friction forces of the last cycle, with
@@ -146,6 +150,10 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
     if need > MAX_BYTES:
         raise InputError("steps", f"{steps} steps x {n} nodes would take {need / 2**30:.1f} GiB "
                                   f"(more than {MAX_BYTES / 2**30:.0f}); fewer steps or nodes")
+    # the previous cycle's increments start the next cycle's (models with ``guess``), where
+    # they fit in the memory left
+    guessing = (getattr(model, "guess", None) is not None
+                and need + n * steps * (8 * dims + 1) <= MAX_BYTES)
     if t is None:
         t = np.linspace(0.0, model.period, steps + 1)
     b = model.limits(t)                                       # (steps + 1, n)
@@ -155,10 +163,12 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
     W_cycles, change, prev = [], math.inf, None
     scales = model.scales()
     Fs = Ss = None
-    starts = [state.v.copy()]
+    accelerate = Anderson() if getattr(model, "restart", None) is not None else None
     jumps = 0
     dv = None                 # the last increment's slips: the states at a cycle's start
+    guesses = None
     for _ in range(max_cycles):
+        previous, guesses = guesses, ([] if guessing else None)
         v0 = state.v.copy()
         if record:
             Fs = np.empty((steps + 1, n * dims))
@@ -167,7 +177,12 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
         W = 0.0
         vmin, vmax = v0.copy(), v0.copy()
         for j in range(steps):
-            state, F1, dv = model.increment(state, b[j + 1], Q[j + 1])
+            if guesses is None:
+                state, F1, dv = model.increment(state, b[j + 1], Q[j + 1])
+            else:
+                state, F1, dv = model.increment(state, b[j + 1], Q[j + 1],
+                                                previous[j] if previous else None)
+                guesses.append(model.guess(state))
             W += increment_dissipation(F, F1, dv, dims)
             if record:
                 Fs[j + 1], Ss[j + 1] = F1, _states(b[j + 1], dv, dims)
@@ -181,11 +196,9 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
             if change <= tol:
                 break
         prev = W
-        starts.append(state.v.copy())
-        jump = aitken(starts) if hasattr(model, "restart") else None
+        jump = accelerate(v0, state.v.copy()) if accelerate else None
         if jump is not None:
             state = model.restart(state, jump)
-            starts = [jump]
             jumps += 1
     converged = bool(change <= tol)
     if not converged and on_nonconvergence != "ignore":
