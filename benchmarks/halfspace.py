@@ -263,6 +263,22 @@ def main(argv=None):
          f"{', '.join(f'{w:.9f}' for w in r3.W_cycles[-3:] * r3.W_normalized / r3.W)}.")
     emit("")
 
+    # -- the maps' cycle tolerance with d = 2 ---------------------------------------------------
+    emit("## The maps' cycle tolerance with d = 2")
+    emit("")
+    emit("ν = 0.3, d = 2, grid 20, 100 steps (the maps' defaults): cycles and seconds to each "
+         "cycle tolerance, and W's difference from its value at 1e-10.")
+    emit("")
+    emit("| P1/P0 | Q1/(μP0) | φ/π | tol 1e-6 | tol 1e-8 | tol 1e-10 |")
+    emit("|---|---|---|---|---|---|")
+    for P1, Q1, phi in ((0.5, 0.4, 0.5 * PI), (0.3, 0.6, 0.7 * PI), (0.8, 0.2, 0.2 * PI)):
+        runs = [timed(sphere(P1, Q1, phi, nu=0.3, dims=2, grid=20), 100, tol=tol)
+                for tol in (1e-6, 1e-8, 1e-10)]
+        ref = runs[-1][0].W
+        emit(f"| {P1} | {Q1} | {phi / PI:.2f} | " + " | ".join(
+            f"{r.cycles} cycles, {w:.1f} s, {rel(r.W, ref):+.1e}" for r, w, _ in runs) + " |")
+    emit("")
+
     # -- the same contact as an lcpfric system, solved by the backends --------------------------
     emit("## The same contact as an lcpfric ContactSystem, solved by the backends")
     emit("")

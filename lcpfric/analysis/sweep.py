@@ -255,10 +255,7 @@ _VARIABLES = {
 CONTACT_DEFAULTS = {"geometry": "sphere", "model": "mdr", "nodes": 200, "k_support": 0.0,
                     "tol": 1e-8}
 HALFSPACE_DEFAULTS = {"geometry": "sphere", "model": "halfspace", "grid": 20, "dims": 1,
-                      "nu": 0.0, "k_support": 0.0, "tol": None}
-#: the half-space maps' cycle tolerance by default: d = 2 with ν > 0 settles slowly (its
-#: transverse tractions), so 1e-6 there (W then within about 1e-8 of the converged value)
-_HALFSPACE_TOL = {1: 1e-8, 2: 1e-6}
+                      "nu": 0.0, "k_support": 0.0, "tol": 1e-8}
 _CONTACT_STEPS = 200
 _HALFSPACE_STEPS = 100
 
@@ -289,11 +286,10 @@ def _contact(contact, steps_per_cycle):
         grid = _checks.positive_int("grid", spec["grid"], 8)
         if spec["dims"] not in (1, 2):
             raise InputError("dims", f"must be 1 or 2, got {spec['dims']!r}")
-        tol = _HALFSPACE_TOL[int(spec["dims"])] if spec["tol"] is None else spec["tol"]
         options = {"grid": grid, "dims": int(spec["dims"]),
                    "nu": _checks.nonnegative("nu", spec["nu"]),
                    "k_support": _checks.nonnegative("k_support", spec["k_support"]),
-                   "tol": _checks.positive("tol", tol), "steps_per_cycle": steps}
+                   "tol": _checks.positive("tol", spec["tol"]), "steps_per_cycle": steps}
         # measured: about 35 ns per grid node, step and cycle at d = 1 (three cycles)
         return halfspace_W_normalized, options, 1.1e-7 * 1.8 * grid * grid * steps * \
             (3 if options["dims"] == 2 else 1)
@@ -390,8 +386,7 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
         (:func:`lcpfric.contact.maps.mdr_W_normalized`) over ``P1 = P1/P0``, ``Q1 = Q1/(μ
         P0)`` and φ, with ``k_support`` in units of k_t0 and ``steps_per_cycle`` 200 by
         default; ``method`` is then not used. ``{"model": "halfspace", "grid": 20, "dims": 1,
-        "nu": 0.0, "k_support": 0.0, "tol": 1e-8}`` (its defaults, ``tol`` 1e-6 with ``dims``
-        2; ``steps_per_cycle`` 100)
+        "nu": 0.0, "k_support": 0.0, "tol": 1e-8}`` (its defaults; ``steps_per_cycle`` 100)
         maps the same quantity on the half-space boundary elements
         (:func:`lcpfric.contact.maps.halfspace_W_normalized`). NaN marks loads that have no
         equilibrium under pure load control (``k_support = 0`` and ``|Q| > μ P`` at some
