@@ -263,8 +263,9 @@ def aitken(starts: list):
 
 class Anderson:
     """Anderson's acceleration (type II, depth m) of a cycle map ``x -> G(x)``: from the last
-    ``m + 1`` pairs ``(x_k, G(x_k))``, the next start is ``G(x_k) - ΔG γ`` with γ the least-squares
-    coefficients of the residuals' differences ``ΔF`` that best cancel ``f_k = G(x_k) - x_k``.
+    ``m + 1`` pairs ``(x_k, G(x_k))``, the next start is ``G(x_k) - ΔG γ`` with γ the
+    least-squares coefficients of the residuals' differences ``ΔF`` that best cancel
+    ``f_k = G(x_k) - x_k``.
     Near the steady state the map is affine with a few slow modes (the stick/slip pattern has
     settled), which this removes in about as many cycles as there are modes, where the plain
     iteration contracts only by the slowest mode's ratio per cycle. A history whose residuals
