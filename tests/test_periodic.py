@@ -98,3 +98,24 @@ def test_anderson_reaches_the_fixed_point_of_an_affine_map():
     assert k <= 15 and np.allclose(x, fixed, rtol=0, atol=1e-8 * np.linalg.norm(fixed))
     acc(np.zeros(40), np.ones(40))            # a residual larger than the last: a fresh start
     assert len(acc.x) == 1 and acc(np.ones(40), np.ones(40) * 2) is not None
+
+
+def test_anderson_falls_back_to_aitken_where_it_stalls():
+    """Residuals that shrink by less than a tenth three cycles running switch the accelerator to
+    the plain iteration, which Aitken's jump then takes to the fixed point of one slow mode."""
+    from lcpfric.periodic import Anderson
+
+    acc = Anderson(5)
+    x = np.array([1.0, 0.0])
+    for norm in (1.0, 0.95, 0.93, 0.92):            # stalled: no jump is trusted any more
+        acc(x, x + np.array([0.0, norm]))
+    assert acc.starts is not None
+    fixed, rho = np.array([2.0, -1.0]), 0.9
+    x, jump = fixed + np.array([1.0, 1.0]), None
+    for _ in range(6):
+        g = fixed + rho * (x - fixed)               # one slow mode
+        jump = acc(x, g)
+        if jump is not None:
+            break
+        x = g
+    assert jump is not None and np.allclose(jump, fixed, atol=1e-12)
