@@ -269,11 +269,10 @@ class Anderson:
     stick/slip pattern has settled), which this removes in about as many cycles as there are
     modes, where the plain iteration contracts only by the slowest mode's ratio per cycle. A
     history whose residuals grow is dropped (the map is not in its affine regime yet). Where
-    it stalls (the residual shrinks by less than a tenth per cycle, three cycles running: a
-    map that is not affine at that scale, nodes changing state from cycle to cycle), the plain
-    iteration goes on with Aitken's jumps (:func:`aitken`) when one slow mode shows. Nothing is
-    taken from the extrapolation but a starting point: convergence is still a whole cycle
-    that repeats."""
+    it stalls (the residual shrinks by less than a tenth per cycle, three cycles running: the
+    map is not affine at that scale), the plain iteration goes on, with Aitken's jumps
+    (:func:`aitken`) when one slow mode shows. Nothing is taken from the extrapolation but a
+    starting point: convergence is still a whole cycle that repeats."""
 
     def __init__(self, depth: int = 5):
         self.depth = depth
