@@ -154,7 +154,8 @@ def test_against_the_convex_backends(dims, nu):
     system = m.system()
     assert system.matrix_free                   # the FFT product; C⁻¹ B by CG
     scene = make_scene(system, 80)
-    ref = m.solve(t=scene.t, tol=1e-12).W
+    # d = 2: the cycles repeat to the increments' own accuracy (about 1e-11), not to 1e-12
+    ref = m.solve(t=scene.t, tol=1e-12 if dims == 1 else 1e-10).W
     # Clarabel's answers on the cones pass its own tolerance but not always lcpfric's 1e-6
     # stationarity check; the dissipation agrees to 1e-10 regardless
     opts = {"check_tol": 1e-4} if dims == 2 else {}
