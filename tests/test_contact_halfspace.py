@@ -248,3 +248,19 @@ def test_accelerated_cycles_reach_the_plain_iterations_steady_state():
     cold.solve(60, max_cycles=60)
     per = [m.stats["tangential_products"] / m.stats["increments"] for m in (fast, cold)]
     assert per[0] < 0.6 * per[1]
+
+
+def test_loose_early_cycles_reach_the_same_steady_state(monkeypatch):
+    """d = 2 solves its early cycles' increments loosely (to a hundredth of the last cycle's
+    change) and only a cycle at full accuracy ends the iteration: the same W (1e-9) for fewer
+    products than with every increment at full accuracy, on a case that settles slowly."""
+    loose = sphere(Q1=0.25, grid=12, nu=0.3, dims=2)
+    assert loose.loose_cycles
+    r1 = loose.solve(60)
+    monkeypatch.setattr(HalfSpace, "loose_cycles", False)
+    tight = sphere(Q1=0.25, grid=12, nu=0.3, dims=2)
+    r0 = tight.solve(60)
+    assert r0.converged and r1.converged
+    assert r1.W == pytest.approx(r0.W, rel=1e-9)
+    assert loose.stats["tangential_products"] < 0.85 * tight.stats["tangential_products"]
+    assert loose.tol == tight.tol == 1e-10            # the model's own tolerance is untouched

@@ -352,22 +352,28 @@ class HalfSpace(ContactModel):
         the forces and of δ, and its pattern (the driver keeps one per increment)."""
         return state.dF, state.ddelta, state.side
 
-    def increment(self, state: _Tangential, b: np.ndarray, Q: float, guess=None):
+    @property
+    def loose_cycles(self) -> bool:
+        """d = 2 settles over many cycles: the driver solves the early ones loosely
+        (:func:`~lcpfric.contact.steady.steady_state`)."""
+        return self.dims == 2
+
+    def increment(self, state: _Tangential, b: np.ndarray, Q: float, guess=None, tol=None):
         """Problem (P) (module docstring): ``(state, F, Δs)``. ``guess``: the same increment's
         :meth:`guess` from the previous cycle, the start (else the last increment's changes,
-        extrapolated)."""
+        extrapolated); ``tol``: this increment's tolerance, if not the model's own."""
         start, count = time.perf_counter(), self.op.products
         try:
-            return self._increment(state, b, Q, guess)
+            return self._increment(state, b, Q, guess, self.tol if tol is None else tol)
         finally:
             self.stats["tangential_seconds"] += time.perf_counter() - start
             self.stats["tangential_products"] += self.op.products - count
             self.stats["increments"] += 1
 
-    def _increment(self, state, b, Q, guess):
+    def _increment(self, state, b, Q, guess, tol):
         n, d, ks, c = self.nodes, self.dims, self.k_support, self.c
         scale = self._force_scale
-        tolF = self.tol * scale
+        tolF = tol * scale
         contact = b > 1e-10 * scale
         s0 = state.v.reshape(n, d)
         if guess is not None:
@@ -453,7 +459,7 @@ class HalfSpace(ContactModel):
                 if d == 1:
                     up[i] = dn[i] = False
             self.stats["newton"] += 1
-            dF, dd, CdF = self._newton(F, ds, z, zn, b, contact, slip, eq, worst)
+            dF, dd, CdF = self._newton(F, ds, z, zn, b, contact, slip, eq, worst, tolF)
             alpha = 1.0 if d == 1 else self._step(merit, F, CF, delta, dF, CdF, dd, s0, b,
                                                    contact, Qv)
             F += alpha * dF
@@ -506,7 +512,7 @@ class HalfSpace(ContactModel):
             alpha *= 0.5
         return alpha
 
-    def _newton(self, F, ds, z, zn, b, contact, slip, eq, worst):
+    def _newton(self, F, ds, z, zn, b, contact, slip, eq, worst, tolF):
         """One semismooth Newton step (module docstring): ``(ΔF, Δδ)``. For d = 2 the linear
         solve is inexact while the residual ``worst`` is large (to ``1e-3`` of it: the slip
         directions are corrected by the next step anyway); for d = 1 it is exact, which ends
@@ -550,7 +556,7 @@ class HalfSpace(ContactModel):
         def pre(r):
             return space.restrict(self._apply(self.op.precondition, space.embed(r), h2))
 
-        tol = 0.1 * c * self.tol * self._force_scale
+        tol = 0.1 * c * tolF
         if d == 2:
             tol = max(tol, _ETA * c * worst)
         if ks > 0.0:
