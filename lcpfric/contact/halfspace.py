@@ -110,6 +110,8 @@ class HalfSpace(ContactModel):
         Tangential support stiffness in parallel with the contact (0: pure load control).
     tol : float
         Relative tolerance of the tangential increments (natural-map residual / force scale).
+        With d = 2 the steady-state driver solves the early cycles more loosely, and the last
+        ones to ``max(tol, 1e-2 × its cycle tolerance)`` (``loose_cycles``).
 
     Attributes
     ----------

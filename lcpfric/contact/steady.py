@@ -24,8 +24,8 @@ HalfPlaneCylinder`) provides
   increments are nearly solved before they begin;
 * optionally ``loose_cycles`` (true), a ``tol`` attribute and ``increment(..., tol=)``: a model
   that settles over many cycles has its early cycles' increments solved loosely (to a hundredth
-  of the last cycle's change, at most 1e-6), its own ``tol`` once the cycles nearly repeat; only
-  a cycle at the model's own accuracy ends the iteration.
+  of the last cycle's change, at most 1e-6), then to a hundredth of the cycle tolerance (never
+  tighter than the model's own ``tol``); only a cycle at that accuracy ends the iteration.
 
 :func:`steady_state` runs cycles until the slips repeat, with the driver's own criterion
 (:func:`~lcpfric.periodic.cycle_change`), and returns one :class:`ContactResult`.
@@ -182,10 +182,12 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
         options = {}
         if loose:
             # a slowly settling model solves its early cycles' increments loosely, each to a
-            # hundredth of the last cycle's change (at most 1e-6), its own accuracy once
-            # the cycles nearly repeat; only a cycle at that accuracy can end the iteration
-            options["tol"] = max(model.tol, min(_LOOSE_MAX, _LOOSE * change))
-            accurate = options["tol"] == model.tol
+            # hundredth of the last cycle's change (at most 1e-6), and to a hundredth of the
+            # cycle tolerance (at least its own tol) once the cycles nearly repeat; only a
+            # cycle at that accuracy can end the iteration
+            final = max(model.tol, _LOOSE * tol)
+            options["tol"] = max(final, min(_LOOSE_MAX, _LOOSE * change))
+            accurate = options["tol"] == final
         v0 = state.v.copy()
         if record:
             Fs = np.empty((steps + 1, n * dims))
