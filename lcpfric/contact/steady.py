@@ -197,7 +197,7 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
         vmin, vmax = v0.copy(), v0.copy()
         for j in range(steps):
             if guesses is None:
-                state, F1, dv = model.increment(state, b[j + 1], Q[j + 1])
+                state, F1, dv = model.increment(state, b[j + 1], Q[j + 1], **options)
             else:
                 state, F1, dv = model.increment(state, b[j + 1], Q[j + 1],
                                                 previous[j] if previous else None, **options)
