@@ -264,3 +264,15 @@ def test_loose_early_cycles_reach_the_same_steady_state(monkeypatch):
     assert r1.W == pytest.approx(r0.W, rel=1e-9)
     assert loose.stats["tangential_products"] < 0.85 * tight.stats["tangential_products"]
     assert loose.tol == tight.tol == 1e-10            # the model's own tolerance is untouched
+
+
+def test_unsettled_cycles_raise_with_the_smallest_change():
+    """Too few cycles for d = 2 to settle: ConvergenceError (never a silent W), naming the last
+    and the smallest change reached at full accuracy."""
+    from lcpfric.errors import ConvergenceError
+
+    with pytest.raises(ConvergenceError, match=r"after 3 cycles \(relative change [^;]*\)"):
+        sphere(Q1=0.25, grid=12, nu=0.3, dims=2).solve(40, max_cycles=3)
+    # a cycle tolerance below what the increments hold (1e-10): the floor is named
+    with pytest.raises(ConvergenceError, match=r"the smallest at full accuracy \d.*e-1[0-3]"):
+        sphere(Q1=0.25, grid=12, nu=0.3, dims=2).solve(40, tol=1e-15, max_cycles=30)

@@ -90,8 +90,7 @@ class ContactResult:
     size : ndarray
         The contact size at each instant.
     extrapolations : int
-        Accelerated starts of the cycles (Anderson's, or Aitken's where it stalls; models with
-        ``restart``).
+        Accelerated starts of the cycles (Anderson's; models with ``restart``).
     state, F : ndarray or None
         ``(steps + 1, nodes)`` node states (:class:`~lcpfric.results.State`: stick, slipping
         forward or backward, separated) and friction forces of the last cycle, with
@@ -168,7 +167,7 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
     Q = np.asarray(model.Q(t), dtype=float)
     state = model.start()
     F = np.zeros(n * dims)
-    W_cycles, change, prev = [], math.inf, None
+    W_cycles, change, prev, smallest = [], math.inf, None, math.inf
     scales = model.scales()
     Fs = Ss = None
     accelerate = Anderson() if getattr(model, "restart", None) is not None else None
@@ -212,6 +211,8 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
         if prev is not None:
             change = float(cycle_change(np.max(np.abs(state.v - v0)), np.max(vmax - vmin),
                                         W - prev, W, scales))
+            if accurate:
+                smallest = min(smallest, change)
             if change <= tol and accurate:
                 break
         prev = W
@@ -222,7 +223,9 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
     converged = bool(change <= tol)
     if not converged and on_nonconvergence != "ignore":
         msg = (f"{type(model).__name__}: no periodic steady state after {len(W_cycles)} cycles "
-               f"(relative change {change:.3g} > tol {tol:g}); raise max_cycles or loosen tol")
+               f"(relative change {change:.3g} > tol {tol:g}"
+               + (f"; the smallest at full accuracy {smallest:.3g}" if smallest < math.inf
+                  else "") + "); raise max_cycles or loosen tol")
         if on_nonconvergence == "raise":
             raise ConvergenceError(msg, None)
         warnings.warn(msg, ConvergenceWarning, stacklevel=2)
