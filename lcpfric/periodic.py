@@ -262,31 +262,40 @@ def aitken(starts: list):
 
 
 class Anderson:
-    """Anderson's acceleration (type II, depth m) of a cycle map ``x -> G(x)``: from the last
-    ``m + 1`` pairs ``(x_k, G(x_k))``, the next start is ``G(x_k) - ΔG γ`` with γ the
-    least-squares coefficients of the residuals' differences ``ΔF`` that best cancel
+    """Anderson's acceleration (type II, depth m, 10 by default) of a cycle map ``x -> G(x)``:
+    from the last ``m + 1`` pairs ``(x_k, G(x_k))``, the next start is ``G(x_k) - ΔG γ`` with
+    γ the least-squares coefficients of the residuals' differences ``ΔF`` that best cancel
     ``f_k = G(x_k) - x_k``. Near the steady state the map is affine with a few slow modes (the
     stick/slip pattern has settled), which this removes in about as many cycles as there are
     modes, where the plain iteration contracts only by the slowest mode's ratio per cycle. A
-    history is dropped when the residual grows more than ``reset`` times in one cycle (the map
-    is not in its affine regime there); smaller rises are kept, since a piecewise-affine map
-    (stick/slip switches near the fixed point) makes the residual wander a little while the
-    history still holds its slow modes. Nothing is taken from the extrapolation but a starting
-    point: convergence is still a whole cycle that repeats."""
+    history whose residuals grow is dropped (the map is not in its affine regime yet). Where
+    it stalls (the residual shrinks by less than a tenth per cycle, three cycles running: the
+    map is not affine at that scale), the plain iteration goes on, with Aitken's jumps
+    (:func:`aitken`) when one slow mode shows. Nothing is taken from the extrapolation but a
+    starting point: convergence is still a whole cycle that repeats."""
 
-    def __init__(self, depth: int = 10, reset: float = 10.0):
+    def __init__(self, depth: int = 10):
         self.depth = depth
-        self.reset = reset
         self.x: list = []
         self.g: list = []
         self.norms: list = []
+        self.starts: list | None = None       # the plain iteration's starts, once stalled
 
     def __call__(self, x: np.ndarray, g: np.ndarray):
         """The next start after the cycle from ``x`` that ended at ``g``, or None (go on
         from g)."""
         f = g - x
         self.norms.append(float(np.linalg.norm(f)))
-        if self.x and self.norms[-1] > self.reset * self.norms[-2]:
+        if self.starts is None and len(self.norms) >= 4 and all(
+                b > 0.9 * a for a, b in zip(self.norms[-4:-1], self.norms[-3:])):
+            self.starts = [x]
+        if self.starts is not None:
+            self.starts.append(g)
+            jump = aitken(self.starts)
+            if jump is not None:
+                self.starts = [jump]
+            return jump
+        if self.x and self.norms[-1] > self.norms[-2]:
             self.x, self.g = [], []
         self.x = (self.x + [x])[-(self.depth + 1):]
         self.g = (self.g + [g])[-(self.depth + 1):]
