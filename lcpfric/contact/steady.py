@@ -90,7 +90,8 @@ class ContactResult:
     size : ndarray
         The contact size at each instant.
     extrapolations : int
-        Accelerated starts of the cycles (Anderson's; models with ``restart``).
+        Accelerated starts of the cycles (Anderson's, or Aitken's where it stalls; models with
+        ``restart``).
     state, F : ndarray or None
         ``(steps + 1, nodes)`` node states (:class:`~lcpfric.results.State`: stick, slipping
         forward or backward, separated) and friction forces of the last cycle, with
