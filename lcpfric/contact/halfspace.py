@@ -58,6 +58,7 @@ from ..backends.active_set import PatternUpdate
 from ..errors import InputError, SolverError
 from .closed_forms import hertz_contact
 from .influence import Convolution
+from .memory import SlipMemory
 from .normal3d import normal_contact
 from .steady import ContactModel
 
@@ -353,6 +354,12 @@ class HalfSpace(ContactModel):
         """What the same increment of the next cycle starts from: this increment's changes of
         the forces and of δ, and its pattern (the driver keeps one per increment)."""
         return state.dF, state.ddelta, state.side
+
+    def memory(self):
+        """d = 2: the per-node memory of a cycle's starting slips, the steady-state driver's
+        preconditioner of the cycle map (:mod:`.memory`); None for d = 1 (a node that slips
+        forgets its start)."""
+        return SlipMemory(self.c, self.nodes) if self.dims == 2 else None
 
     @property
     def loose_cycles(self) -> bool:

@@ -22,6 +22,11 @@ HalfPlaneCylinder`) provides
   driver keeps the guesses of a cycle's increments (where they fit in memory) and gives each
   to the same increment of the next cycle, its start: once the cycles nearly repeat, the
   increments are nearly solved before they begin;
+* optionally ``memory()``: a :class:`~lcpfric.contact.memory.SlipMemory` (or None), with
+  ``restart``: what a cycle remembers of its starting slips, node by node, from the increments'
+  slips and limits; the driver scales each cycle's change by it (a Newton step on the cycle
+  map's diagonal blocks) before accelerating, so the nodes that slip little each cycle (d = 2's
+  slow modes) settle in a few cycles;
 * optionally ``loose_cycles`` (true), a ``tol`` attribute and ``increment(..., tol=)``: a model
   that settles over many cycles has its early cycles' increments solved loosely (to a hundredth
   of the last cycle's change, at most 1e-6), then to a hundredth of the cycle tolerance (never
@@ -90,8 +95,9 @@ class ContactResult:
     size : ndarray
         The contact size at each instant.
     extrapolations : int
-        Accelerated starts of the cycles (Anderson's, or Aitken's where it stalls; models with
-        ``restart``).
+        Cycles started elsewhere than where the last one ended (models with ``restart``):
+        Anderson's accelerated starts, Aitken's where it stalls, and with ``memory()`` the
+        preconditioned ones between them.
     state, F : ndarray or None
         ``(steps + 1, nodes)`` node states (:class:`~lcpfric.results.State`: stick, slipping
         forward or backward, separated) and friction forces of the last cycle, with
@@ -172,6 +178,10 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
     scales = model.scales()
     Fs = Ss = None
     accelerate = Anderson() if getattr(model, "restart", None) is not None else None
+    # d = 2: each cycle's change is first scaled node by node by what the cycle remembers of
+    # its start (a Newton step on the cycle map's diagonal blocks, :mod:`.memory`)
+    memory = model.memory() if accelerate is not None and hasattr(model, "memory") else None
+    R = None
     jumps = 0
     dv = None                 # the last increment's slips: the states at a cycle's start
     guesses = None
@@ -195,6 +205,8 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
             Fs[0], Ss[0] = F, _states(b[0], dv, dims)
         W = 0.0
         vmin, vmax = v0.copy(), v0.copy()
+        if memory is not None:
+            R = memory.start()
         for j in range(steps):
             if guesses is None:
                 state, F1, dv = model.increment(state, b[j + 1], Q[j + 1], **options)
@@ -203,6 +215,8 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
                                                 previous[j] if previous else None, **options)
                 guesses.append(model.guess(state))
             W += increment_dissipation(F, F1, dv, dims)
+            if memory is not None:
+                memory.update(R, dv, b[j + 1])
             if record:
                 Fs[j + 1], Ss[j + 1] = F1, _states(b[j + 1], dv, dims)
             F = F1
@@ -217,7 +231,13 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
             if change <= tol and accurate:
                 break
         prev = W
-        jump = accelerate(v0, state.v.copy()) if accelerate else None
+        end = state.v.copy()
+        if memory is not None:
+            # the preconditioned cycle map: its value is the next start, unless accelerated
+            end = v0 + memory.step(R, end - v0)
+        jump = accelerate(v0, end) if accelerate else None
+        if jump is None and memory is not None:
+            jump = end
         if jump is not None:
             state = model.restart(state, jump)
             jumps += 1

@@ -1,0 +1,73 @@
+r"""What a cycle remembers of its starting slips, node by node: the preconditioner of the d = 2
+cycle map.
+
+With circular friction cones (d = 2) the periodic steady state is reached slowly: the slips
+transverse to a node's slip direction are forgotten only in part when the node slips, and the
+nodes at the edge of the stick zone slip very little each cycle. The cycle map (starting slips
+x to ending slips G(x)) then contracts by as little as 0.75 per cycle on a 40-element
+contact, 0.996 on a 56-element one (``benchmarks/results/cycle_acceleration.md``).
+
+One node's memory has a closed form when its neighbours are held (its self-compliance c, its
+limit b): a start perturbation e of its slip changes its force by ``-e/c`` while it sticks;
+when it slips by ``|Δs|`` in the direction u, the component of the perturbation along u is
+forgotten (the force sits on its limit whatever the start) and the component along the
+perpendicular p keeps the fraction
+
+.. math:: r = \frac{c\,b}{c\,b + |\Delta s|}
+
+(the slip direction turns by ``δθ = -e/(c b + |Δs|)``: the force ``b δθ`` balances the elastic
+``-(e + |Δs| δθ)/c``). Over a cycle the increments' ``r p pᵀ`` multiply into a 2 x 2 matrix
+``R_i`` per node, the estimate of the cycle map's Jacobian block on that node: the identity
+for a node that sticks the whole cycle (its slip stays where it started), zero for one that
+slips across (d = 1's case) or separates. The driver then steps each node by the Newton step of
+that block, ``x_i + (I - R_i)⁺ (G(x)_i - x_i)``, its singular values floored at 1/MAX_GAIN,
+and accelerates that map (:class:`~lcpfric.periodic.Anderson`) for the coupling between nodes
+that the blocks leave out. Convergence is still judged on a whole cycle that repeats.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["SlipMemory", "MAX_GAIN"]
+
+#: the largest factor by which a node's cycle change is multiplied (a node that slips very
+#: little each cycle remembers nearly all of its start)
+MAX_GAIN = 100.0
+
+
+class SlipMemory:
+    """The per-node memory of the starting slips over one cycle (module docstring), for
+    ``n`` nodes with d = 2 and self-compliance ``c`` (a scalar or one per node)."""
+
+    def __init__(self, c, n: int):
+        self.c = c
+        self.n = int(n)
+
+    def start(self) -> np.ndarray:
+        """``R`` at a cycle's start: the identity on every node, ``(n, 2, 2)``."""
+        return np.broadcast_to(np.eye(2), (self.n, 2, 2)).copy()
+
+    def update(self, R: np.ndarray, dv: np.ndarray, b: np.ndarray) -> None:
+        """After an increment with the slips ``dv`` (flat, node-major) under the limits b:
+        ``R_i <- r p pᵀ R_i`` on every node that moved, in place."""
+        d = dv.reshape(self.n, 2)
+        mag = np.hypot(d[:, 0], d[:, 1])
+        moved = np.flatnonzero(mag > 0.0)
+        if not moved.size:
+            return
+        c = self.c if np.ndim(self.c) == 0 else self.c[moved]
+        cb = c * b[moved]
+        r = cb / (cb + mag[moved])
+        p = np.stack([-d[moved, 1], d[moved, 0]], axis=1) / mag[moved, None]
+        q = np.einsum("ni,nij->nj", p, R[moved])             # pᵀ R
+        R[moved] = (r[:, None] * p)[:, :, None] * q[:, None, :]
+
+    def step(self, R: np.ndarray, f: np.ndarray) -> np.ndarray:
+        """``(I - R_i)⁺ f_i`` on every node (singular values of ``I - R_i`` floored at
+        ``1/MAX_GAIN``), flat like f."""
+        A = np.eye(2) - R
+        U, s, Vt = np.linalg.svd(A)
+        s = np.maximum(s, 1.0 / MAX_GAIN)
+        g = np.einsum("nji,nj->ni", U, f.reshape(self.n, 2)) / s
+        return np.einsum("nji,nj->ni", Vt, g).reshape(-1)

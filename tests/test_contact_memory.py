@@ -1,0 +1,79 @@
+"""The per-node memory of a cycle's starting slips (lcpfric.contact.memory): the d = 2
+preconditioner of the contact steady-state driver."""
+
+import numpy as np
+import pytest
+
+from lcpfric.contact.memory import MAX_GAIN, SlipMemory
+from test_contact_halfspace import sphere
+
+
+def _return_mapping(s0, deltas, c, b):
+    """One node on a spring of compliance c with a circular limit b, its support moved
+    through ``deltas``: the slips of each increment and the final slip (lcpfric's signs:
+    ``s = δ + c F``, the slip opposes F)."""
+    s, slips = np.array(s0, dtype=float), []
+    for d in deltas:
+        Ft = (s - d) / c
+        norm = np.hypot(*Ft)
+        s1 = s.copy() if norm <= b else d + c * Ft * (b / norm)
+        slips.append(s1 - s)
+        s = s1
+    return np.array(slips), s
+
+
+def test_memory_is_the_single_node_jacobian_of_the_cycle():
+    """For one node the memory is exact: R equals the finite-difference Jacobian of the final
+    slip with respect to the starting one, over a path that sticks, slips and turns."""
+    c, b = 0.7, 1.3
+    corners = np.array([[0.0, 0.0], [2.0, 0.5], [-2.0, 0.3], [0.5, -0.4]])
+    deltas = np.concatenate([a + np.linspace(0.0, 1.0, 15)[1:, None] * (z - a)
+                             for a, z in zip(corners[:-1], corners[1:])])
+    s0 = np.array([0.2, -0.1])
+    slips, _ = _return_mapping(s0, deltas, c, b)
+    assert np.sum(np.hypot(*slips.T) > 0) > 10 and np.sum(np.hypot(*slips.T) == 0) > 3
+    mem = SlipMemory(c, 1)
+    R = mem.start()
+    for ds in slips:
+        mem.update(R, ds, np.array([b]))
+    eps = 1e-7
+    J = np.empty((2, 2))
+    for k in range(2):
+        e = np.zeros(2)
+        e[k] = eps
+        J[:, k] = (_return_mapping(s0 + e, deltas, c, b)[1]
+                   - _return_mapping(s0 - e, deltas, c, b)[1]) / (2 * eps)
+    assert np.abs(R[0]).max() > 1e-3                      # something is remembered
+    assert R[0] == pytest.approx(J, abs=1e-7)
+
+
+def test_memory_step_is_a_floored_newton_step():
+    """A node that sticks all cycle remembers everything (the step is MAX_GAIN times the
+    change); one that slips along x keeps r of y only; one that separates (b = 0) keeps
+    nothing."""
+    mem = SlipMemory(np.array([1.0, 2.0, 1.0]), 3)
+    R = mem.start()
+    mem.update(R, np.array([0.0, 0.0, 0.5, 0.0, 0.1, 0.2]), np.array([1.0, 1.0, 0.0]))
+    r = 2.0 / (2.0 + 0.5)
+    assert R[0] == pytest.approx(np.eye(2))
+    assert R[1] == pytest.approx(np.diag([0.0, r]))
+    assert R[2] == pytest.approx(np.zeros((2, 2)))
+    f = np.array([1e-3, 2e-3, 1.0, 1.0, 3.0, -4.0])
+    step = mem.step(R, f).reshape(3, 2)
+    assert step[0] == pytest.approx(MAX_GAIN * f[:2])
+    assert step[1] == pytest.approx([1.0, 1.0 / (1.0 - r)])
+    assert step[2] == pytest.approx([3.0, -4.0])
+
+
+def test_memory_cuts_the_cycles_to_the_same_steady_state():
+    """d = 2, ν = 0.3: with the driver scaling each cycle's change by the memory, the same
+    steady state (W to 1e-9) in fewer cycles (9 against 12 on this grid)."""
+    with_memory = sphere(Q1=0.3, grid=16, nu=0.3, dims=2)
+    assert isinstance(with_memory.memory(), SlipMemory)
+    without = sphere(Q1=0.3, grid=16, nu=0.3, dims=2)
+    without.memory = lambda: None
+    r1, r0 = with_memory.solve(60), without.solve(60)
+    assert r0.converged and r1.converged
+    assert r1.W == pytest.approx(r0.W, rel=1e-9)
+    assert r1.cycles <= r0.cycles - 2
+    assert sphere(grid=16).memory() is None                   # d = 1 forgets by slipping
