@@ -1,16 +1,19 @@
-"""How many cycles the half-space needs with d = 2, by the depth of Anderson's acceleration.
+"""How many cycles the half-space needs with d = 2, by how the cycles' starts are moved.
 
 ``OPENBLAS_NUM_THREADS=1 python benchmarks/cycle_acceleration.py [--out DIR]``
 
-writes ``DIR/cycle_acceleration.md`` (default ``benchmarks/results``; about 8 minutes). With
-ν > 0 and d = 2 the transverse tractions settle over many cycles; the contact steady-state
-driver moves each cycle's start with :class:`lcpfric.periodic.Anderson`. This runs the same
-d = 2 cases (ν = 0.3) with that accelerator at depth 10 and 5 and without it, and gives the
-cycles, the seconds, W's difference from the depth-10 run, and how fast the plain cycles
-contract at their end (their slowest mode). The cases: the backends' cross-check contact
-(grid 10, support k_t0, the scene's steps), the maps' three load cases (grid 20, 100 steps,
-cycle tolerance 1e-8), Mindlin-Deresiewicz on grids 40 and 56, and varying P with a phase on
-grid 32 (200 steps). A run that does not repeat within 200 cycles is marked "no".
+writes ``DIR/cycle_acceleration.md`` (default ``benchmarks/results``; about 10 minutes). With
+ν > 0 and d = 2 the transverse slips settle over many cycles; the contact steady-state driver
+scales each cycle's change node by node by what the cycle remembers of its start
+(:class:`lcpfric.contact.memory.SlipMemory`) and accelerates that map with
+:class:`lcpfric.periodic.Anderson` (depth 10). This runs the same d = 2 cases (ν = 0.3) with
+both (the default), with Anderson alone (depth 10 and 5: the driver before the memory), with
+the memory alone, and with neither, and gives the cycles, the seconds, W's difference from the
+default run, and how fast the plain cycles contract at their end (their slowest mode). The
+cases: the backends' cross-check contact (grid 10, support k_t0, the scene's steps), the maps'
+three load cases (grid 20, 100 steps, cycle tolerance 1e-8), Mindlin-Deresiewicz on grids 40
+and 56, and varying P with a phase on grid 32 (200 steps). A run that does not repeat within
+200 cycles is marked "no".
 """
 
 from __future__ import annotations
@@ -69,12 +72,15 @@ class _Plain:
         return None
 
 
-def run(factory, depth):
-    """``(result, seconds, slowest)``: for the plain cycles (depth None), their contraction per
-    cycle over the last five or fewer (the geometric mean of the ratios of successive changes)
-    and where the last cycle's change is largest: that element's distance from the centre
-    over the contact radius at P0, and the share of the change that is transverse (along y)."""
+def run(factory, depth, memory=True):
+    """``(result, seconds, slowest)`` with Anderson at ``depth`` (None: not accelerated) and the
+    memory on or off: for the plain cycles (neither), their contraction per cycle over the last
+    five or fewer (the geometric mean of the ratios of successive changes) and where the last
+    cycle's change is largest: that element's distance from the centre over the contact radius
+    at P0, and the share of the change that is transverse (along y)."""
     model, kw = factory()
+    if not memory:
+        model.memory = None
     plain = _Plain()
     # the driver builds its accelerator as Anderson(); this sets it for one run
     steady.Anderson = (lambda: plain) if depth is None else (lambda: Anderson(depth))
@@ -101,20 +107,23 @@ def main():
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    lines = ["# Cycles of the d = 2 half-space by the depth of Anderson's acceleration", "",
+    lines = ["# Cycles of the d = 2 half-space by how the cycles' starts are moved", "",
              f"`OPENBLAS_NUM_THREADS=1 python benchmarks/cycle_acceleration.py`, "
              f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. ν = 0.3, d = 2; cycle "
-             f"tolerance 1e-10 unless given. Cycles, wall seconds, W's difference from depth 10.",
-             "", "| case | depth 10 (default) | depth 5 | no acceleration | its contraction per "
-                 "cycle | largest late change at r/a | its transverse share |",
-             "|---|---|---|---|---|---|---|"]
+             f"tolerance 1e-10 unless given. Cycles, wall seconds, W's difference from the "
+             f"default (memory and Anderson at depth 10).",
+             "", "| case | memory + Anderson 10 (default) | Anderson 10 | Anderson 5 | memory "
+                 "alone | neither | its contraction per cycle | largest late change at r/a | "
+                 "its transverse share |",
+             "|---|---|---|---|---|---|---|---|---|"]
     print("\n".join(lines), flush=True)
     for label, factory in cases():
-        r10, s10, _ = run(factory, 10)
+        ref, s_ref, _ = run(factory, 10)
         cells = []
-        for depth in (10, 5, None):
-            r, s, rho = (r10, s10, None) if depth == 10 else run(factory, depth)
-            diff = (r.W - r10.W) / r10.W
+        for depth, memory in ((10, True), (10, False), (5, False), (None, True), (None, False)):
+            r, s, rho = (ref, s_ref, None) if (depth, memory) == (10, True) else run(
+                factory, depth, memory)
+            diff = (r.W - ref.W) / ref.W
             mark = "" if r.converged else " (no)"
             cells.append(f"{r.cycles}{mark}, {s:.1f} s, {diff:+.1e}")
         cells += [f"{rho[0]:.3f}", f"{rho[1]:.3f}", f"{rho[2]:.3f}"]
