@@ -273,6 +273,12 @@ def test_unsettled_cycles_raise_with_the_smallest_change():
 
     with pytest.raises(ConvergenceError, match=r"after 3 cycles \(relative change [^;]*\)"):
         sphere(Q1=0.25, grid=12, nu=0.3, dims=2).solve(40, max_cycles=3)
-    # a cycle tolerance below what the increments hold (1e-10): the floor is named
+    # a cycle tolerance below what the increments hold (their tol 1e-10 holds the cycles to
+    # about 6e-12 here): the floor is named
     with pytest.raises(ConvergenceError, match=r"the smallest at full accuracy \d.*e-1[0-3]"):
-        sphere(Q1=0.25, grid=12, nu=0.3, dims=2).solve(40, tol=1e-15, max_cycles=30)
+        sphere(Q1=0.25, grid=12, nu=0.3, dims=2).solve(40, tol=1.1e-12, max_cycles=30)
+    # far below (under 1e-2 of the increments' tol): refused before any work
+    with pytest.raises(InputError, match=r"tol.*below what the increments can hold.*1e-12"):
+        sphere(Q1=0.25, grid=12, nu=0.3, dims=2).solve(40, tol=1e-15)
+    sphere(Q1=0.25, grid=12, nu=0.3, dims=1).solve(8, tol=1e-15, max_cycles=3,
+                                                   on_nonconvergence="ignore")     # d = 1: exact

@@ -30,7 +30,9 @@ HalfPlaneCylinder`) provides
 * optionally ``loose_cycles`` (true), a ``tol`` attribute and ``increment(..., tol=)``: a model
   that settles over many cycles has its early cycles' increments solved loosely (to a hundredth
   of the last cycle's change, at most 1e-6), then to a hundredth of the cycle tolerance (never
-  tighter than the model's own ``tol``); only a cycle at that accuracy ends the iteration.
+  tighter than the model's own ``tol``); only a cycle at that accuracy ends the iteration. The
+  cycles then repeat to about a tenth of the model's ``tol`` at best: a cycle tolerance under a
+  hundredth of it is refused before any work.
 
 :func:`steady_state` runs cycles until the slips repeat, with the driver's own criterion
 (:func:`~lcpfric.periodic.cycle_change`), and returns one :class:`ContactResult`.
@@ -63,6 +65,8 @@ MAX_BYTES = 4 << 30
 #: models with ``loose_cycles``: the increments' tolerance, this times the last cycle's change,
 #: at most ``_LOOSE_MAX`` (and at least the model's own)
 _LOOSE, _LOOSE_MAX = 1e-2, 1e-6
+#: models with ``loose_cycles``: the smallest cycle tolerance, this times the model's ``tol``
+_FLOOR = 1e-2
 
 
 @dataclass(frozen=True)
@@ -158,6 +162,13 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
     steps = _checks.positive_int("steps", steps, 4)
     tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
                                                                 on_nonconvergence)
+    loose = getattr(model, "loose_cycles", False)
+    if loose and tol < _FLOOR * model.tol:
+        # inexact increments (d = 2) hold the cycles to about 0.03 to 0.2 of their tolerance
+        raise InputError("tol", f"= {tol:g} is below what the increments can hold: they are "
+                                f"solved to the model's tol {model.tol:g}, and the cycles "
+                                f"then repeat to about a tenth of that; give tol >= "
+                                f"{_FLOOR * model.tol:g}, or a model with a smaller tol")
     n = model.nodes
     dims = getattr(model, "dims", 1)
     need = n * (steps + 1) * 8 * (1 + (1 + dims if record else 0))
@@ -186,7 +197,6 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
     jumps = 0
     dv = None                 # the last increment's slips: the states at a cycle's start
     guesses = None
-    loose = getattr(model, "loose_cycles", False)
     accurate = True
     for _ in range(max_cycles):
         previous, guesses = guesses, ([] if guessing else None)
