@@ -222,6 +222,16 @@ def test_bad_input_is_refused_before_work():
                   spacing=g[1] - g[0])
 
 
+def test_near_gross_sliding_failure_says_so():
+    """d = 2 within 0.02 % of gross sliding on a coarse grid (a stick zone of about two
+    elements): the increment does not converge, and the typed error says why and what to do
+    (0.1 % from it converges on this grid)."""
+    from lcpfric.errors import SolverError
+
+    with pytest.raises(SolverError, match="close to gross sliding.*refine the grid"):
+        sphere(Q1=0.4999, grid=16, nu=0.3, dims=2).solve(60)
+
+
 def test_recorded_cycle_starts_where_it_ends():
     """The recorded states of the steady cycle's first instant are those of its last (the
     previous cycle's last increment), not a blank 'stick'."""
