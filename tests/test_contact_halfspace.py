@@ -222,6 +222,30 @@ def test_bad_input_is_refused_before_work():
                   spacing=g[1] - g[0])
 
 
+def test_loose_steps_for_new_patterns_keep_the_answer(monkeypatch):
+    """d = 1 on a wavy surface (contact islands, where the first patterns are often wrong):
+    Newton steps whose pattern is new are solved loosely, a repeated pattern to full accuracy;
+    the same W (1e-10) for fewer conjugate-gradient iterations than with every step solved
+    to full accuracy."""
+    import lcpfric.contact.halfspace as hs
+
+    g = (np.arange(64) - 31.5) / 64 * 2.4
+    X, Y = np.meshgrid(g, g, indexing="ij")
+    wavy = (X ** 2 + Y ** 2) / 2 + 0.03 * (np.cos(14 * X) * np.cos(11 * Y) + 1)
+
+    def run():
+        m = HalfSpace(1.0, 0.0, 0.5, Harmonic(0.05, 0.025, 0.0, TWO_PI),
+                      Harmonic(0.0, 0.01, 0.5, TWO_PI), heights=wavy, spacing=g[1] - g[0])
+        return m.solve(40), m.stats["cg"]
+
+    (loose, cg_loose) = run()
+    monkeypatch.setattr(hs, "_ETA1", 0.0)
+    (tight, cg_tight) = run()
+    assert loose.converged and tight.converged
+    assert loose.W == pytest.approx(tight.W, rel=1e-10)
+    assert cg_loose < 0.8 * cg_tight
+
+
 def test_near_gross_sliding_failure_says_so():
     """d = 2 within 0.02 % of gross sliding on a coarse grid (a stick zone of about two
     elements): the increment does not converge, and the typed error says why and what to do

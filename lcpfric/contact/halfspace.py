@@ -36,7 +36,10 @@ the equilibrium as a linear constraint; it is solved by conjugate gradients, pro
 constraint (``k_support = 0``) or with the support's rank-d term (``k_support > 0``), one
 product with C per iteration. For d = 1 this is the primal-dual active-set iteration of the
 ``active-set`` backend (the slipping forces are known), and its answer is exact once the
-pattern is right; for d = 2 the slip directions converge quadratically near the answer. The
+pattern is right: a step with a new pattern is solved to a hundredth of the residual (it only
+decides the next pattern; on a rough contact the first patterns are often wrong), and a pattern
+that repeats once more to full accuracy; for d = 2 the slip directions converge quadratically
+near the answer. The
 answer is accepted when the natural-map residual is below ``tol × force scale`` on every node;
 an iteration that does not get there raises :class:`~lcpfric.errors.SolverError`.
 
@@ -76,6 +79,9 @@ _EPS = np.finfo(float).eps
 DENSE_MAX = 2000
 #: d = 2: the linear solves of the Newton steps are to this fraction of the residual
 _ETA = 1e-3
+#: d = 1: the linear solves of the steps with a new pattern are to this fraction of the
+#: residual (the repeated pattern's to full accuracy)
+_ETA1 = 1e-2
 
 
 @dataclass
@@ -159,6 +165,7 @@ class HalfSpace(ContactModel):
                       "tangential_seconds": 0.0, "tangential_products": 0, "increments": 0,
                       "newton": 0, "cg": 0}
         self._cache: dict[float, np.ndarray] = {}
+        self._first_right = True        # d = 1: the last increment's first pattern held
         self._last_p = None
         top = self.pressure(self.P_max)
         self.contact_max = int(np.count_nonzero(top))
@@ -404,7 +411,7 @@ class HalfSpace(ContactModel):
         Qv[0] = Q
         updates = PatternUpdate(contact) if d == 1 else None
         up = dn = None
-        restarted = False
+        restarted = loose = fresh = changed = False
         # d = 1: Murty's rule changes one node per iteration, so allow one per node
         limit = _MAX_NEWTON + (int(contact.sum()) if d == 1 else 0)
         for it in range(limit):
@@ -421,11 +428,15 @@ class HalfSpace(ContactModel):
                     warm = (contact & (side > 0), contact & (side < 0))
                     up, dn = warm if restarted else updates.first(zz, -b - band, b + band,
                                                                   warm)
+                    fresh = True
                 else:
                     nxt = updates.next(zz, -b - band, b + band, up, dn)
-                    if nxt is None:
+                    if nxt is None and not loose:
                         break
-                    up, dn = nxt
+                    fresh = nxt is not None     # else: a loose step's pattern repeats
+                    if fresh:
+                        up, dn = nxt
+                        changed = True
                     if it == _RESTART and not restarted:
                         # a poor start (a large extrapolated change) can send the pattern
                         # astray: restart once from the previous increment's forces and
@@ -468,7 +479,13 @@ class HalfSpace(ContactModel):
                 if d == 1:
                     up[i] = dn[i] = False
             self.stats["newton"] += 1
-            dF, dd, CdF = self._newton(F, ds, z, zn, b, contact, slip, eq, worst, tolF)
+            # d = 1: a step whose pattern is new is solved loosely (its answer only says
+            # which pattern comes next), once a pattern repeats to full accuracy; the first
+            # pattern too, unless the last increment's first pattern was its answer
+            loose = (d == 1 and fresh and _ETA1 * worst > 0.1 * tolF
+                     and (it > 0 or not self._first_right))
+            dF, dd, CdF = self._newton(F, ds, z, zn, b, contact, slip, eq, worst, tolF,
+                                       _ETA1 if loose else None)
             alpha = 1.0 if d == 1 else self._step(merit, F, CF, delta, dF, CdF, dd, s0, b,
                                                    contact, Qv)
             F += alpha * dF
@@ -483,6 +500,8 @@ class HalfSpace(ContactModel):
             raise SolverError(f"half-space tangential increment: residual {worst:.3g} above "
                               f"{tolF:.3g} after {limit} Newton iterations{near}",
                               backend="halfspace", status="max_iter")
+        if d == 1:
+            self._first_right = not changed
         _project(F, b)
         stick = contact & ~slip
         ds[stick] = 0.0
@@ -526,7 +545,7 @@ class HalfSpace(ContactModel):
             alpha *= 0.5
         return alpha
 
-    def _newton(self, F, ds, z, zn, b, contact, slip, eq, worst, tolF):
+    def _newton(self, F, ds, z, zn, b, contact, slip, eq, worst, tolF, eta=None):
         """One semismooth Newton step (module docstring): ``(ΔF, Δδ)``. For d = 2 the linear
         solve is inexact while the residual ``worst`` is large (to ``1e-3`` of it: the slip
         directions are corrected by the next step anyway); for d = 1 it is exact, which ends
@@ -571,8 +590,8 @@ class HalfSpace(ContactModel):
             return space.restrict(self._apply(self.op.precondition, space.embed(r), h2))
 
         tol = 0.1 * c * tolF
-        if d == 2:
-            tol = max(tol, _ETA * c * worst)
+        if d == 2 or eta is not None:
+            tol = max(tol, (_ETA if eta is None else eta) * c * worst)
         if ks > 0.0:
             x, _ = _cg(lambda y: M(y) + B.T @ (B @ y) / ks, g + B.T @ cons / ks,
                        np.zeros(space.size), None, pre, tol, self.stats, step)
