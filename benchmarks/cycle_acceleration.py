@@ -5,7 +5,7 @@
 writes ``DIR/cycle_acceleration.md`` (default ``benchmarks/results``; about 10 minutes). With
 ν > 0 and d = 2 the transverse slips settle over many cycles; the contact steady-state driver
 scales each cycle's change node by node by what the cycle remembers of its start
-(:class:`lcpfric.contact.memory.SlipMemory`) and accelerates that map with
+(:class:`lcpfric.cycle_memory.SlipMemory`) and accelerates that map with
 :class:`lcpfric.periodic.Anderson` (depth 10). This runs the same d = 2 cases (ν = 0.3) with
 both (the default), with Anderson alone (depth 10 and 5: the driver before the memory), with
 the memory alone, and with neither, and gives the cycles, the seconds, W's difference from the
@@ -14,6 +14,10 @@ cases: the backends' cross-check contact (grid 10, support k_t0, the scene's ste
 three load cases (grid 20, 100 steps, cycle tolerance 1e-8), Mindlin-Deresiewicz on grids 40
 and 56, and varying P with a phase on grid 32 (200 steps). A run that does not repeat within
 200 cycles is marked "no".
+
+``--discrete`` runs the discrete driver's d = 2 systems instead (the chains of
+``benchmarks/order_d2.py`` and the grid-10 contact as a ContactSystem) with the memory and with
+Aitken's jumps alone, into ``DIR/cycle_acceleration_discrete.md`` (about 1 minute).
 """
 
 from __future__ import annotations
@@ -101,12 +105,64 @@ def run(factory, depth, memory=True):
     return r, seconds, (rho, where, share)
 
 
+def discrete(out: Path):
+    """The discrete driver (``lcpfric.steady_state``) on d = 2 systems, with the memory (and,
+    for coupled nodes, Anderson's acceleration) against Aitken's jumps alone: cycles, wall
+    seconds and W's difference; written to ``cycle_acceleration_discrete.md``."""
+    import lcpfric
+    import lcpfric.periodic as periodic
+    from lcpfric.scene import make_scene
+    from order_d2 import cases as chains
+
+    def half_space():
+        m = sphere(0.0, 0.6, 0.7 * PI, nu=0.3, grid=10, dims=2, k_support=1.0)
+        m.k_support = m.k_t0
+        return make_scene(m.system(), 200)
+
+    rows = [(name, (lambda s=system: s), "clarabel", {}) for name, system in chains()]
+    rows.insert(0, ("1 node, non-collinear, projection (uncoupled)",
+                    lambda: dict(chains())["1 node, non-collinear"], "projection", {}))
+    rows.append(("grid 10 half-space (196 nodes, ν = 0.3, support k_t0, 200 steps)",
+                 half_space, "clarabel", {"check_tol": 1e-4, "locate_events": False}))
+    lines = ["# The discrete driver's d = 2 cycles, with and without the memory", "",
+             f"`OPENBLAS_NUM_THREADS=1 python benchmarks/cycle_acceleration.py --discrete`, "
+             f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. Cycle tolerance 1e-10, "
+             f"200 steps per cycle (the chains of `benchmarks/order_d2.py`). Cycles, wall "
+             f"seconds; W's difference of Aitken's run from the memory's.", "",
+             "| system | method | memory (default) | Aitken alone | W difference |",
+             "|---|---|---|---|---|"]
+    print("\n".join(lines), flush=True)
+    keep = periodic.SlipMemory
+    for name, make, method, opts in rows:
+        runs = []
+        for memory in (True, False):
+            periodic.SlipMemory = keep if memory else (lambda *a: None)
+            try:
+                w = time.perf_counter()
+                r = lcpfric.steady_state(make(), method, 200, tol=1e-10, **opts)
+                runs.append((r, time.perf_counter() - w))
+            finally:
+                periodic.SlipMemory = keep
+        (a, sa), (b, sb) = runs
+        row = (f"| {name} | {method} | {a.cycles}, {sa:.1f} s | {b.cycles}, {sb:.1f} s | "
+               f"{(b.W - a.W) / a.W:+.1e} |")
+        print(row, flush=True)
+        lines.append(row)
+    lines.append("")
+    (out / "cycle_acceleration_discrete.md").write_text("\n".join(lines))
+    print(f"wrote {out / 'cycle_acceleration_discrete.md'}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=str(Path(__file__).parent / "results"))
+    ap.add_argument("--discrete", action="store_true",
+                    help="the discrete driver's d = 2 systems only (about 1 minute)")
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    if args.discrete:
+        return discrete(out)
     lines = ["# Cycles of the d = 2 half-space by how the cycles' starts are moved", "",
              f"`OPENBLAS_NUM_THREADS=1 python benchmarks/cycle_acceleration.py`, "
              f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. ν = 0.3, d = 2; cycle "

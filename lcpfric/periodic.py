@@ -19,6 +19,7 @@ from dataclasses import replace
 import numpy as np
 
 from . import _checks, memory
+from .cycle_memory import SlipMemory
 from .errors import ConvergenceError, ConvergenceWarning, InputError
 from .methods import CLOSED_FORM, get_stepper
 from .model import ContactSystem, SingleNode
@@ -177,6 +178,13 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
     change = np.inf
     starts = [state.u]
     extrapolations = 0
+    # d = 2 with the cycle kept: each cycle's change scaled node by node by what the cycle
+    # remembers of its start (lcpfric.cycle_memory; exact for uncoupled nodes), then, for
+    # coupled ones, Anderson's acceleration; else Aitken's jumps where one slow mode shows
+    slip_memory = (SlipMemory(_node_compliance(scene.system), scene.system.n)
+                   if history and scene.system.dims == 2 else None)
+    accelerate = (Anderson() if slip_memory is not None and not scene.system.is_diagonal()
+                  else None)
     for _ in range(max_cycles):
         state, cyc = (solver.cycle(work, state) if history
                       else solver.cycle(work, state, history=False))
@@ -188,7 +196,14 @@ def steady_state(model, method: str = "exact", steps_per_cycle: int = 2000, *,
                 break
         prev, prev_W = cyc.u, cyc.W
         starts.append(state.u)
-        jump = _extrapolate(starts, work)
+        if slip_memory is not None:
+            x0 = cyc.u[0]
+            R = slip_memory.of_cycle(cyc.u, _Limits(work))
+            end = x0 + slip_memory.step(R, cyc.u[-1] - x0)
+            nxt = accelerate(x0, end) if accelerate is not None else None
+            jump = _inside(end if nxt is None else nxt, work)
+        else:
+            jump = _extrapolate(starts, work)
         if jump is not None:
             state = replace(state, u=jump[0], F=jump[1])
             starts = [jump[0]]
@@ -231,6 +246,12 @@ def _extrapolate(starts: list, scene: Scene):
     u = aitken(starts)
     if u is None:
         return None
+    return _inside(u, scene)
+
+
+def _inside(u, scene):
+    """``(u, F)`` at the cycle's start with the force put back inside the friction cone
+    (``F = Π(Q + K u)``, ``u = K⁻¹ (F - Q)``)."""
     system = scene.system
     Q0, bound = scene.Q[0], scene.N[0] * system.friction
     F = Q0 + system.stiffness_times(u)
@@ -244,6 +265,22 @@ def _extrapolate(starts: list, scene: Scene):
     if np.any(Fp != F):
         u = u + system.solve(Fp - F)
     return u, Fp
+
+
+class _Limits:
+    """The friction limits ``f N`` at each instant of a scene, row by row."""
+
+    def __init__(self, scene):
+        self.N, self.f = scene.N, scene.system.friction
+
+    def __getitem__(self, k):
+        return np.asarray(self.N[k], dtype=float) * self.f
+
+
+def _node_compliance(system) -> np.ndarray:
+    """Each node's self-compliance (d = 2: the mean of its two diagonal entries of C)."""
+    c = np.asarray(system.compliance_diagonal(), dtype=float).reshape(system.n, -1)
+    return c.mean(axis=1)
 
 
 def aitken(starts: list):

@@ -61,7 +61,7 @@ from ..backends.active_set import PatternUpdate
 from ..errors import InputError, SolverError
 from .closed_forms import hertz_contact
 from .influence import Convolution
-from .memory import SlipMemory
+from ..cycle_memory import SlipMemory
 from .normal3d import normal_contact
 from .steady import ContactModel
 
@@ -364,7 +364,7 @@ class HalfSpace(ContactModel):
 
     def memory(self):
         """d = 2: the per-node memory of a cycle's starting slips, the steady-state driver's
-        preconditioner of the cycle map (:mod:`.memory`); None for d = 1 (a node that slips
+        preconditioner of the cycle map (:mod:`lcpfric.cycle_memory`); None for d = 1 (a node that slips
         forgets its start)."""
         return SlipMemory(self.c, self.nodes) if self.dims == 2 else None
 

@@ -22,7 +22,7 @@ HalfPlaneCylinder`) provides
   driver keeps the guesses of a cycle's increments (where they fit in memory) and gives each
   to the same increment of the next cycle, its start: once the cycles nearly repeat, the
   increments are nearly solved before they begin;
-* optionally ``memory()``: a :class:`~lcpfric.contact.memory.SlipMemory` (or None), with
+* optionally ``memory()``: a :class:`~lcpfric.cycle_memory.SlipMemory` (or None), with
   ``restart``: what a cycle remembers of its starting slips, node by node, from the increments'
   slips and limits; the driver scales each cycle's change by it (a Newton step on the cycle
   map's diagonal blocks) before accelerating, so the nodes that slip little each cycle (d = 2's
@@ -190,7 +190,7 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
     Fs = Ss = None
     accelerate = Anderson() if getattr(model, "restart", None) is not None else None
     # d = 2: each cycle's change is first scaled node by node by what the cycle remembers of
-    # its start (a Newton step on the cycle map's diagonal blocks, :mod:`.memory`)
+    # its start (a Newton step on the cycle map's diagonal blocks, :mod:`lcpfric.cycle_memory`)
     memory = (model.memory() if accelerate is not None
               and callable(getattr(model, "memory", None)) else None)
     R = None

@@ -1,11 +1,13 @@
 r"""What a cycle remembers of its starting slips, node by node: the preconditioner of the d = 2
-cycle map.
+cycle map, shared by the steady-state drivers of discrete systems (:mod:`lcpfric.periodic`)
+and of continuum contacts (:mod:`lcpfric.contact.steady`).
 
 With circular friction cones (d = 2) the periodic steady state is reached slowly: the slips
 transverse to a node's slip direction are forgotten only in part when the node slips, and the
-nodes at the edge of the stick zone slip very little each cycle. The cycle map (starting slips
-x to ending slips G(x)) then contracts by as little as 0.75 per cycle on a 40-element
-contact, 0.996 on a 56-element one (``benchmarks/results/cycle_acceleration.md``).
+nodes that slip very little each cycle (at the edge of a stick zone) remember nearly all of
+theirs. The cycle map (starting slips x to ending slips G(x)) of a half-space contact then
+contracts by as little as 0.75 per cycle on a 40-element contact, 0.996 on a 56-element one
+(``benchmarks/results/cycle_acceleration.md``).
 
 One node's memory has a closed form when its neighbours are held (its self-compliance c, its
 limit b): a start perturbation e of its slip changes its force by ``-e/c`` while it sticks;
@@ -63,11 +65,30 @@ class SlipMemory:
         q = np.einsum("ni,nij->nj", p, R[moved])             # pᵀ R
         R[moved] = (r[:, None] * p)[:, :, None] * q[:, None, :]
 
+    def of_cycle(self, u: np.ndarray, b) -> np.ndarray:
+        """``R`` of a recorded cycle: the slips ``u`` at its ``steps + 1`` instants (rows,
+        node-major n·2 columns) and the limits ``b[k]`` (rows of n) at each instant. A node
+        whose slip in an increment is below 1e-9 of its elastic scale ``c b`` counts as
+        sticking (a convex solver's round-off, not a slip)."""
+        R = self.start()
+        c = np.broadcast_to(np.asarray(self.c, dtype=float), (self.n,))
+        for k in range(u.shape[0] - 1):
+            bk = np.asarray(b[k + 1], dtype=float)
+            d = (u[k + 1] - u[k]).reshape(self.n, 2)
+            d[np.hypot(d[:, 0], d[:, 1]) <= 1e-9 * c * bk] = 0.0
+            self.update(R, d.reshape(-1), bk)
+        return R
+
     def step(self, R: np.ndarray, f: np.ndarray) -> np.ndarray:
         """``(I - R_i)⁺ f_i`` on every node (singular values of ``I - R_i`` floored at
-        ``1/MAX_GAIN``), flat like f."""
+        ``1/MAX_GAIN``), flat like f; f itself on a node that never moved (R_i = I: any start
+        of it repeats, and its change is round-off)."""
+        f = f.reshape(self.n, 2)
         A = np.eye(2) - R
         U, s, Vt = np.linalg.svd(A)
         s = np.maximum(s, 1.0 / MAX_GAIN)
-        g = np.einsum("nji,nj->ni", U, f.reshape(self.n, 2)) / s
-        return np.einsum("nji,nj->ni", Vt, g).reshape(-1)
+        g = np.einsum("nji,nj->ni", U, f) / s
+        out = np.einsum("nji,nj->ni", Vt, g)
+        still = np.all(A == 0.0, axis=(1, 2))
+        out[still] = f[still]
+        return out.reshape(-1)
