@@ -22,9 +22,11 @@ perpendicular p keeps the fraction
 ``R_i`` per node, the estimate of the cycle map's Jacobian block on that node: the identity
 for a node that sticks the whole cycle (its slip stays where it started), zero for one that
 slips across (d = 1's case) or separates. The driver then steps each node by the Newton step of
-that block, ``x_i + (I - R_i)⁺ (G(x)_i - x_i)``, its singular values floored at 1/MAX_GAIN,
-and accelerates that map (:class:`~lcpfric.periodic.Anderson`) for the coupling between nodes
-that the blocks leave out. Convergence is still judged on a whole cycle that repeats.
+that block, ``x_i + (I - R_i)⁺ (G(x)_i - x_i)``, its singular values floored at 1/MAX_GAIN.
+For one node, or nodes that are not coupled, R_i is the cycle map's Jacobian and that step is
+Newton's; for coupled nodes the driver accelerates the map (:class:`~lcpfric.periodic.Anderson`)
+for the coupling that the blocks leave out. Convergence is still judged on a whole cycle that
+repeats.
 """
 
 from __future__ import annotations

@@ -39,9 +39,9 @@ product with C per iteration. For d = 1 this is the primal-dual active-set itera
 pattern is right: a step with a new pattern is solved to a hundredth of the residual (it only
 decides the next pattern; on a rough contact the first patterns are often wrong), and a pattern
 that repeats once more to full accuracy; for d = 2 the slip directions converge quadratically
-near the answer. The
-answer is accepted when the natural-map residual is below ``tol × force scale`` on every node;
-an iteration that does not get there raises :class:`~lcpfric.errors.SolverError`.
+near the answer. The answer is accepted when the natural-map residual is below ``tol × force
+scale`` on every node; an iteration that does not get there raises
+:class:`~lcpfric.errors.SolverError`.
 
 Nodes out of contact carry no force and no unknown. d = 1 with ν > 0 takes the tractions along
 the load with the x-x Cerruti coefficient (Mindlin's approximation); d = 2 adds the
@@ -58,10 +58,10 @@ import numpy as np
 
 from .. import _checks
 from ..backends.active_set import PatternUpdate
+from ..cycle_memory import SlipMemory
 from ..errors import InputError, SolverError
 from .closed_forms import hertz_contact
 from .influence import Convolution
-from ..cycle_memory import SlipMemory
 from .normal3d import normal_contact
 from .steady import ContactModel
 
@@ -364,8 +364,8 @@ class HalfSpace(ContactModel):
 
     def memory(self):
         """d = 2: the per-node memory of a cycle's starting slips, the steady-state driver's
-        preconditioner of the cycle map (:mod:`lcpfric.cycle_memory`); None for d = 1 (a node that slips
-        forgets its start)."""
+        preconditioner of the cycle map (:mod:`lcpfric.cycle_memory`); None for d = 1 (a node
+        that slips forgets its start)."""
         return SlipMemory(self.c, self.nodes) if self.dims == 2 else None
 
     @property

@@ -190,7 +190,7 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
     Fs = Ss = None
     accelerate = Anderson() if getattr(model, "restart", None) is not None else None
     # d = 2: each cycle's change is first scaled node by node by what the cycle remembers of
-    # its start (a Newton step on the cycle map's diagonal blocks, :mod:`lcpfric.cycle_memory`)
+    # its start (a Newton step on the cycle map's diagonal blocks: lcpfric.cycle_memory)
     memory = (model.memory() if accelerate is not None
               and callable(getattr(model, "memory", None)) else None)
     R = None
