@@ -68,17 +68,26 @@ def test_memory_step_is_a_floored_newton_step():
     assert mem.step(R, f).reshape(3, 2)[1] == pytest.approx([1.0, MAX_GAIN])
 
 
-def test_memory_cuts_the_cycles_to_the_same_steady_state():
-    """d = 2, ν = 0.3: with the driver scaling each cycle's change by the memory, the same
-    steady state (W to 1e-9) in fewer cycles (9 against 12 on this grid)."""
+def test_memory_cuts_the_cycles_to_the_same_steady_state(monkeypatch):
+    """d = 2, ν = 0.3, the cycles not accelerated otherwise: scaling each cycle's change by
+    the memory reaches the steady state in a few cycles (14 in a run of this test), where the
+    plain cycles still change by more than 1e-9 after 40, towards the same W."""
+    import lcpfric.contact.steady as steady
+
+    class Plain:                    # no Anderson: the memory's own effect
+        def __call__(self, x, g):
+            return None
+
+    monkeypatch.setattr(steady, "Anderson", Plain)
     with_memory = sphere(Q1=0.3, grid=16, nu=0.3, dims=2)
     assert isinstance(with_memory.memory(), SlipMemory)
     without = sphere(Q1=0.3, grid=16, nu=0.3, dims=2)
     without.memory = None                                     # as restart, guess
-    r1, r0 = with_memory.solve(60), without.solve(60)
-    assert r0.converged and r1.converged
-    assert r1.W == pytest.approx(r0.W, rel=1e-9)
-    assert r1.cycles <= r0.cycles - 2
+    r1 = with_memory.solve(40, max_cycles=40)
+    r0 = without.solve(40, max_cycles=40, on_nonconvergence="ignore")
+    assert r1.converged and r1.cycles <= 20
+    assert not r0.converged and r0.change > 1e-9              # still far from repeating
+    assert r1.W == pytest.approx(r0.W, rel=1e-9)               # toward the same W
     assert sphere(grid=16).memory() is None                   # d = 1 forgets by slipping
 
 
