@@ -246,6 +246,20 @@ def test_loose_steps_for_new_patterns_keep_the_answer(monkeypatch):
     assert cg_loose < 0.8 * cg_tight
 
 
+def test_d2_at_the_gross_sliding_limit_is_refused():
+    """d = 2 with |Q| reaching μP under pure load control: nothing holds the body across the
+    load (its transverse slip drifts, no cycle repeats), so it is refused before any work, in
+    a solve and as a map's point (NaN); d = 1 there has its steady state."""
+    from lcpfric.contact.maps import halfspace_W_normalized
+
+    with pytest.raises(InputError, match=r"k_support.*reaches μ P.*transverse slip drifts"):
+        sphere(Q1=0.5, grid=12, dims=2).solve(40)
+    assert sphere(Q1=0.5, grid=12, dims=1).solve(40).converged
+    out = halfspace_W_normalized(np.array([0.0, 0.0]), np.array([1.0, 0.0]),
+                                 np.array([0.0, 0.0]), grid=12, dims=2, steps_per_cycle=20)
+    assert np.isnan(out[0]) and out[1] == 0.0
+
+
 def test_near_gross_sliding_failure_says_so():
     """d = 2 within 0.02 % of gross sliding on a coarse grid (a stick zone of about two
     elements): the increment does not converge, and the typed error says why and what to do

@@ -33,19 +33,22 @@ __all__ = ["mdr_W_normalized", "halfspace_W_normalized", "gross_sliding_points"]
 _SAMPLES = 20001
 
 
-def gross_sliding_points(P1, Q1, phi) -> np.ndarray:
-    """Which points have ``|Q̂1 sin(θ + φ)| > 1 + P̂1 sin θ`` at some θ (normalized units)."""
+def gross_sliding_points(P1, Q1, phi, reach: bool = False) -> np.ndarray:
+    """Which points have ``|Q̂1 sin(θ + φ)| > 1 + P̂1 sin θ`` at some θ (normalized units);
+    with ``reach``, those where it reaches it (to 1e-9: d = 2, where the body then drifts
+    across the load, :func:`~lcpfric.contact.steady.gross_sliding`)."""
     theta = np.linspace(0.0, 2 * math.pi, _SAMPLES)
     out = np.zeros(np.shape(P1), dtype=bool)
     for i in range(0, out.size, 256):
         sl = slice(i, min(i + 256, out.size))
         P = 1.0 + P1[sl, None] * np.sin(theta)
         Q = np.abs(Q1[sl, None] * np.sin(theta + phi[sl, None]))
-        out[sl] = np.any(Q > np.maximum(P, 0.0) + 1e-12 * (1.0 + Q), axis=1)
+        margin = -1e-9 if reach else 1e-12 * (1.0 + Q)
+        out[sl] = np.any(Q > np.maximum(P, 0.0) + margin, axis=1)
     return out
 
 
-def _points(P1, Q1, phi, steps_per_cycle, k_support):
+def _points(P1, Q1, phi, steps_per_cycle, k_support, reach=False):
     """The points as flat arrays, the checked steps and support, the output (NaN where pure
     load control has no equilibrium, 0 where Q̂1 = 0) and the points left to compute."""
     P1, Q1, phi = (np.atleast_1d(np.asarray(x, dtype=float)).ravel() for x in (P1, Q1, phi))
@@ -56,7 +59,7 @@ def _points(P1, Q1, phi, steps_per_cycle, k_support):
     out = np.zeros(P1.size)
     run = Q1 > 0
     if ks == 0.0:
-        bad = gross_sliding_points(P1, Q1, phi)
+        bad = gross_sliding_points(P1, Q1, phi, reach)
         out[bad] = np.nan
         run &= ~bad
     return P1, Q1, phi, steps, ks, out, run
@@ -139,11 +142,13 @@ def halfspace_W_normalized(P1, Q1, phi, *, grid: int = 20, dims: int = 1, nu: fl
     (:class:`~lcpfric.contact.halfspace.HalfSpace`) at the points ``(P1, Q1, phi)`` (flat
     arrays of P̂1, Q̂1, φ), ``grid`` elements across the largest contact, ``k_support`` in
     units of k_t0. The points of one P̂1 share one model, so the normal problem of each instant
-    is solved once. NaN where pure load control has no equilibrium; 0 where Q̂1 = 0."""
+    is solved once. NaN where pure load control has no equilibrium (with d = 2, also where |Q|
+    reaches μP: the body drifts across the load); 0 where Q̂1 = 0."""
     from ..model.loads import Harmonic
     from .halfspace import HalfSpace
 
-    P1, Q1, phi, steps, ks, out, run = _points(P1, Q1, phi, steps_per_cycle, k_support)
+    P1, Q1, phi, steps, ks, out, run = _points(P1, Q1, phi, steps_per_cycle, k_support,
+                                               reach=dims == 2)
     two_pi = 2.0 * math.pi
     for p1 in np.unique(P1[run]):
         idx = np.flatnonzero(run & (P1 == p1))

@@ -299,15 +299,24 @@ def gross_sliding(model, steps: int) -> None:
     t = np.union1d(np.linspace(0.0, T, steps + 1), np.linspace(0.0, T, 20001))
     P, Q = model.P(t), model.Q(t)
     margin = 1e-12 * (abs(model.mu * model.P0) + np.abs(Q))
+    plane = getattr(model, "dims", 1) == 2
+    if plane:
+        # d = 2 at |Q| = μP: the whole contact slides and nothing holds the body across the
+        # load, so its transverse slip drifts and no cycle repeats
+        margin = -1e-9 * abs(model.mu * model.P0)
     bad = t[np.abs(Q) > model.mu * np.maximum(P, 0.0) + margin]
     if bad.size:
         show = ", ".join(f"{x / T:.4g}" for x in bad[:: max(1, bad.size // 4)][:4])
-        raise InputError("k_support", f"is 0 (pure load control) but |Q(t)| > μ P(t) at "
+        what = ("reaches μ P(t)" if plane else "> μ P(t)")
+        why = ("slides, and with d = 2 nothing holds the body across the load: its transverse "
+               "slip drifts and no cycle repeats" if plane
+               else "slides and has no equilibrium")
+        raise InputError("k_support", f"is 0 (pure load control) but |Q(t)| {what} at "
                                       f"{bad.size} of {t.size} sampled instants (fractions of "
-                                      f"the period: {show}, ...): the whole contact slides and "
-                                      f"has no equilibrium; give the structure that holds the "
-                                      f"body, a support stiffness k_support > 0, or loads with "
-                                      f"|Q| <= μ P")
+                                      f"the period: {show}, ...): the whole contact {why}; "
+                                      f"give the structure that holds the body, a support "
+                                      f"stiffness k_support > 0, or loads with "
+                                      f"|Q| {'<' if plane else '<='} μ P")
 
 
 class ContactModel:
