@@ -17,7 +17,9 @@ and 56, and varying P with a phase on grid 32 (200 steps). A run that does not r
 
 ``--discrete`` runs the discrete driver's d = 2 systems instead (the chains of
 ``benchmarks/order_d2.py`` and the grid-10 contact as a ContactSystem) with the memory and with
-Aitken's jumps alone, into ``DIR/cycle_acceleration_discrete.md`` (about 1 minute).
+Aitken's jumps alone, into ``DIR/cycle_acceleration_discrete.md`` (about 1 minute);
+``--figure`` draws each cycle's change on grids 40 and 56 by strategy,
+``DIR/cycle_acceleration.png`` and ``.pdf`` (about 5 minutes).
 """
 
 from __future__ import annotations
@@ -153,16 +155,71 @@ def discrete(out: Path):
     print(f"wrote {out / 'cycle_acceleration_discrete.md'}")
 
 
+def figure(out: Path):
+    """``cycle_acceleration.png`` and ``.pdf``: each cycle's relative change (``changes`` of
+    the result) for Mindlin-Deresiewicz with d = 2 on grids 40 and 56, by how the cycles'
+    starts are moved; page width, TrueType fonts."""
+    from lcpfric import plotting
+
+    runs = {}
+    for g in (40, 56):
+        factory = (lambda g=g: (sphere(0.0, 0.5, 0.0, nu=0.3, grid=g, dims=2), {"steps": 200}))
+        for depth, memory, name in ((10, True, "memory + Anderson (default)"),
+                                    (10, False, "Anderson alone"),
+                                    (None, True, "memory alone"), (None, False, "neither")):
+            r, s, _ = run(factory, depth, memory)
+            runs[g, name] = r
+            print(f"grid {g}, {name}: {r.cycles} cycles, {s:.1f} s", flush=True)
+    with plotting.style():
+        fig = plotting.figure(figsize=(plotting.PAGE_WIDTH, 2.7), layout="constrained")
+        axes = fig.subplots(1, 2, sharey=True)
+        names = ["memory + Anderson (default)", "Anderson alone", "memory alone", "neither"]
+        colours = plotting.ramp(len(names))
+        for ax, g in zip(axes, (40, 56)):
+            for i, name in enumerate(names):
+                r = runs[g, name]
+                y = r.changes
+                ax.semilogy(np.arange(2, y.size + 2), y, color=colours[i], label=name,
+                            **plotting.curve_style(i, len(names), y.size))
+            ax.axhline(1e-10, color="0.45", lw=0.8, ls=(0, (4, 2)))
+            ax.text(0.5, 0.8e-10, "tolerance 1e-10", transform=ax.get_yaxis_transform(),
+                    ha="center", va="top", fontsize=plotting.SMALL, color="0.3")
+            ax.set_xlim(0, 110)
+            ax.set_ylim(1e-11, 0.1)
+            late = [name for name in names if runs[g, name].cycles > 110]
+            if late:
+                ax.text(0.98, 0.64, "; ".join(
+                    f"{name}: {runs[g, name].cycles} cycles"
+                    + ("" if runs[g, name].converged else ", no repeat") for name in late)
+                    + " (cut)", transform=ax.transAxes, ha="right", va="top",
+                    fontsize=plotting.SMALL, color="0.3")
+            ax.set_xlabel("cycle")
+            ax.set_title(f"grid {g} ({runs[g, names[0]].nodes_in_contact_max} elements in "
+                         f"contact)")
+            ax.grid(True, which="major", alpha=0.3)
+        axes[0].set_ylabel("relative change of the cycle")
+        axes[1].legend(loc="upper right", frameon=False)
+        fig.suptitle("Mindlin-Deresiewicz, d = 2, ν = 0.3, Q*/(μP) = 0.5, 200 steps per cycle")
+        plotting.finish(fig)
+        paths = plotting.save(fig, out, "cycle_acceleration", ("png", "pdf"))
+    print("wrote " + ", ".join(str(p) for p in paths))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=str(Path(__file__).parent / "results"))
     ap.add_argument("--discrete", action="store_true",
                     help="the discrete driver's d = 2 systems only (about 1 minute)")
+    ap.add_argument("--figure", action="store_true",
+                    help="only the figure of the cycles' changes on grids 40 and 56 (about 5 "
+                         "minutes)")
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     if args.discrete:
         return discrete(out)
+    if args.figure:
+        return figure(out)
     lines = ["# Cycles of the d = 2 half-space by how the cycles' starts are moved", "",
              f"`OPENBLAS_NUM_THREADS=1 python benchmarks/cycle_acceleration.py`, "
              f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. ν = 0.3, d = 2; cycle "

@@ -86,6 +86,7 @@ def test_memory_cuts_the_cycles_to_the_same_steady_state(monkeypatch):
     r1 = with_memory.solve(40, max_cycles=40)
     r0 = without.solve(40, max_cycles=40, on_nonconvergence="ignore")
     assert r1.converged and r1.cycles <= 20
+    assert r1.changes.size == r1.cycles - 1 and r1.changes[-1] == r1.change
     assert not r0.converged and r0.change > 1e-9              # still far from repeating
     assert r1.W == pytest.approx(r0.W, rel=1e-9)               # toward the same W
     assert sphere(grid=16).memory() is None                   # d = 1 forgets by slipping

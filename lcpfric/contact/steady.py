@@ -98,6 +98,9 @@ class ContactResult:
         The instants of the last cycle (``steps + 1``) and the node positions.
     size : ndarray
         The contact size at each instant.
+    changes : ndarray
+        The relative change of every cycle after the first (``cycles - 1`` values, the last
+        is ``change``): how the cycles settled.
     extrapolations : int
         Cycles started elsewhere than where the last one ended (models with ``restart``):
         Anderson's accelerated starts, Aitken's where it stalls, and with ``memory()`` the
@@ -127,6 +130,7 @@ class ContactResult:
     state: np.ndarray | None = None
     F: np.ndarray | None = None
     extrapolations: int = 0
+    changes: np.ndarray | None = None
 
     def stick_size(self) -> np.ndarray:
         """At each instant of the last cycle, the largest |x| of the sticking nodes that hold
@@ -186,6 +190,7 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
     state = model.start()
     F = np.zeros(n * dims)
     W_cycles, change, prev, smallest = [], math.inf, None, math.inf
+    changes = []
     scales = model.scales()
     Fs = Ss = None
     accelerate = Anderson() if getattr(model, "restart", None) is not None else None
@@ -237,6 +242,7 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
         if prev is not None:
             change = float(cycle_change(np.max(np.abs(state.v - v0)), np.max(vmax - vmin),
                                         W - prev, W, scales))
+            changes.append(change)
             if accurate:
                 smallest = min(smallest, change)
             if change <= tol and accurate:
@@ -270,7 +276,8 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
                          nodes_in_contact_max=int(np.max(np.count_nonzero(b > 0, axis=1))),
                          steps_per_cycle=steps, cycles=len(W_cycles), converged=converged,
                          change=change, seconds=time.perf_counter() - start, t=t, x=model.x,
-                         size=size, state=Ss, F=Fs, extrapolations=jumps)
+                         size=size, state=Ss, F=Fs, extrapolations=jumps,
+                         changes=np.asarray(changes))
 
 
 def _states(b, dv, dims: int = 1) -> np.ndarray:
