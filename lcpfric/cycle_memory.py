@@ -60,12 +60,17 @@ class SlipMemory:
         moved = np.flatnonzero(mag > 0.0)
         if not moved.size:
             return
+        m = mag[moved]
         c = self.c if np.ndim(self.c) == 0 else self.c[moved]
         cb = c * b[moved]
-        r = cb / (cb + mag[moved])
-        p = np.stack([-d[moved, 1], d[moved, 0]], axis=1) / mag[moved, None]
-        q = np.einsum("ni,nij->nj", p, R[moved])             # pᵀ R
-        R[moved] = (r[:, None] * p)[:, :, None] * q[:, None, :]
+        rm = cb / ((cb + m) * m * m)      # r / |Δs|², with p = (-Δs_y, Δs_x) / |Δs|
+        px, py = -d[moved, 1], d[moved, 0]
+        Rm = R[moved]                                 # (k, 2, 2)
+        q0 = (px * Rm[:, 0, 0] + py * Rm[:, 1, 0]) * rm           # r pᵀ R / |Δs|
+        q1 = (px * Rm[:, 0, 1] + py * Rm[:, 1, 1]) * rm
+        Rm[:, 0, 0], Rm[:, 0, 1] = px * q0, px * q1
+        Rm[:, 1, 0], Rm[:, 1, 1] = py * q0, py * q1
+        R[moved] = Rm
 
     def of_cycle(self, u: np.ndarray, b) -> np.ndarray:
         """``R`` of a recorded cycle: the slips ``u`` at its ``steps + 1`` instants (rows,

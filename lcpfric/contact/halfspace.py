@@ -157,6 +157,9 @@ class HalfSpace(ContactModel):
         self._check_memory()
         self.op = Convolution(N, self.h, self.E, self.nu, self.dims)
         self.c = self.op.diagonal("xx") / self.h ** 2
+        M = self.op.M
+        # each node's place in the FFT's padded layout (one plane per component)
+        self._pos = (np.arange(N)[:, None] * M + np.arange(N)[None, :]).ravel()
         coords = (np.arange(N) - (N - 1) / 2.0) * self.h
         X, Y = np.meshgrid(coords, coords, indexing="ij")
         self.xy = np.stack([X.ravel(), Y.ravel()], axis=1)
@@ -310,7 +313,7 @@ class HalfSpace(ContactModel):
             e = np.zeros((n, d))
             e[:, j] = 1.0
             x, _ = _cg(op.matvec, e.ravel(), np.zeros(m), None,
-                       lambda r: self._apply(self.op.precondition, r, h2).reshape(-1),
+                       lambda r: self._apply("precondition", r, h2).reshape(-1),
                        1e-13 * float(np.max(np.abs(e))) * self.c, stats)
             W[:, j] = x
         return op, (W[:, 0] if d == 1 else W), np.full(m, self.c)
@@ -346,16 +349,22 @@ class HalfSpace(ContactModel):
 
     def compliance(self, F: np.ndarray) -> np.ndarray:
         """``C F``: relative tangential displacements ``(n, d)`` from forces ``(n, d)``."""
-        return self._apply(self.op.tangential, F, 1.0 / self.h ** 2)
+        return self._apply("tangential", F, 1.0 / self.h ** 2)
 
-    def _apply(self, operator, F, factor):
-        """``operator`` (an FFT pair of :class:`~.influence.Convolution`) on node-major forces
+    def _apply(self, kind, F, factor):
+        """The product ``kind`` (:meth:`~.influence.Convolution.padded`) of node-major forces
         ``(n, d)`` or flat, times ``factor``: ``(n, d)``."""
-        N, n = self.N, self.nodes
-        if self.dims == 1:
-            return (operator(F.reshape(N, N)) * factor).reshape(n, 1)
-        out = operator(F.reshape(n, 2).T.reshape(2, N, N)) * factor
-        return out.reshape(2, n).T
+        return self._nodes(self.op.padded(kind, self._pad(F), factor))
+
+    def _pad(self, F):
+        """Node-major forces ``(n, d)`` or flat in the FFT's padded layout ``(d, M, M)``."""
+        N, d = self.N, self.dims
+        return self.op.pad(np.asarray(F, dtype=float).reshape(N, N, d).transpose(2, 0, 1))
+
+    def _nodes(self, buf):
+        """A padded ``(d, M, M)`` array's nodes, node-major ``(n, d)``."""
+        N, d = self.N, self.dims
+        return np.ascontiguousarray(buf[:, :N, :N].transpose(1, 2, 0)).reshape(N * N, d)
 
     def guess(self, state: _Tangential):
         """What the same increment of the next cycle starts from: this increment's changes of
@@ -526,9 +535,9 @@ class HalfSpace(ContactModel):
         """``|F - proj(F - Δs/c)|² + |equilibrium|²`` (d = 2): the line search's measure."""
         z = F - (delta + CF - s0) / self.c
         zn = np.hypot(z[:, 0], z[:, 1])
-        slip = contact & (zn > b)
-        z[slip] *= (b[slip] / zn[slip])[:, None]
-        z[~contact] = 0.0
+        scale = np.where(contact, 1.0, 0.0)
+        np.divide(b, zn, out=scale, where=contact & (zn > b))
+        z *= scale[:, None]
         eq = F.sum(axis=0) - self.k_support * delta + Qv
         return float(np.sum((F - z) ** 2) + eq @ eq)
 
@@ -555,16 +564,17 @@ class HalfSpace(ContactModel):
         L = np.flatnonzero(slip)
         known = np.zeros((n, d))
         known[~contact] = -F[~contact]
+        M = self.op.M
         if d == 1:
             known[L, 0] = np.sign(z[L, 0]) * b[L] - F[L, 0]
-            space = _Space(stick, None, None, n, 1)
+            space = _Space(stick, None, None, self._pos, M, 1)
             rhs = -ds[stick, 0]
         else:
             e = z[L] / zn[L, None]
             known[L] = e * (b[L] - np.sum(F[L] * e, axis=1))[:, None]
             tang = np.stack([-e[:, 1], e[:, 0]], axis=1)
             beta = b[L] / zn[L]
-            space = _Space(stick, L, tang, n, 2, c * (1.0 - beta) / beta)
+            space = _Space(stick, L, tang, self._pos, M, 2, c * (1.0 - beta) / beta)
             rhs = np.concatenate([-ds[stick].ravel(), -(c / beta) * np.sum(F[L] * tang, axis=1)])
         if space.size == 0:
             if ks <= 0.0:
@@ -572,94 +582,148 @@ class HalfSpace(ContactModel):
                                   "under pure load control (gross sliding)",
                                   backend="halfspace", status="gross_sliding")
             return known, (eq + known.sum(axis=0)) / ks, self.compliance(known)
-        Ck = self.compliance(known) if np.any(known) else np.zeros((n, d))
-        g = rhs - space.restrict(Ck)
         cons = -(eq + known.sum(axis=0))
         B = space.constraint()                                        # (d, size)
+        if ks > 0.0:
+            x0 = np.zeros(space.size)
+        else:
+            BBt = B @ B.T
+            if _condition(BBt) > 1e12:
+                raise SolverError("half-space: the sticking nodes cannot carry the load in "
+                                  "every direction (gross sliding)", backend="halfspace",
+                                  status="gross_sliding")
+            W = _inverse(BBt) @ B                                      # (d, size)
+            x0 = W.T @ cons
+        # the known forces and the start in one product (linearity); the residual from it
         h2 = self.h ** 2
-        acc = {"last": None, "sum": np.zeros((n, d))}   # C of the unknowns' part, by products
+        if np.any(known) or np.any(x0):
+            start = self._pad(known)
+            space.add(start, x0)
+            first = self.op.padded("tangential", start, 1.0 / h2)
+        else:
+            first = np.zeros_like(space.buf)
+        res = rhs - space.restrict(first) - space.diagonal * x0
+        acc = {"last": None, "sum": first}   # C of the step, summed from the products
 
         def M(x):
-            acc["last"] = self._apply(self.op.tangential, space.embed(x), 1.0 / h2)
-            return space.restrict(acc["last"]) + space.diagonal * x
+            acc["last"] = self.op.padded("tangential", space.embed(x), 1.0 / h2)
+            out = space.restrict(acc["last"])
+            return out if d == 1 else out + space.diagonal * x
 
         def step(alpha):
             acc["sum"] += alpha * acc["last"]
 
         def pre(r):
-            return space.restrict(self._apply(self.op.precondition, space.embed(r), h2))
+            return space.restrict(self.op.padded("precondition", space.embed(r), h2))
 
         tol = 0.1 * c * tolF
         if d == 2 or eta is not None:
             tol = max(tol, (_ETA if eta is None else eta) * c * worst)
         if ks > 0.0:
-            x, _ = _cg(lambda y: M(y) + B.T @ (B @ y) / ks, g + B.T @ cons / ks,
-                       np.zeros(space.size), None, pre, tol, self.stats, step)
+            x, _ = _cg(lambda y: M(y) + B.T @ (B @ y) / ks, None, x0, None, pre, tol,
+                       self.stats, step, res=res + B.T @ cons / ks)
             dd = (B @ x - cons) / ks
         else:
-            BBt = B @ B.T
-            if np.linalg.cond(BBt) > 1e12:
-                raise SolverError("half-space: the sticking nodes cannot carry the load in "
-                                  "every direction (gross sliding)", backend="halfspace",
-                                  status="gross_sliding")
-            W = np.linalg.solve(BBt, B)                                # (d, size)
-            x0 = W.T @ cons
 
             def project(r):
                 return r - B.T @ (W @ r)
 
-            x, res = _cg(M, g, x0, project, pre, tol, self.stats, step)
+            x, res = _cg(M, None, x0, project, pre, tol, self.stats, step, res=res)
             dd = W @ res
-        return space.embed(x).reshape(n, d) + known, dd, acc["sum"] + Ck
+        return space.nodes(x, known), dd, self._nodes(acc["sum"])
+
+
+def _condition(A):
+    """The condition number of a symmetric positive semi-definite 1 x 1 or 2 x 2 matrix
+    (inf when singular)."""
+    if A.shape[0] == 1:
+        return 1.0 if A[0, 0] > 0.0 else math.inf
+    m, r = 0.5 * (A[0, 0] + A[1, 1]), math.hypot(0.5 * (A[0, 0] - A[1, 1]), A[0, 1])
+    return (m + r) / (m - r) if m - r > 0.0 else math.inf
+
+
+def _inverse(A):
+    """The inverse of a 1 x 1 or 2 x 2 matrix (closed form)."""
+    if A.shape[0] == 1:
+        return 1.0 / A
+    det = A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
+    return np.array([[A[1, 1], -A[0, 1]], [-A[1, 0], A[0, 0]]]) / det
 
 
 class _Space:
     """The unknowns of a Newton step: both components of the sticking nodes, and for d = 2 the
     component of each slipping node's force along its circle (``tang``), with the diagonal
-    term of those; ``embed`` puts them in a flat force vector of the grid, ``restrict`` takes
-    them out."""
+    term of those. They live in the FFT's padded layout (``pos``: each node's place in a
+    plane of ``M x M``, one plane per component): ``embed`` puts them in a padded array
+    (zero elsewhere), ``add`` adds them to one, ``restrict`` takes them out of one, and
+    ``nodes`` gives them as node-major forces."""
 
-    def __init__(self, stick, L, tang, n, d, tdiag=None):
-        self.d = d
+    def __init__(self, stick, L, tang, pos, M, d, tdiag=None):
+        self.d, self.stick = d, stick
+        plane = M * M
         if d == 1:
-            self.idx = stick
+            self.idx = pos[stick]
             self.L = np.zeros(0, dtype=int)
         else:
-            self.idx = (2 * stick[:, None] + np.arange(2)).ravel()
+            self.idx = (pos[stick][:, None] + plane * np.arange(2)).ravel()
             self.L, self.tx, self.ty = L, tang[:, 0].copy(), tang[:, 1].copy()
+            self.Lx = pos[L]
+            self.Ly = self.Lx + plane
         self.k = self.idx.size
         self.size = self.k + self.L.size
         self.diagonal = (np.concatenate([np.zeros(self.k), tdiag]) if d == 2
                          else np.zeros(self.k))
-        self.buf = np.zeros(n * d)
+        self.buf = np.zeros((d, M, M))
+        self.flat = self.buf.reshape(-1)
 
     def embed(self, x):
-        buf = self.buf
-        buf.fill(0.0)
-        buf[self.idx] = x[: self.k]
+        """x in the space's own padded array (its other entries stay zero)."""
+        flat = self.flat
+        flat[self.idx] = x[: self.k]
         if self.L.size:
             t = x[self.k:]
-            buf[2 * self.L] = t * self.tx
-            buf[2 * self.L + 1] = t * self.ty
-        return buf
+            flat[self.Lx] = t * self.tx
+            flat[self.Ly] = t * self.ty
+        return self.buf
+
+    def add(self, buf, x):
+        """``buf += embed(x)``, in place (a padded array)."""
+        flat = buf.reshape(-1)
+        flat[self.idx] += x[: self.k]
+        if self.L.size:
+            t = x[self.k:]
+            flat[self.Lx] += t * self.tx
+            flat[self.Ly] += t * self.ty
 
     def restrict(self, full):
-        full = full.reshape(-1) if full.flags.c_contiguous else full.ravel()
-        head = full[self.idx]
-        if not self.L.size:
-            return head
-        return np.concatenate([head, full[2 * self.L] * self.tx
-                               + full[2 * self.L + 1] * self.ty])
+        """The unknowns' components of a padded array."""
+        flat = full.reshape(-1)
+        out = np.empty(self.size)
+        np.take(flat, self.idx, out=out[: self.k])
+        if self.L.size:
+            out[self.k:] = flat[self.Lx] * self.tx + flat[self.Ly] * self.ty
+        return out
+
+    def nodes(self, x, base):
+        """``base`` (node-major ``(n, d)``) plus the unknowns x, a new array."""
+        out = base.copy()
+        out[self.stick] += x[: self.k].reshape(-1, self.d)
+        if self.L.size:
+            t = x[self.k:]
+            out[self.L, 0] += t * self.tx
+            out[self.L, 1] += t * self.ty
+        return out
 
     def constraint(self):
         """``B``: the sum of the forces along each direction, as rows over the unknowns."""
-        n = self.buf.size // self.d
-        rows = []
-        for j in range(self.d):
-            ones = np.zeros((n, self.d))
-            ones[:, j] = 1.0
-            rows.append(self.restrict(ones))
-        return np.stack(rows)
+        if self.d == 1:
+            return np.ones((1, self.k))
+        B = np.zeros((2, self.size))
+        B[0, 0: self.k: 2] = 1.0
+        B[1, 1: self.k: 2] = 1.0
+        B[0, self.k:] = self.tx
+        B[1, self.k:] = self.ty
+        return B
 
 
 def _project(F, b):
@@ -668,18 +732,22 @@ def _project(F, b):
         np.clip(F[:, 0], -b, b, out=F[:, 0])
         return
     norm = np.hypot(F[:, 0], F[:, 1])
-    over = norm > b
-    F[over] *= (b[over] / norm[over])[:, None]
+    scale = np.ones_like(norm)
+    np.divide(b, norm, out=scale, where=norm > b)
+    F *= scale[:, None]
 
 
-def _cg(M, g, x, project, pre, tol, stats, step=None, max_iter=None):
+def _cg(M, g, x, project, pre, tol, stats, step=None, max_iter=None, res=None):
     """Preconditioned conjugate gradients for ``M x = g`` from x (on the null space of the
     constraint when ``project`` is given: the preconditioner is then ``Π pre Π``), until the
     (projected) residual is below ``tol`` everywhere. Returns x and the unprojected residual
     ``g - M x`` (whose part off the null space gives the constraint's multiplier). ``step(α)``
     is told each multiple of the last product of M added to x (1 for the start), so the
-    caller can sum the products into ``C x`` without one more."""
-    if np.any(x):
+    caller can sum the products into ``C x`` without one more. ``res``: the residual ``g - M
+    x`` at the start, if the caller has it (g is then not needed)."""
+    if res is not None:
+        pass
+    elif np.any(x):
         res = g - M(x)
         if step is not None:
             step(1.0)

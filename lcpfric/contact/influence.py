@@ -105,22 +105,60 @@ class Convolution:
     def tangential(self, q):
         """Tangential displacements from shears ``(N, N)`` (d = 1) or ``(2, N, N)`` (d = 2,
         the x and y components)."""
-        self.products += 1
-        if q.ndim == 2:
-            return self._back(self._forward(q) * self.spectra["xx"])
-        return self._back(self._mix(self._forward(q), "xx", "xy", "yy"))
+        return self.unpad(self.padded("tangential", self.pad(q)), q.ndim)
 
-    def _mix(self, X, xx, xy, yy):
-        out = np.empty_like(X)
-        K = self.spectra if xx == "xx" else self._inverse
-        if xy in K:
-            np.multiply(X[0], K[xx], out=out[0])
-            out[0] += X[1] * K[xy]
-            np.multiply(X[0], K[xy], out=out[1])
-            out[1] += X[1] * K[yy]
+    def pad(self, q):
+        """Fields ``(N, N)`` or ``(k, N, N)`` in the padded layout: a zeroed ``(k, M, M)``
+        array with the fields in its ``N x N`` corner."""
+        q = np.asarray(q, dtype=float)
+        buf = np.zeros((1 if q.ndim == 2 else q.shape[0], self.M, self.M))
+        buf[:, : self.N, : self.N] = q
+        return buf
+
+    def unpad(self, buf, ndim: int = 3):
+        """The ``N x N`` corner of a padded ``(k, M, M)`` array (``(N, N)`` if ``ndim`` is
+        2), a copy."""
+        out = buf[:, : self.N, : self.N]
+        return (out[0] if ndim == 2 else out).copy()
+
+    def padded(self, kind: str, buf, factor: float = 1.0):
+        """The product ``kind`` (``"tangential"``, or ``"precondition"``: the floored inverse
+        of the padded circulant operator) of fields in the padded layout ``(k, M, M)`` (zero
+        outside the ``N x N`` corner; k = 1 along x, or 2), times ``factor``: ``(k, M, M)``,
+        the answer in the corner (the rest is the circular convolution's wrap-around). One
+        FFT pair; the solvers' inner loops keep their vectors in this layout (no padding or
+        cropping copies)."""
+        self.products += 1
+        K = self._scaled(kind, factor)
+        X = sfft.rfft2(buf)
+        if buf.shape[0] == 1:
+            X *= K["xx"]
         else:
-            np.multiply(X[0], K[xx], out=out[0])
-            np.multiply(X[1], K[yy], out=out[1])
+            X = self._mix(X, K)
+        return sfft.irfft2(X, s=(self.M, self.M))
+
+    def _scaled(self, kind, factor):
+        """The spectra of ``kind`` times ``factor`` (cached): keys ``xx``, ``yy`` and, when
+        coupled, ``xy``."""
+        cache = self.__dict__.setdefault("_scaled_cache", {})
+        K = cache.get((kind, factor))
+        if K is None:
+            src = (self.spectra if kind == "tangential" else
+                   {"xx": self._inverse["ixx"], "yy": self._inverse["iyy"],
+                    **({"xy": self._inverse["ixy"]} if "ixy" in self._inverse else {})})
+            K = {k: v * factor for k, v in src.items() if k in ("xx", "xy", "yy")}
+            K.setdefault("yy", K["xx"])
+            cache[(kind, factor)] = K
+        return K
+
+    def _mix(self, X, K):
+        """The 2 x 2 spectral product of ``X`` (``(2, M, M//2+1)``) by the spectra ``K``."""
+        out = np.empty_like(X)
+        np.multiply(X[0], K["xx"], out=out[0])
+        np.multiply(X[1], K["yy"], out=out[1])
+        if "xy" in K:
+            out[0] += X[1] * K["xy"]
+            out[1] += X[0] * K["xy"]
         return out
 
     @property
@@ -161,10 +199,7 @@ class Convolution:
         """The (floored) inverse of the padded circulant tangential operator applied to ``q``:
         a symmetric positive definite preconditioner for the operator restricted to any set of
         nodes. One FFT pair."""
-        self.products += 1
-        if q.ndim == 2:
-            return self._back(self._forward(q) * self._inverse["ixx"])
-        return self._back(self._mix(self._forward(q), "ixx", "ixy", "iyy"))
+        return self.unpad(self.padded("precondition", self.pad(q)), q.ndim)
 
     def diagonal(self, name: str) -> float:
         """The self-influence of an element (every diagonal entry)."""
