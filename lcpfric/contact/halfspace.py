@@ -440,11 +440,14 @@ class HalfSpace(ContactModel):
         restarted = loose = fresh = changed = False
         # d = 1: Murty's rule changes one node per iteration, so allow one per node
         limit = _MAX_NEWTON + (int(contact.sum()) if d == 1 else 0)
+        inside = contact.astype(float)
+        eq_tol = tolF * max(1, int(contact.sum()))
+        ev = None             # d = 2: the residual at the iterate, if the line search has it
         for it in range(limit):
-            ds = delta + CF - s0
-            z = F - ds / c
-            eq = F.sum(axis=0) - ks * delta + Qv
             if d == 1:
+                ds = delta + CF - s0
+                z = F - ds / c
+                eq = F.sum(axis=0) - ks * delta + Qv
                 # the primal-dual active-set pattern, with Murty's rule once one repeats
                 zz = z[:, 0]
                 band = tolF + 64 * _EPS * (b + np.abs(F[:, 0]))
@@ -477,15 +480,11 @@ class HalfSpace(ContactModel):
                                      initial=0.0))
                 z = np.where(up, 1.0, -1.0)[:, None]              # the slip nodes' sides
             else:
-                zn = np.hypot(z[:, 0], z[:, 1])
-                slip = contact & (zn > b)
-                proj = z.copy()
-                proj[slip] *= (b[slip] / zn[slip])[:, None]
-                proj[~contact] = 0.0
-                R = F - proj
-                worst = float(np.max(np.abs(R), initial=0.0))
-                merit = float(np.sum(R * R) + eq @ eq)
-                if worst <= tolF and float(np.max(np.abs(eq))) <= tolF * max(1, contact.sum()):
+                if ev is None:
+                    ev = self._natural(F, CF, delta, s0, b, inside, Qv)
+                ds, z, zn, slip, worst, merit, eq = ev
+                ev = None
+                if worst <= tolF and float(np.max(np.abs(eq))) <= eq_tol:
                     break
                 if it == 2 * _RESTART and not restarted:      # as for d = 1 below
                     F, delta, CF = self._safe_start(state, b, contact)
@@ -512,11 +511,13 @@ class HalfSpace(ContactModel):
                      and (it > 0 or not self._first_right))
             dF, dd, CdF = self._newton(F, ds, z, zn, b, contact, slip, eq, worst, tolF,
                                        _ETA1 if loose else None)
-            alpha = 1.0 if d == 1 else self._step(merit, F, CF, delta, dF, CdF, dd, s0, b,
-                                                   contact, Qv)
-            F += alpha * dF
-            CF += alpha * CdF
-            delta = delta + alpha * dd
+            if d == 1:
+                F += dF
+                CF += CdF
+                delta = delta + dd
+            else:
+                F, CF, delta, ev = self._step(merit, F, CF, delta, dF, CdF, dd, s0, b,
+                                              inside, Qv)
         else:
             total = float(b[contact].sum())
             near = (f"; |Q| is {abs(Q) / total:.6f} of the sum of the friction limits, so "
@@ -549,28 +550,34 @@ class HalfSpace(ContactModel):
         _project(F, b)
         return F, state.delta.copy(), self.compliance(F)
 
-    def _merit(self, F, CF, delta, s0, b, contact, Qv):
-        """``|F - proj(F - Δs/c)|² + |equilibrium|²`` (d = 2): the line search's measure."""
-        z = F - (delta + CF - s0) / self.c
+    def _natural(self, F, CF, delta, s0, b, inside, Qv):
+        """d = 2: the natural map's residual at ``(F, CF = C F, δ)`` (``inside``: 1 on the
+        nodes in contact, 0 elsewhere): ``(Δs, z, |z|, slipping, its largest component, the
+        line search's merit |F - proj(z)|² + |equilibrium|², the equilibrium)`` with ``z = F
+        - Δs/c``."""
+        ds = delta + CF - s0
+        z = F - ds / self.c
         zn = np.hypot(z[:, 0], z[:, 1])
-        scale = np.where(contact, 1.0, 0.0)
-        np.divide(b, zn, out=scale, where=contact & (zn > b))
-        z *= scale[:, None]
+        slip = (zn > b) & (inside > 0.0)
+        scale = inside.copy()
+        np.divide(b, zn, out=scale, where=slip)
+        R = F - z * scale[:, None]
         eq = F.sum(axis=0) - self.k_support * delta + Qv
-        return float(np.sum((F - z) ** 2) + eq @ eq)
+        return (ds, z, zn, slip, float(np.max(np.abs(R), initial=0.0)),
+                float(np.vdot(R, R) + eq @ eq), eq)
 
-    def _step(self, m0, F, CF, delta, dF, CdF, dd, s0, b, contact, Qv):
-        """d = 2: the Newton step's length, halved from 1 until the merit (``m0`` at the
+    def _step(self, m0, F, CF, delta, dF, CdF, dd, s0, b, inside, Qv):
+        """d = 2: the Newton step, its length halved from 1 until the merit (``m0`` at the
         start) decreases (products are linear: ``C(F + α ΔF) = CF + α CΔF``, so a trial
-        costs no FFT)."""
+        costs no FFT): ``(F, CF, δ)`` there and :meth:`_natural` of it."""
         alpha = 1.0
         for _ in range(12):
-            m = self._merit(F + alpha * dF, CF + alpha * CdF, delta + alpha * dd, s0, b,
-                            contact, Qv)
-            if m <= (1.0 - 1e-4 * alpha) * m0:
-                return alpha
+            trial = F + alpha * dF, CF + alpha * CdF, delta + alpha * dd
+            ev = self._natural(*trial, s0, b, inside, Qv)
+            if ev[5] <= (1.0 - 1e-4 * alpha) * m0:
+                break
             alpha *= 0.5
-        return alpha
+        return (*trial, ev)
 
     def _newton(self, F, ds, z, zn, b, contact, slip, eq, worst, tolF, eta=None):
         """One semismooth Newton step (module docstring): ``(ΔF, Δδ)``. For d = 2 the linear
