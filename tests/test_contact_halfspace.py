@@ -246,25 +246,6 @@ def test_loose_steps_for_new_patterns_keep_the_answer(monkeypatch):
     assert cg_loose < 0.8 * cg_tight
 
 
-@pytest.mark.parametrize("dims, nu, P1", [(1, 0.0, 0.5), (2, 0.3, 0.0)])
-def test_start_products_by_linearity_keep_the_answer(monkeypatch, dims, nu, P1):
-    """An increment's start takes C F from the last increment's products by linearity (a
-    fresh product every ``_FRESH`` increments, or when the start is projected): the same W
-    and cycles (1e-12) as with a fresh product at every increment, for fewer products."""
-    import lcpfric.contact.halfspace as hs
-
-    def run():
-        m = sphere(P1=P1, Q1=0.3, phi=0.5 * math.pi, nu=nu, grid=14, dims=dims)
-        return m.solve(60), m.stats["tangential_products"]
-
-    linear, n_linear = run()
-    monkeypatch.setattr(hs, "_FRESH", 1)
-    fresh, n_fresh = run()
-    assert linear.converged and fresh.converged and linear.cycles == fresh.cycles
-    assert linear.W == pytest.approx(fresh.W, rel=1e-12)
-    assert n_linear < n_fresh
-
-
 def test_d2_at_the_gross_sliding_limit_is_refused():
     """d = 2 with |Q| reaching μP under pure load control: nothing holds the body across the
     load (its transverse slip drifts, no cycle repeats), so it is refused before any work, in

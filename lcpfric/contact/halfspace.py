@@ -29,8 +29,7 @@ their limit with the slip opposite to the force.
 
 It is solved as the nonsmooth equation ``F = proj_b(F − Δs(F)/c)`` (c the diagonal of C) by a
 semismooth Newton method, warm-started from the previous increment (its forces extrapolated,
-its pattern; products are linear, so the start's ``C F`` is the sum of known ones unless the
-start had to be projected). With the pattern of a Newton iterate fixed, the step is one symmetric positive
+its pattern). With the pattern of a Newton iterate fixed, the step is one symmetric positive
 definite linear system on the sticking components and, for d = 2, the components of the
 slipping nodes' forces tangent to their circle (with the diagonal term ``|Δs_i| / b_i``), under
 the equilibrium as a linear constraint; it is solved by conjugate gradients, projected onto the
@@ -83,9 +82,6 @@ _ETA = 1e-3
 #: d = 1: the linear solves of the steps with a new pattern are to this fraction of the
 #: residual (the repeated pattern's to full accuracy)
 _ETA1 = 1e-2
-#: an increment's start takes its product C F by linearity from the last one's, with a fresh
-#: product at least every this many increments
-_FRESH = 32
 
 
 @dataclass
@@ -99,8 +95,6 @@ class _Tangential:
     dF: np.ndarray
     ddelta: np.ndarray
     side: np.ndarray          # d = 1: +1 / -1 on the upper / lower limit, else 0
-    CF: np.ndarray | None = None      # C F, where known (saves the next increment a product)
-    CdF: np.ndarray | None = None     # C dF, where known
 
 
 class HalfSpace(ContactModel):
@@ -175,7 +169,6 @@ class HalfSpace(ContactModel):
                       "newton": 0, "cg": 0}
         self._cache: dict[float, np.ndarray] = {}
         self._first_right = True        # d = 1: the last increment's first pattern held
-        self._linear = 0                # increments since the last fresh start product
         self._last_p = None
         top = self.pressure(self.P_max)
         self.contact_max = int(np.count_nonzero(top))
@@ -339,14 +332,13 @@ class HalfSpace(ContactModel):
     def start(self) -> _Tangential:
         m, d = self.nodes * self.dims, self.dims
         return _Tangential(np.zeros(m), np.zeros(d), np.zeros(m), np.zeros(m), np.zeros(d),
-                           np.zeros(self.nodes, dtype=np.int8), np.zeros(m), np.zeros(m))
+                           np.zeros(self.nodes, dtype=np.int8))
 
     def restart(self, state: _Tangential, v: np.ndarray) -> _Tangential:
         """The state with the slips v (the driver's extrapolation): the slips are the state,
         the forces only the next solve's starting point."""
         return _Tangential(np.asarray(v, dtype=float).copy(), state.delta, state.F,
-                           np.zeros_like(state.dF), np.zeros_like(state.ddelta), state.side,
-                           state.CF, np.zeros_like(state.dF))
+                           np.zeros_like(state.dF), np.zeros_like(state.ddelta), state.side)
 
     def scales(self) -> tuple[float, float]:
         q = self.Q.amplitude if not self.Q.is_constant else abs(self.Q.mean)
@@ -376,9 +368,8 @@ class HalfSpace(ContactModel):
 
     def guess(self, state: _Tangential):
         """What the same increment of the next cycle starts from: this increment's changes of
-        the forces and of δ, its pattern and, where known, the forces' change's product
-        (the driver keeps one per increment)."""
-        return state.dF, state.ddelta, state.side, state.CdF
+        the forces and of δ, and its pattern (the driver keeps one per increment)."""
+        return state.dF, state.ddelta, state.side
 
     def memory(self):
         """d = 2: the per-node memory of a cycle's starting slips, the steady-state driver's
@@ -413,26 +404,18 @@ class HalfSpace(ContactModel):
         if guess is not None:
             # the start: this increment's changes in the previous cycle (exact once the
             # cycles repeat, so a converging steady state costs less and less per cycle)
-            dF0, dd0, side0, CdF0 = guess
+            dF0, dd0, side0 = guess
         elif np.any(state.F != state.dF):
             # else the last increment's changes, extrapolated (unless that one started from
             # the virgin contact: its change is a load applied at once, not a trend)
-            dF0, dd0, side0, CdF0 = state.dF, state.ddelta, state.side, state.CdF
+            dF0, dd0, side0 = state.dF, state.ddelta, state.side
         else:
-            dF0, dd0, side0, CdF0 = 0.0, 0.0, state.side, 0.0
+            dF0, dd0, side0 = 0.0, 0.0, state.side
         F = (state.F + dF0).reshape(n, d)
-        moved = bool(np.any(F[~contact]))
         F[~contact] = 0.0
-        moved = _project(F, b) or moved
+        _project(F, b)
         delta = state.delta + dd0
-        self._linear += 1
-        if moved or state.CF is None or CdF0 is None or self._linear >= _FRESH:
-            CF = self.compliance(F)
-            self._linear = 0
-        else:
-            # the start's products by linearity, C(F + dF) = CF + CdF, while the start is
-            # not projected (a fresh product every _FRESH increments bounds the round-off)
-            CF = (state.CF + CdF0).reshape(n, d)
+        CF = self.compliance(F)
         Qv = np.zeros(d)
         Qv[0] = Q
         updates = PatternUpdate(contact) if d == 1 else None
@@ -529,7 +512,7 @@ class HalfSpace(ContactModel):
                               backend="halfspace", status="max_iter")
         if d == 1:
             self._first_right = not changed
-        CF_end = None if _project(F, b) else CF.reshape(-1)
+        _project(F, b)
         stick = contact & ~slip
         ds[stick] = 0.0
         v = s0 + ds
@@ -538,9 +521,8 @@ class HalfSpace(ContactModel):
         if d == 1:
             side[up] = 1
             side[dn] = -1
-        CdF = None if CF_end is None or state.CF is None else CF_end - state.CF
         new = _Tangential(v.ravel(), delta, F_flat.copy(), F_flat - state.F,
-                          delta - state.delta, side, CF_end, CdF)
+                          delta - state.delta, side)
         return new, F_flat, ds.ravel()
 
     def _safe_start(self, state, b, contact):
@@ -751,21 +733,15 @@ class _Space:
         return B
 
 
-def _project(F, b) -> bool:
-    """Forces onto their discs (d = 1: the interval), in place; whether any moved."""
+def _project(F, b):
+    """Forces onto their discs (d = 1: the interval), in place."""
     if F.shape[1] == 1:
-        over = bool(np.any(np.abs(F[:, 0]) > b))
-        if over:
-            np.clip(F[:, 0], -b, b, out=F[:, 0])
-        return over
+        np.clip(F[:, 0], -b, b, out=F[:, 0])
+        return
     norm = np.hypot(F[:, 0], F[:, 1])
-    over = norm > b
-    if not np.any(over):
-        return False
     scale = np.ones_like(norm)
-    np.divide(b, norm, out=scale, where=over)
+    np.divide(b, norm, out=scale, where=norm > b)
     F *= scale[:, None]
-    return True
 
 
 def _cg(M, g, x, project, pre, tol, stats, step=None, max_iter=None, res=None):
