@@ -34,9 +34,9 @@ definite linear system on the sticking components and, for d = 2, the components
 slipping nodes' forces tangent to their circle (with the diagonal term ``|Δs_i| / b_i``), under
 the equilibrium as a linear constraint; it is solved by conjugate gradients, projected onto the
 constraint (``k_support = 0``) or with the support's rank-d term (``k_support > 0``), one
-product with C per iteration. For d = 1 this is the primal-dual active-set iteration of the
-``active-set`` backend (the slipping forces are known), and its answer is exact once the
-pattern is right: a step with a new pattern is solved to a hundredth of the residual (it only
+product with C per iteration (and one for the known forces and the start together). For d = 1
+this is the primal-dual active-set iteration of the ``active-set`` backend (the slipping forces
+are known), and its answer is exact once the pattern is right: a step with a new pattern is solved to a hundredth of the residual (it only
 decides the next pattern; on a rough contact the first patterns are often wrong), and a pattern
 that repeats once more to full accuracy; for d = 2 the slip directions converge quadratically
 near the answer. The answer is accepted when the natural-map residual is below ``tol × force
