@@ -143,9 +143,8 @@ class Convolution:
         cache = self.__dict__.setdefault("_scaled_cache", {})
         K = cache.get((kind, factor))
         if K is None:
-            src = (self.spectra if kind == "tangential" else
-                   {"xx": self._inverse["ixx"], "yy": self._inverse["iyy"],
-                    **({"xy": self._inverse["ixy"]} if "ixy" in self._inverse else {})})
+            src = (self.spectra if kind == "tangential" else        # ixx, ixy, iyy
+                   {name[1:]: v for name, v in self._inverse.items() if name != "n"})
             K = {k: v * factor for k, v in src.items() if k in ("xx", "xy", "yy")}
             K.setdefault("yy", K["xx"])
             cache[(kind, factor)] = K
