@@ -18,6 +18,7 @@ Q1/(μP0) = 0.5, ν = 0.3, d = 2) on grid 20 with 100 steps and on grid 40 with 
 from __future__ import annotations
 
 import argparse
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -92,9 +93,11 @@ def main(argv=None):
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(exist_ok=True)
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
+                            text=True, cwd=Path(__file__).parent).stdout.strip()
     lines = ["# The spectrum of the d = 2 half-space's cycle map", "",
              f"`OPENBLAS_NUM_THREADS=1 python benchmarks/cycle_spectrum.py"
-             f"{' --quick' if args.quick else ''}`, "
+             f"{' --quick' if args.quick else ''}` at {commit}, "
              f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. Mindlin-Deresiewicz, "
              f"Q1/(μP0) = 0.5, ν = 0.3, d = 2, model tol 1e-13; {KRYLOV} Arnoldi steps, each a "
              f"finite difference of two whole cycles at the steady state.", ""]
