@@ -158,8 +158,8 @@ class HalfSpace(ContactModel):
         self.op = Convolution(N, self.h, self.E, self.nu, self.dims)
         self.c = self.op.diagonal("xx") / self.h ** 2
         M = self.op.M
-        # each node's place in the FFT's padded layout (one plane per component)
-        self._pos = (np.arange(N)[:, None] * M + np.arange(N)[None, :]).ravel()
+        # each node's first component in the FFT's padded layout (Convolution.view, flat)
+        self._pos = self.dims * (np.arange(N)[:, None] * M + np.arange(N)[None, :]).ravel()
         coords = (np.arange(N) - (N - 1) / 2.0) * self.h
         X, Y = np.meshgrid(coords, coords, indexing="ij")
         self.xy = np.stack([X.ravel(), Y.ravel()], axis=1)
@@ -357,14 +357,17 @@ class HalfSpace(ContactModel):
         return self._nodes(self.op.padded(kind, self._pad(F), factor))
 
     def _pad(self, F):
-        """Node-major forces ``(n, d)`` or flat in the FFT's padded layout ``(d, M, M)``."""
+        """Node-major forces ``(n, d)`` or flat in the FFT's padded layout
+        (:meth:`~.influence.Convolution.view`)."""
         N, d = self.N, self.dims
-        return self.op.pad(np.asarray(F, dtype=float).reshape(N, N, d).transpose(2, 0, 1))
+        buf = self.op.empty()
+        self.op.view(buf)[:N, :N] = np.asarray(F, dtype=float).reshape(N, N, d)
+        return buf
 
     def _nodes(self, buf):
-        """A padded ``(d, M, M)`` array's nodes, node-major ``(n, d)``."""
+        """A padded array's nodes, node-major ``(n, d)``, a copy."""
         N, d = self.N, self.dims
-        return np.ascontiguousarray(buf[:, :N, :N].transpose(1, 2, 0)).reshape(N * N, d)
+        return self.op.view(buf)[:N, :N].reshape(N * N, d)
 
     def guess(self, state: _Tangential):
         """What the same increment of the next cycle starts from: this increment's changes of
@@ -571,17 +574,16 @@ class HalfSpace(ContactModel):
         L = np.flatnonzero(slip)
         known = np.zeros((n, d))
         known[~contact] = -F[~contact]
-        M = self.op.M
         if d == 1:
             known[L, 0] = np.sign(z[L, 0]) * b[L] - F[L, 0]
-            space = _Space(stick, None, None, self._pos, M, 1)
+            space = _Space(stick, None, None, self._pos, self.op, 1)
             rhs = -ds[stick, 0]
         else:
             e = z[L] / zn[L, None]
             known[L] = e * (b[L] - np.sum(F[L] * e, axis=1))[:, None]
             tang = np.stack([-e[:, 1], e[:, 0]], axis=1)
             beta = b[L] / zn[L]
-            space = _Space(stick, L, tang, self._pos, M, 2, c * (1.0 - beta) / beta)
+            space = _Space(stick, L, tang, self._pos, self.op, 2, c * (1.0 - beta) / beta)
             rhs = np.concatenate([-ds[stick].ravel(), -(c / beta) * np.sum(F[L] * tang, axis=1)])
         if space.size == 0:
             if ks <= 0.0:
@@ -660,28 +662,30 @@ def _inverse(A):
 class _Space:
     """The unknowns of a Newton step: both components of the sticking nodes, and for d = 2 the
     component of each slipping node's force along its circle (``tang``), with the diagonal
-    term of those. They live in the FFT's padded layout (``pos``: each node's place in a
-    plane of ``M x M``, one plane per component): ``embed`` puts them in a padded array
-    (zero elsewhere), ``add`` adds them to one, ``restrict`` takes them out of one, and
+    term of those. They live in the FFT's padded layout (``op``: its ``empty`` and ``view``;
+    ``pos``: each node's first component in the flat view): ``embed`` puts them in a padded
+    array (zero elsewhere), ``add`` adds them to one, ``restrict`` takes them out of one, and
     ``nodes`` gives them as node-major forces."""
 
-    def __init__(self, stick, L, tang, pos, M, d, tdiag=None):
-        self.d, self.stick = d, stick
-        plane = M * M
+    def __init__(self, stick, L, tang, pos, op, d, tdiag=None):
+        self.d, self.stick, self.op = d, stick, op
         if d == 1:
             self.idx = pos[stick]
             self.L = np.zeros(0, dtype=int)
         else:
-            self.idx = (pos[stick][:, None] + plane * np.arange(2)).ravel()
+            self.idx = (pos[stick][:, None] + np.arange(2)).ravel()
             self.L, self.tx, self.ty = L, tang[:, 0].copy(), tang[:, 1].copy()
             self.Lx = pos[L]
-            self.Ly = self.Lx + plane
+            self.Ly = self.Lx + 1
         self.k = self.idx.size
         self.size = self.k + self.L.size
         self.diagonal = (np.concatenate([np.zeros(self.k), tdiag]) if d == 2
                          else np.zeros(self.k))
-        self.buf = np.zeros((d, M, M))
-        self.flat = self.buf.reshape(-1)
+        self.buf = op.empty()
+        self.flat = self._flat(self.buf)
+
+    def _flat(self, buf):
+        return self.op.view(buf).reshape(-1)
 
     def embed(self, x):
         """x in the space's own padded array (its other entries stay zero)."""
@@ -695,7 +699,7 @@ class _Space:
 
     def add(self, buf, x):
         """``buf += embed(x)``, in place (a padded array)."""
-        flat = buf.reshape(-1)
+        flat = self._flat(buf)
         flat[self.idx] += x[: self.k]
         if self.L.size:
             t = x[self.k:]
@@ -704,7 +708,7 @@ class _Space:
 
     def restrict(self, full):
         """The unknowns' components of a padded array."""
-        flat = full.reshape(-1)
+        flat = self._flat(full)
         out = np.empty(self.size)
         np.take(flat, self.idx, out=out[: self.k])
         if self.L.size:

@@ -19,7 +19,11 @@ tangential coefficient equals the normal one (G = E*), as the contact notes say.
 
 On a grid of N x N elements the product with an influence matrix is a discrete convolution:
 zero-padded to at least 2N − 1 per side (a non-periodic half-space: Liu, Wang and Liu, Wear
-2000), it is one real FFT pair, O(N² log N) and nothing N⁴ in memory.
+2000), it is one FFT pair, O(N² log N) and nothing N⁴ in memory: a real pair for one component,
+and for both (d = 2) one complex pair of ``z = q_x + i q_y``. With ``A = (K_xx + K_yy)/2`` and
+``B = (K_xx − K_yy)/2 + i K_xy`` the 2 x 2 Cerruti operator is ``w = A z + B z̄`` (``w = u_x + i
+u_y``), and the transform of ``z̄`` at the wave vector k is ``conj(Z(−k))``: one complex pair
+costs about 1.5 real pairs, against 2 for the components one by one.
 """
 
 from __future__ import annotations
@@ -107,58 +111,99 @@ class Convolution:
         the x and y components)."""
         return self.unpad(self.padded("tangential", self.pad(q)), q.ndim)
 
+    # -- the padded layout --------------------------------------------------------------------
+    # The solvers' vectors live in the FFT's padded layout: one ``M x M`` array, zero outside
+    # its ``N x N`` corner, real for d = 1 (the x components) and complex for d = 2 (x + i y:
+    # one complex FFT pair then does both components, and Cerruti's 2 x 2 operator is
+    # ``w = A z + B z̄``, below). ``view`` gives its components node-major, ``(M, M, d)``.
+    def empty(self):
+        """A zeroed array in the padded layout."""
+        return np.zeros((self.M, self.M), dtype=float if self.dims == 1 else complex)
+
+    def view(self, buf):
+        """The components of a padded array, ``(M, M, d)`` (a view: writable)."""
+        return buf.reshape(self.M, self.M, 1) if self.dims == 1 else buf.view(float).reshape(
+            self.M, self.M, 2)
+
     def pad(self, q):
-        """Fields ``(N, N)`` or ``(k, N, N)`` in the padded layout: a zeroed ``(k, M, M)``
-        array with the fields in its ``N x N`` corner."""
+        """Fields ``(N, N)`` (d = 1) or ``(2, N, N)`` (d = 2) in the padded layout."""
         q = np.asarray(q, dtype=float)
-        buf = np.zeros((1 if q.ndim == 2 else q.shape[0], self.M, self.M))
-        buf[:, : self.N, : self.N] = q
+        buf = self.empty()
+        self.view(buf)[: self.N, : self.N] = q[..., None] if q.ndim == 2 else np.moveaxis(q, 0, -1)
         return buf
 
     def unpad(self, buf, ndim: int = 3):
-        """The ``N x N`` corner of a padded ``(k, M, M)`` array (``(N, N)`` if ``ndim`` is
-        2), a copy."""
-        out = buf[:, : self.N, : self.N]
+        """The fields of a padded array, a copy: ``(d, N, N)`` (``(N, N)`` if ``ndim`` is 2 and
+        d = 1)."""
+        out = np.moveaxis(self.view(buf)[: self.N, : self.N], -1, 0)
         return (out[0] if ndim == 2 else out).copy()
 
     def padded(self, kind: str, buf, factor: float = 1.0):
         """The product ``kind`` (``"tangential"``, or ``"precondition"``: the floored inverse
-        of the padded circulant operator) of fields in the padded layout ``(k, M, M)`` (zero
-        outside the ``N x N`` corner; k = 1 along x, or 2), times ``factor``: ``(k, M, M)``,
-        the answer in the corner (the rest is the circular convolution's wrap-around). One
-        FFT pair; the solvers' inner loops keep their vectors in this layout (no padding or
+        of the padded circulant operator) of an array in the padded layout (:meth:`pad`),
+        times ``factor``: a new array in that layout, the answer in its corner (the rest is
+        the circular convolution's wrap-around). One FFT pair, real (d = 1) or complex
+        (d = 2); the solvers' inner loops keep their vectors in this layout (no padding or
         cropping copies)."""
         self.products += 1
         K = self._scaled(kind, factor)
-        X = sfft.rfft2(buf)
-        if buf.shape[0] == 1:
+        if self.dims == 1:
+            X = sfft.rfft2(buf)
             X *= K["xx"]
+            return sfft.irfft2(X, s=(self.M, self.M), overwrite_x=True)
+        Z = sfft.fft2(buf)
+        if "B" in K:        # w = A z + B z̄: the transform of z̄ at k is conj(Z(−k))
+            Zc = Z.reshape(-1).take(self._flip).reshape(Z.shape)
+            np.conjugate(Zc, out=Zc)
+            Zc *= K["B"]
+            Z *= K["A"]
+            Z += Zc
         else:
-            X = self._mix(X, K)
-        return sfft.irfft2(X, s=(self.M, self.M))
+            Z *= K["A"]
+        return sfft.ifft2(Z, overwrite_x=True)
 
     def _scaled(self, kind, factor):
-        """The spectra of ``kind`` times ``factor`` (cached): keys ``xx``, ``yy`` and, when
-        coupled, ``xy``."""
+        """The spectra of ``kind`` times ``factor`` (cached): d = 1 ``{"xx"}`` on the real
+        transform's half plane; d = 2 ``{"A", "B"}`` on the whole plane, with ``A = (xx +
+        yy)/2`` and ``B = (xx − yy)/2 + i xy`` (no ``B`` when it is round-off: ν = 0)."""
         cache = self.__dict__.setdefault("_scaled_cache", {})
         K = cache.get((kind, factor))
         if K is None:
             src = (self.spectra if kind == "tangential" else        # ixx, ixy, iyy
                    {name[1:]: v for name, v in self._inverse.items() if name != "n"})
-            K = {k: v * factor for k, v in src.items() if k in ("xx", "xy", "yy")}
-            K.setdefault("yy", K["xx"])
+            xx = src["xx"].real * factor
+            if self.dims == 1:
+                K = {"xx": xx}
+            else:
+                yy = src.get("yy", src["xx"]).real * factor
+                xy = src["xy"].real * factor if "xy" in src else 0.0 * xx
+                K = {"A": self._whole(0.5 * (xx + yy))}
+                B = self._whole(0.5 * (xx - yy) + 1j * xy)
+                if np.max(np.abs(B)) > 1e-14 * np.max(np.abs(K["A"])):   # else round-off
+                    K["B"] = B
             cache[(kind, factor)] = K
         return K
 
-    def _mix(self, X, K):
-        """The 2 x 2 spectral product of ``X`` (``(2, M, M//2+1)``) by the spectra ``K``."""
-        out = np.empty_like(X)
-        np.multiply(X[0], K["xx"], out=out[0])
-        np.multiply(X[1], K["yy"], out=out[1])
-        if "xy" in K:
-            out[0] += X[1] * K["xy"]
-            out[1] += X[0] * K["xy"]
+    def _whole(self, half):
+        """A spectrum on the real transform's half plane ``(M, M//2 + 1)``, of a kernel even in
+        both offsets (or odd in both: the same symmetry, ``K(−k) = K(k)``), on the whole
+        plane ``(M, M)``."""
+        M = self.M
+        out = np.empty((M, M), dtype=half.dtype)
+        out[:, : M // 2 + 1] = half
+        rest = np.arange(M // 2 + 1, M)
+        out[:, rest] = half[(-np.arange(M)) % M][:, M - rest]
         return out
+
+    @property
+    def _flip(self):
+        """The flat index of −k for each k of the whole ``M x M`` plane."""
+        flip = self.__dict__.get("_flip_index")
+        if flip is None:
+            m = (-np.arange(self.M)) % self.M
+            flip = (m[:, None] * self.M + m[None, :]).ravel()
+            self.__dict__["_flip_index"] = flip
+        return flip
 
     @property
     def _inverse(self):
