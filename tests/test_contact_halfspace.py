@@ -325,19 +325,32 @@ def test_loose_early_cycles_reach_the_same_steady_state(monkeypatch):
     assert loose.tol == tight.tol == 1e-10            # the model's own tolerance is untouched
 
 
-def test_unsettled_cycles_raise_with_the_smallest_change():
+def test_unsettled_cycles_raise_with_the_smallest_change(monkeypatch):
     """Too few cycles for d = 2 to settle: ConvergenceError (never a silent W), naming the last
     and the smallest change reached at full accuracy."""
+    from lcpfric.contact import steady
     from lcpfric.errors import ConvergenceError
 
     with pytest.raises(ConvergenceError, match=r"after 3 cycles \(relative change [^;]*\)"):
         sphere(Q1=0.25, grid=12, nu=0.3, dims=2).solve(40, max_cycles=3)
-    # a cycle tolerance below what the increments hold (their tol 1e-10 holds the cycles to
-    # about 6e-12 here): the floor is named
-    with pytest.raises(ConvergenceError, match=r"the smallest at full accuracy \d.*e-1[0-3]"):
-        sphere(Q1=0.25, grid=12, nu=0.3, dims=2).solve(40, tol=1.1e-12, max_cycles=30)
-    # far below (under 1e-2 of the increments' tol): refused before any work
+    # the last cycles' increments solved only to their own tol 1e-10 (as before 0.1 x the cycle
+    # tolerance was the rule) hold the cycles to about 6e-12 here: the floor is named
+    with monkeypatch.context() as patch:
+        patch.setattr(steady, "_FINAL", 1e3)
+        with pytest.raises(ConvergenceError, match=r"the smallest at full accuracy \d.*e-1[0-3]"):
+            sphere(Q1=0.25, grid=12, nu=0.3, dims=2).solve(40, tol=1.1e-12, max_cycles=30)
+
+
+def test_tight_cycle_tolerances_settle_or_are_refused():
+    """d = 2 solves its last cycles' increments to a tenth of the cycle tolerance (tighter than
+    their own tol 1e-10): a cycle tolerance of 1.1e-12, which the increments at 1e-10 could not
+    reach in 30 cycles, settles in 10, to the W of the default tolerance; under 1e-12 (the
+    increments would go below the 1e-13 they hold) it is refused before any work."""
+    base = sphere(Q1=0.25, grid=12, nu=0.3, dims=2).solve(40)
+    tight = sphere(Q1=0.25, grid=12, nu=0.3, dims=2).solve(40, tol=1.1e-12, max_cycles=15)
+    assert tight.converged and tight.change <= 1.1e-12 and tight.cycles <= 12
+    assert tight.W == pytest.approx(base.W, rel=1e-9)
     with pytest.raises(InputError, match=r"tol.*below what the increments can hold.*1e-12"):
-        sphere(Q1=0.25, grid=12, nu=0.3, dims=2).solve(40, tol=1e-15)
+        sphere(Q1=0.25, grid=12, nu=0.3, dims=2).solve(40, tol=9e-13)
     sphere(Q1=0.25, grid=12, nu=0.3, dims=1).solve(8, tol=1e-15, max_cycles=3,
                                                    on_nonconvergence="ignore")     # d = 1: exact

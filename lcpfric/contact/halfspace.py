@@ -118,7 +118,8 @@ class HalfSpace(ContactModel):
     tol : float
         Relative tolerance of the tangential increments (natural-map residual / force scale).
         With d = 2 the steady-state driver solves the early cycles more loosely, and the last
-        ones to ``max(tol, 1e-2 × its cycle tolerance)`` (``loose_cycles``).
+        ones to a tenth of its cycle tolerance, or to ``tol`` if that is tighter (down to a
+        hundredth of the cycle tolerance: ``loose_cycles``).
 
     Attributes
     ----------

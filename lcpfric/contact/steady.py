@@ -29,10 +29,12 @@ HalfPlaneCylinder`) provides
   slow modes) settle in a few cycles;
 * optionally ``loose_cycles`` (true), a ``tol`` attribute and ``increment(..., tol=)``: a model
   that settles over many cycles has its early cycles' increments solved loosely (to a hundredth
-  of the last cycle's change, at most 1e-6), then to a hundredth of the cycle tolerance (never
-  tighter than the model's own ``tol``); only a cycle at that accuracy ends the iteration. The
-  cycles then repeat to about a tenth of the model's ``tol`` at best: a cycle tolerance under a
-  hundredth of it is refused before any work.
+  of the last cycle's change, at most 1e-6), then to a tenth of the cycle tolerance (or to the
+  model's own ``tol`` if that is tighter, down to a hundredth of the cycle tolerance); only a
+  cycle at that accuracy ends the iteration. Increments solved to the cycle tolerance itself
+  would leave the cycles' change hovering about it, from their own errors, for cycle after
+  cycle. The increments hold about 1e-13 at best: a cycle tolerance under 1e-12 is refused
+  before any work.
 
 :func:`steady_state` runs cycles until the slips repeat, with the driver's own criterion
 (:func:`~lcpfric.periodic.cycle_change`), and returns one :class:`ContactResult`.
@@ -65,8 +67,12 @@ MAX_BYTES = 4 << 30
 #: models with ``loose_cycles``: the increments' tolerance, this times the last cycle's change,
 #: at most ``_LOOSE_MAX`` (and at least the model's own)
 _LOOSE, _LOOSE_MAX = 1e-2, 1e-6
-#: models with ``loose_cycles``: the smallest cycle tolerance, this times the model's ``tol``
-_FLOOR = 1e-2
+#: models with ``loose_cycles``: the last cycles' increments, this times the cycle tolerance (at
+#: most the model's own tol, at least ``_LOOSE`` times the cycle tolerance)
+_FINAL = 0.1
+#: models with ``loose_cycles``: the smallest cycle tolerance (its increments, a tenth of it,
+#: near the 1e-13 that they hold at best)
+_TOL_MIN = 1e-12
 
 
 @dataclass(frozen=True)
@@ -167,12 +173,10 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
     tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
                                                                 on_nonconvergence)
     loose = getattr(model, "loose_cycles", False)
-    if loose and tol < _FLOOR * model.tol:
-        # inexact increments (d = 2) hold the cycles to about 0.03 to 0.2 of their tolerance
-        raise InputError("tol", f"= {tol:g} is below what the increments can hold: they are "
-                                f"solved to the model's tol {model.tol:g}, and the cycles "
-                                f"then repeat to about a tenth of that; give tol >= "
-                                f"{_FLOOR * model.tol:g}, or a model with a smaller tol")
+    if loose and tol < _TOL_MIN:
+        raise InputError("tol", f"= {tol:g} is below what the increments can hold: the last "
+                                f"cycles' increments are solved to a tenth of it, and they hold "
+                                f"about 1e-13 at best; give tol >= {_TOL_MIN:g}")
     n = model.nodes
     dims = getattr(model, "dims", 1)
     need = n * (steps + 1) * 8 * (1 + (1 + dims if record else 0))
@@ -208,10 +212,10 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
         options = {}
         if loose:
             # a slowly settling model solves its early cycles' increments loosely, each to a
-            # hundredth of the last cycle's change (at most 1e-6), and to a hundredth of the
-            # cycle tolerance (at least its own tol) once the cycles nearly repeat; only a
+            # hundredth of the last cycle's change (at most 1e-6), and to a tenth of the cycle
+            # tolerance (or its own tol, if tighter) once the cycles nearly repeat; only a
             # cycle at that accuracy can end the iteration
-            final = max(model.tol, _LOOSE * tol)
+            final = max(_LOOSE * tol, min(model.tol, _FINAL * tol))
             options["tol"] = max(final, min(_LOOSE_MAX, _LOOSE * change))
             accurate = options["tol"] == final
         v0 = state.v.copy()
