@@ -185,14 +185,14 @@ def figure(out: Path):
             ax.text(0.5, 0.8e-10, "tolerance 1e-10", transform=ax.get_yaxis_transform(),
                     ha="center", va="top", fontsize=plotting.SMALL, color="0.3")
             ax.set_xlim(0, 110)
-            ax.set_ylim(1e-11, 0.1)
+            ax.set_ylim(1e-12, 0.1)
             late = [name for name in names if runs[g, name].cycles > 110]
             if late:
-                ax.text(0.98, 0.64, "; ".join(
-                    f"{name}: {runs[g, name].cycles} cycles"
-                    + ("" if runs[g, name].converged else ", no repeat") for name in late)
-                    + " (cut)", transform=ax.transAxes, ha="right", va="top",
-                    fontsize=plotting.SMALL, color="0.3")
+                ax.text(0.97, 0.6, "cut at 110:\n" + "\n".join(
+                    f"{name}, {runs[g, name].cycles} cycles"
+                    + ("" if runs[g, name].converged else " (no repeat)") for name in late),
+                    transform=ax.transAxes, ha="right", va="top", fontsize=plotting.SMALL,
+                    color="0.3")
             ax.set_xlabel("cycle")
             ax.set_title(f"grid {g} ({runs[g, names[0]].nodes_in_contact_max} elements in "
                          f"contact)")

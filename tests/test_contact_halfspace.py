@@ -199,6 +199,26 @@ def test_in_phase_with_fine_steps():
     assert 0.0 <= r.W_normalized < 2e-6
 
 
+def _md(grid):
+    return HalfSpace.sphere(10.0, 200e3, 0.0, 0.5, Harmonic(100.0, 0.0, 0.0, TWO_PI),
+                            Harmonic(0.0, 25.0, 0.0, TWO_PI), grid=grid)
+
+
+def test_d1_large_increments_on_a_fine_grid(monkeypatch):
+    """8 steps per cycle on grid 64: an increment changes the state of thousands of nodes, the
+    active-set patterns stall, and Murty's rule (one node per iteration) ran out of iterations
+    (SolverError after 3312 Newton steps, residual 0.047). d = 1 then turns to the damped
+    Newton steps of d = 2: it converges. On grid 40, where both work, the damped steps alone
+    (from every increment's first iteration) give the patterns' W to 1e-12."""
+    from lcpfric.contact import halfspace
+
+    r = _md(64).solve(8)
+    assert r.converged and r.W > 0
+    w = _md(40).solve(8).W
+    monkeypatch.setattr(halfspace, "_SINGLE_MAX", -1)
+    assert _md(40).solve(8).W == pytest.approx(w, rel=1e-12)
+
+
 def test_punch_and_height_map():
     """A flat punch with rounded edges and a user height map run; the punch's contact covers
     the flat; the height map of a sphere given by hand equals the sphere."""

@@ -36,12 +36,15 @@ the equilibrium as a linear constraint; it is solved by conjugate gradients, pro
 constraint (``k_support = 0``) or with the support's rank-d term (``k_support > 0``), one
 product with C per iteration (and one for the known forces and the start together). For d = 1
 this is the primal-dual active-set iteration of the ``active-set`` backend (the slipping forces
-are known), and its answer is exact once the pattern is right: a step with a new pattern is solved to a hundredth of the residual (it only
-decides the next pattern; on a rough contact the first patterns are often wrong), and a pattern
-that repeats once more to full accuracy; for d = 2 the slip directions converge quadratically
-near the answer. The answer is accepted when the natural-map residual is below ``tol × force
-scale`` on every node; an iteration that does not get there raises
-:class:`~lcpfric.errors.SolverError`.
+are known), and its answer is exact once the pattern is right: a step with a new pattern is
+solved to a hundredth of the residual (it only decides the next pattern; on a rough contact the
+first patterns are often wrong), and a pattern that repeats once more to full accuracy. Where
+the patterns stall (a large increment on a fine grid changes the state of thousands of nodes,
+and Murty's rule, the pattern rule's fallback, changes one per iteration), d = 1 turns to the
+damped steps of d = 2. For d = 2 each step is damped by a line search on the natural map's
+residual, and the slip directions converge quadratically near the answer. The answer is
+accepted when the natural-map residual is below ``tol × force scale`` on every node; an
+iteration that does not get there raises :class:`~lcpfric.errors.SolverError`.
 
 Nodes out of contact carry no force and no unknown. d = 1 with ν > 0 takes the tractions along
 the load with the x-x Cerruti coefficient (Mindlin's approximation); d = 2 adds the
@@ -82,6 +85,8 @@ _ETA = 1e-3
 #: d = 1: the linear solves of the steps with a new pattern are to this fraction of the
 #: residual (the repeated pattern's to full accuracy)
 _ETA1 = 1e-2
+#: d = 1: single changes by Murty's rule before the damped Newton steps of d = 2 take over
+_SINGLE_MAX = 32
 
 
 @dataclass
@@ -430,8 +435,9 @@ class HalfSpace(ContactModel):
         inside = contact.astype(float)
         eq_tol = tolF * max(1, int(contact.sum()))
         ev = None             # d = 2: the residual at the iterate, if the line search has it
+        damped = d == 2       # d = 1 turns to the damped steps if its patterns stall
         for it in range(limit):
-            if d == 1:
+            if not damped:
                 ds = delta + CF - s0
                 z = F - ds / c
                 eq = F.sum(axis=0) - ks * delta + Qv
@@ -466,7 +472,13 @@ class HalfSpace(ContactModel):
                 worst = float(np.max(np.abs(F[:, 0] - np.clip(zz, -b, b))[contact],
                                      initial=0.0))
                 z = np.where(up, 1.0, -1.0)[:, None]              # the slip nodes' sides
-            else:
+                if updates.stats["single_changes"] > _SINGLE_MAX:
+                    # the patterns stall (a large increment on a fine grid: thousands of
+                    # nodes change state, and Murty's rule changes one per iteration): the
+                    # damped semismooth Newton steps of d = 2 from here, on intervals
+                    damped = True
+                    ev = None
+            if damped:
                 if ev is None:
                     ev = self._natural(F, CF, delta, s0, b, inside, Qv)
                 ds, z, zn, slip, worst, merit, eq = ev
@@ -494,11 +506,11 @@ class HalfSpace(ContactModel):
             # d = 1: a step whose pattern is new is solved loosely (its answer only says
             # which pattern comes next), once a pattern repeats to full accuracy; the first
             # pattern too, unless the last increment's first pattern was its answer
-            loose = (d == 1 and fresh and _ETA1 * worst > 0.1 * tolF
+            loose = (not damped and fresh and _ETA1 * worst > 0.1 * tolF
                      and (it > 0 or not self._first_right))
             dF, dd, CdF = self._newton(F, ds, z, zn, b, contact, slip, eq, worst, tolF,
-                                       _ETA1 if loose else None)
-            if d == 1:
+                                       _ETA1 if loose else (_ETA if damped else None))
+            if not damped:
                 F += dF
                 CF += CdF
                 delta = delta + dd
@@ -516,6 +528,8 @@ class HalfSpace(ContactModel):
                               backend="halfspace", status="max_iter")
         if d == 1:
             self._first_right = not changed
+            if damped:
+                up, dn = slip & (z[:, 0] > 0.0), slip & (z[:, 0] < 0.0)
         _project(F, b)
         stick = contact & ~slip
         ds[stick] = 0.0
@@ -537,13 +551,13 @@ class HalfSpace(ContactModel):
         return F, state.delta.copy(), self.compliance(F)
 
     def _natural(self, F, CF, delta, s0, b, inside, Qv):
-        """d = 2: the natural map's residual at ``(F, CF = C F, δ)`` (``inside``: 1 on the
-        nodes in contact, 0 elsewhere): ``(Δs, z, |z|, slipping, its largest component, the
-        line search's merit |F - proj(z)|² + |equilibrium|², the equilibrium)`` with ``z = F
-        - Δs/c``."""
+        """d = 2 (and d = 1 once its patterns stall): the natural map's residual at ``(F, CF =
+        C F, δ)`` (``inside``: 1 on the nodes in contact, 0 elsewhere): ``(Δs, z, |z|,
+        slipping, its largest component, the line search's merit |F - proj(z)|² +
+        |equilibrium|², the equilibrium)`` with ``z = F - Δs/c``."""
         ds = delta + CF - s0
         z = F - ds / self.c
-        zn = np.hypot(z[:, 0], z[:, 1])
+        zn = np.hypot(z[:, 0], z[:, 1]) if self.dims == 2 else np.abs(z[:, 0])
         slip = (zn > b) & (inside > 0.0)
         scale = inside.copy()
         np.divide(b, zn, out=scale, where=slip)
@@ -553,9 +567,10 @@ class HalfSpace(ContactModel):
                 float(np.vdot(R, R) + eq @ eq), eq)
 
     def _step(self, m0, F, CF, delta, dF, CdF, dd, s0, b, inside, Qv):
-        """d = 2: the Newton step, its length halved from 1 until the merit (``m0`` at the
-        start) decreases (products are linear: ``C(F + α ΔF) = CF + α CΔF``, so a trial
-        costs no FFT): ``(F, CF, δ)`` there and :meth:`_natural` of it."""
+        """d = 2 (and d = 1 once its patterns stall): the Newton step, its length halved from
+        1 until the merit (``m0`` at the start) decreases (products are linear: ``C(F + α ΔF)
+        = CF + α CΔF``, so a trial costs no FFT): ``(F, CF, δ)`` there and :meth:`_natural`
+        of it."""
         alpha = 1.0
         for _ in range(12):
             trial = F + alpha * dF, CF + alpha * CdF, delta + alpha * dd
