@@ -245,12 +245,34 @@ def test_bad_input_is_refused_before_work():
         sphere(dims=3)
     with pytest.raises(InputError, match="spacing"):
         HalfSpace(1.0, 0.0, 0.5, P, Q, heights=np.zeros((8, 8)), spacing=-1.0)
-    with pytest.raises(InputError, match="heights"):          # the FFTs would not fit
+    with pytest.raises(InputError, match="heights"):          # beyond the largest grid
         HalfSpace(1.0, 0.0, 0.5, P, Q, heights=np.zeros((4096, 4096)), spacing=0.1)
+    with pytest.raises(InputError, match=r"heights.*d = 2 needs about 6\.\d GiB"):
+        HalfSpace(1.0, 0.3, 0.5, P, Q, heights=np.zeros((1800, 1800)), spacing=0.1, dims=2)
     with pytest.raises(InputError, match="edge"):            # contact reaches the grid's edge
         g = np.linspace(-1, 1, 24)
         HalfSpace(1.0, 0.0, 0.5, 50.0, 0.0, heights=(g[:, None] ** 2 + g[None, :] ** 2) / 2,
                   spacing=g[1] - g[0])
+
+
+@pytest.mark.parametrize("dims", [1, 2])
+def test_memory_estimate_bounds_the_measured_peak(dims):
+    """The estimate behind the 4 GiB refusal bounds the peak that tracemalloc measures over
+    the setup and a short solve (grid 40, 8 steps; the driver's records of the steps besides),
+    and is not more than twice it."""
+    import tracemalloc
+
+    tracemalloc.start()
+    try:
+        m = HalfSpace.sphere(10.0, 200e3, 0.3 * (dims - 1), 0.5, Harmonic(100.0, 30.0, 0.0, TWO_PI),
+                             Harmonic(0.0, 20.0, 0.5, TWO_PI), grid=40, dims=dims)
+        m.solve(8, max_cycles=2, on_nonconvergence="ignore")
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    records = m.nodes * 9 * 8 * (3 + dims)
+    assert peak <= m.memory_estimate() + records
+    assert m.memory_estimate() <= 2 * peak
 
 
 def test_loose_steps_for_new_patterns_keep_the_answer(monkeypatch):
