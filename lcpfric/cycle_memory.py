@@ -56,7 +56,7 @@ class SlipMemory:
         """After an increment with the slips ``dv`` (flat, node-major) under the limits b:
         ``R_i <- r p pᵀ R_i`` on every node that moved, in place."""
         d = dv.reshape(self.n, 2)
-        mag = np.hypot(d[:, 0], d[:, 1])
+        mag = np.abs(np.ascontiguousarray(d, dtype=float).view(complex)[:, 0])   # |Δs|
         moved = np.flatnonzero(mag > 0.0)
         if not moved.size:
             return

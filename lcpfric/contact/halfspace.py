@@ -464,7 +464,7 @@ class HalfSpace(ContactModel):
             if not damped:
                 ds = delta + CF - s0
                 z = F - ds / c
-                eq = F.sum(axis=0) - ks * delta + Qv
+                eq = _total(F) - ks * delta + Qv
                 # the primal-dual active-set pattern, with Murty's rule once one repeats
                 zz = z[:, 0]
                 band = tolF + 64 * _EPS * (b + np.abs(F[:, 0]))
@@ -582,12 +582,12 @@ class HalfSpace(ContactModel):
         |equilibrium|², the equilibrium)`` with ``z = F - Δs/c``."""
         ds = delta + CF - s0
         z = F - ds / self.c
-        zn = np.hypot(z[:, 0], z[:, 1]) if self.dims == 2 else np.abs(z[:, 0])
+        zn = _norms(z) if self.dims == 2 else np.abs(z[:, 0])
         slip = (zn > b) & (inside > 0.0)
         scale = inside.copy()
         np.divide(b, zn, out=scale, where=slip)
         R = F - z * scale[:, None]
-        eq = F.sum(axis=0) - self.k_support * delta + Qv
+        eq = _total(F) - self.k_support * delta + Qv
         return (ds, z, zn, slip, float(np.max(np.abs(R), initial=0.0)),
                 float(np.vdot(R, R) + eq @ eq), eq)
 
@@ -621,18 +621,19 @@ class HalfSpace(ContactModel):
             rhs = -ds[stick, 0]
         else:
             e = z[L] / zn[L, None]
-            known[L] = e * (b[L] - np.sum(F[L] * e, axis=1))[:, None]
+            FL = F[L]
+            known[L] = e * (b[L] - _dots(FL, e))[:, None]
             tang = np.stack([-e[:, 1], e[:, 0]], axis=1)
             beta = b[L] / zn[L]
             space = _Space(stick, L, tang, self._pos, self.op, 2, c * (1.0 - beta) / beta)
-            rhs = np.concatenate([-ds[stick].ravel(), -(c / beta) * np.sum(F[L] * tang, axis=1)])
+            rhs = np.concatenate([-ds[stick].ravel(), -(c / beta) * _dots(FL, tang)])
         if space.size == 0:
             if ks <= 0.0:
                 raise SolverError("half-space: every node in contact slips or is separated "
                                   "under pure load control (gross sliding)",
                                   backend="halfspace", status="gross_sliding")
-            return known, (eq + known.sum(axis=0)) / ks, self.compliance(known)
-        cons = -(eq + known.sum(axis=0))
+            return known, (eq + _total(known)) / ks, self.compliance(known)
+        cons = -(eq + _total(known))
         B = space.constraint()                                        # (d, size)
         if ks > 0.0:
             x0 = np.zeros(space.size)
@@ -783,10 +784,27 @@ def _project(F, b):
     if F.shape[1] == 1:
         np.clip(F[:, 0], -b, b, out=F[:, 0])
         return
-    norm = np.hypot(F[:, 0], F[:, 1])
+    norm = _norms(F)
     scale = np.ones_like(norm)
     np.divide(b, norm, out=scale, where=norm > b)
     F *= scale[:, None]
+
+
+def _norms(X):
+    """The lengths of the rows of an ``(k, 2)`` array (as complex numbers: one contiguous
+    pass, several times faster than ``hypot`` of the strided columns)."""
+    return np.abs(np.ascontiguousarray(X, dtype=float).view(complex)[:, 0])
+
+
+def _dots(X, Y):
+    """The row-wise dot products of two ``(k, 2)`` arrays."""
+    return X[:, 0] * Y[:, 0] + X[:, 1] * Y[:, 1]
+
+
+def _total(X):
+    """The column sums of an ``(n, d)`` array (a product with ones: ``sum(axis=0)`` of a
+    narrow array is several times slower)."""
+    return np.ones(X.shape[0]) @ X
 
 
 def _cg(M, g, x, project, pre, tol, stats, step=None, max_iter=None, res=None):

@@ -172,12 +172,13 @@ class Convolution:
             src = (self.spectra if kind == "tangential" else        # ixx, ixy, iyy
                    {name[1:]: v for name, v in self._inverse.items() if name != "n"})
             xx = src["xx"].real * factor
+            # stored complex: a complex array times a real one is slower (a cast per entry)
             if self.dims == 1:
-                K = {"xx": xx}
+                K = {"xx": xx.astype(complex)}
             else:
                 yy = src.get("yy", src["xx"]).real * factor
                 xy = src["xy"].real * factor if "xy" in src else 0.0 * xx
-                K = {"A": self._whole(0.5 * (xx + yy))}
+                K = {"A": self._whole(0.5 * (xx + yy)).astype(complex)}
                 B = self._whole(0.5 * (xx - yy) + 1j * xy)
                 if np.max(np.abs(B)) > 1e-14 * np.max(np.abs(K["A"])):   # else round-off
                     K["B"] = B
