@@ -715,46 +715,47 @@ class _Space:
             self.idx = pos[stick]
             self.L = np.zeros(0, dtype=int)
         else:
-            self.idx = (pos[stick][:, None] + np.arange(2)).ravel()
+            # d = 2: the padded array is complex (x + i y), one entry per node: the sticking
+            # nodes' pairs of unknowns are complex numbers, the slipping nodes' t times their
+            # tangent (unit, complex)
+            self.idx = pos[stick] // 2
             self.L, self.tx, self.ty = L, tang[:, 0].copy(), tang[:, 1].copy()
-            self.Lx = pos[L]
-            self.Ly = self.Lx + 1
-        self.k = self.idx.size
+            self.Lc = pos[L] // 2
+            self.t = self.tx + 1j * self.ty
+        self.k = d * stick.size
         self.size = self.k + self.L.size
         self.diagonal = (np.concatenate([np.zeros(self.k), tdiag]) if d == 2
                          else np.zeros(self.k))
         self.buf = op.empty()
-        self.flat = self._flat(self.buf)
+        self.flat = self.buf.reshape(-1)
 
-    def _flat(self, buf):
-        return self.op.view(buf).reshape(-1)
+    def _pairs(self, x):
+        """The sticking nodes' unknowns of x: real (d = 1) or complex (d = 2), a view."""
+        return x[: self.k] if self.d == 1 else x[: self.k].view(complex)
 
     def embed(self, x):
         """x in the space's own padded array (its other entries stay zero)."""
         flat = self.flat
-        flat[self.idx] = x[: self.k]
+        flat[self.idx] = self._pairs(x)
         if self.L.size:
-            t = x[self.k:]
-            flat[self.Lx] = t * self.tx
-            flat[self.Ly] = t * self.ty
+            flat[self.Lc] = x[self.k:] * self.t
         return self.buf
 
     def add(self, buf, x):
         """``buf += embed(x)``, in place (a padded array)."""
-        flat = self._flat(buf)
-        flat[self.idx] += x[: self.k]
+        flat = buf.reshape(-1)
+        flat[self.idx] += self._pairs(x)
         if self.L.size:
-            t = x[self.k:]
-            flat[self.Lx] += t * self.tx
-            flat[self.Ly] += t * self.ty
+            flat[self.Lc] += x[self.k:] * self.t
 
     def restrict(self, full):
         """The unknowns' components of a padded array."""
-        flat = self._flat(full)
+        flat = full.reshape(-1)
         out = np.empty(self.size)
-        np.take(flat, self.idx, out=out[: self.k])
+        np.take(flat, self.idx, out=self._pairs(out))
         if self.L.size:
-            out[self.k:] = flat[self.Lx] * self.tx + flat[self.Ly] * self.ty
+            w = flat[self.Lc]
+            out[self.k:] = w.real * self.tx + w.imag * self.ty
         return out
 
     def nodes(self, x, base):
