@@ -219,6 +219,35 @@ def test_d1_large_increments_on_a_fine_grid(monkeypatch):
     assert _md(40).solve(8).W == pytest.approx(w, rel=1e-12)
 
 
+@pytest.mark.parametrize("dims, nu", [(1, 0.0), (2, 0.3)])
+def test_carried_products_stay_those_of_the_forces(dims, nu):
+    """The state carries ``C F`` and each increment's ``C ΔF`` (an increment's start then
+    costs no product): over two cycles with varying P (nodes enter and leave the contact) and
+    each increment started from the previous cycle's, they stay the products of the state's
+    forces and changes to round-off, and the increments' forces satisfy their limits."""
+    m = sphere(P1=0.5, Q1=0.3, phi=0.5 * math.pi, nu=nu, grid=14, dims=dims)
+    steps = 24
+    t = np.linspace(0.0, m.period, steps + 1)
+    b, Q = m.limits(t), m.Q(t)
+    state, guesses = m.start(), None
+    scale = float(np.max(np.abs(m.compliance(np.ones((m.nodes, dims)) * b.max()))))
+    for _ in range(2):
+        new = []
+        for j in range(steps):
+            state, F, _ = m.increment(state, b[j + 1], Q[j + 1],
+                                      guesses[j] if guesses else None)
+            new.append(m.guess(state))
+            F_nodes = state.F.reshape(-1, dims)
+            assert np.max(np.abs(state.CF - m.compliance(F_nodes))) <= 1e-12 * scale
+            dF = state.dF.reshape(-1, dims)
+            assert np.max(np.abs(state.CdF - m.compliance(dF))) <= 1e-12 * scale
+            norms = np.abs(F.reshape(-1, dims)) if dims == 1 else np.hypot(
+                *F.reshape(-1, 2).T)[:, None]
+            assert np.all(norms[:, 0] <= b[j + 1] * (1 + 1e-12))
+        guesses = new
+        state = m.restart(state, state.v)
+
+
 def test_punch_and_height_map():
     """A flat punch with rounded edges and a user height map run; the punch's contact covers
     the flat; the height map of a sphere given by hand equals the sphere."""

@@ -365,10 +365,13 @@ class HalfSpace(ContactModel):
 
     def restart(self, state: _Tangential, v: np.ndarray) -> _Tangential:
         """The state with the slips v (the driver's extrapolation): the slips are the state,
-        the forces only the next solve's starting point."""
+        the forces only the next solve's starting point. ``C F`` is formed afresh (one product
+        a cycle: the sums carried from increment to increment gather no round-off beyond a
+        cycle's)."""
+        self.stats["tangential_products"] += 1
         return _Tangential(np.asarray(v, dtype=float).copy(), state.delta, state.F,
                            np.zeros_like(state.dF), np.zeros_like(state.ddelta), state.side,
-                           state.CF, np.zeros_like(state.CF))
+                           self.compliance(state.F), np.zeros_like(state.CF))
 
     def scales(self) -> tuple[float, float]:
         q = self.Q.amplitude if not self.Q.is_constant else abs(self.Q.mean)
