@@ -185,9 +185,10 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
                                   f"(more than {MAX_BYTES / 2**30:.0f}); fewer steps or nodes")
     # the previous cycle's increments start the next cycle's (models with ``guess``), where
     # they fit in the memory left
-    # (a guess: changes of the forces and their products, n·d floats each, and a pattern)
+    # (a guess: changes of the forces and their products, n·d floats each, and a pattern; the
+    # previous cycle's and the current one's are held together)
     guessing = (getattr(model, "guess", None) is not None
-                and need + n * steps * (16 * dims + 1) <= MAX_BYTES)
+                and need + 2 * n * steps * (16 * dims + 1) <= MAX_BYTES)
     if t is None:
         t = np.linspace(0.0, model.period, steps + 1)
     b = model.limits(t)                                       # (steps + 1, n)
