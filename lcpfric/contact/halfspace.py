@@ -30,12 +30,13 @@ their limit with the slip opposite to the force.
 It is solved as the nonsmooth equation ``F = proj_b(F − Δs(F)/c)`` (c the diagonal of C) by a
 semismooth Newton method, warm-started from the previous increment (its forces extrapolated,
 its pattern), or from the same increment of the previous cycle; the state carries ``C F`` and
-the change's ``C ΔF`` (C is linear), so a start costs no product. With the pattern of a Newton iterate fixed, the step is one symmetric positive
-definite linear system on the sticking components and, for d = 2, the components of the
-slipping nodes' forces tangent to their circle (with the diagonal term ``|Δs_i| / b_i``), under
-the equilibrium as a linear constraint; it is solved by conjugate gradients, projected onto the
-constraint (``k_support = 0``) or with the support's rank-d term (``k_support > 0``), one
-product with C per iteration (and one for the known forces and the start together). For d = 1
+the change's ``C ΔF`` (C is linear), so a start costs no product. With the pattern of a
+Newton iterate fixed, the step is one symmetric positive definite linear system on the
+sticking components and, for d = 2, the components of the slipping nodes' forces tangent to
+their circle (with the diagonal term ``|Δs_i| / b_i``), under the equilibrium as a linear
+constraint; it is solved by conjugate gradients, projected onto the constraint
+(``k_support = 0``) or with the support's rank-d term (``k_support > 0``), one product with C
+per iteration (and one for the known forces and the start together). For d = 1
 this is the primal-dual active-set iteration of the ``active-set`` backend (the slipping forces
 are known), and its answer is exact once the pattern is right: a step with a new pattern is
 solved to a hundredth of the residual (it only decides the next pattern; on a rough contact the
@@ -709,8 +710,9 @@ def _inverse(A):
 class _Space:
     """The unknowns of a Newton step: both components of the sticking nodes, and for d = 2 the
     component of each slipping node's force along its circle (``tang``), with the diagonal
-    term of those. They live in the FFT's padded layout (``op``: its ``empty`` and ``view``;
-    ``pos``: each node's first component in the flat view): ``embed`` puts them in a padded
+    term of those. They live in the FFT's padded layout (``op.empty``: real for d = 1, one
+    complex entry x + i y per node for d = 2; ``pos``: each node's first component in its float
+    view, so ``pos // 2`` is its complex entry): ``embed`` puts them in a padded
     array (zero elsewhere), ``add`` adds them to one, ``restrict`` takes them out of one, and
     ``nodes`` gives them as node-major forces."""
 
