@@ -60,7 +60,6 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.fft as sfft
 
 from .. import _checks
 from ..backends.active_set import PatternUpdate
@@ -263,10 +262,10 @@ class HalfSpace(ContactModel):
     def memory_estimate(self) -> int:
         """Bytes the model's arrays take at their peak (kernels, spectra, the solvers' work
         arrays, on the FFT's padded grid of M x M): ``MEMORY_PER_POINT[d] × M²``, measured
-        (``tracemalloc``'s peak over a short solve, grids 64 and 128: 211 and 447 bytes per
-        point for d = 1 and 2, checked by a test). The cycle's records are the driver's, which
-        checks them itself."""
-        M = sfft.next_fast_len(2 * self.N - 1, real=True)
+        (``tracemalloc``'s peak over a short solve, grids 40 to 120: at most 211 and 447 bytes
+        per point for d = 1 and 2, checked by a test). The cycle's records are the driver's,
+        which checks them itself."""
+        M = Convolution.padded_size(self.N)
         return MEMORY_PER_POINT[self.dims] * M * M
 
     def _check_memory(self):

@@ -82,11 +82,17 @@ class Convolution:
 
     def __init__(self, N: int, h: float, E: float, nu: float, dims: int = 1):
         self.N, self.h, self.dims = int(N), float(h), int(dims)
-        self.M = sfft.next_fast_len(2 * self.N - 1, real=True)
+        self.M = self.padded_size(self.N)
         self.kernel = kernels(self.N, self.h, E, nu, self.dims)
         self.spectra = {name: self._spectrum(k) for name, k in self.kernel.items()}
         self.coupled = "xy" in self.spectra
         self.products = 0
+
+    @staticmethod
+    def padded_size(N: int) -> int:
+        """The side M of the zero-padded FFT grid for an N x N grid (at least 2N − 1, a fast
+        FFT length)."""
+        return sfft.next_fast_len(2 * int(N) - 1, real=True)
 
     def _spectrum(self, k):
         N, M = self.N, self.M
