@@ -618,8 +618,7 @@ class HalfSpace(ContactModel):
         n, d, ks, c = self.nodes, self.dims, self.k_support, self.c
         stick = np.flatnonzero(contact & ~slip)
         L = np.flatnonzero(slip)
-        known = np.zeros((n, d))
-        known[~contact] = -F[~contact]
+        known = np.where(contact[:, None], 0.0, -F)          # off the contact: no force
         if d == 1:
             known[L, 0] = np.sign(z[L, 0]) * b[L] - F[L, 0]
             space = _Space(stick, None, None, self._pos, self.op, 1)
@@ -652,14 +651,19 @@ class HalfSpace(ContactModel):
             x0 = W.T @ cons
         # the known forces and the start in one product (linearity); the residual from it
         h2 = self.h ** 2
+        N = self.N
         if np.any(known) or np.any(x0):
             start = self._pad(known)
             space.add(start, x0)
             first = self.op.padded("tangential", start, 1.0 / h2)
+            res = rhs - space.restrict(first) - space.diagonal * x0
+            total = self.op.view(first)[:N, :N].copy()
         else:
-            first = np.zeros_like(space.buf)
-        res = rhs - space.restrict(first) - space.diagonal * x0
-        acc = {"last": None, "sum": first}   # C of the step, summed from the products
+            res = rhs.copy()
+            total = np.zeros((N, N, d))
+        # C of the step on the grid's nodes, summed from the products (the padded arrays'
+        # corner: the rest is the wrap-around)
+        acc = {"last": None}
 
         def M(x):
             acc["last"] = self.op.padded("tangential", space.embed(x), 1.0 / h2)
@@ -667,7 +671,7 @@ class HalfSpace(ContactModel):
             return out if d == 1 else out + space.diagonal * x
 
         def step(alpha):
-            acc["sum"] += alpha * acc["last"]
+            np.add(total, alpha * self.op.view(acc["last"])[:N, :N], out=total)
 
         def pre(r):
             return space.restrict(self.op.padded("precondition", space.embed(r), h2))
@@ -686,7 +690,7 @@ class HalfSpace(ContactModel):
 
             x, res = _cg(M, None, x0, project, pre, tol, self.stats, step, res=res)
             dd = W @ res
-        return space.nodes(x, known), dd, self._nodes(acc["sum"])
+        return space.nodes(x, known), dd, total.reshape(n, d)
 
 
 def _condition(A):
@@ -767,11 +771,13 @@ class _Space:
     def nodes(self, x, base):
         """``base`` (node-major ``(n, d)``) plus the unknowns x, a new array."""
         out = base.copy()
-        out[self.stick] += x[: self.k].reshape(-1, self.d)
+        if self.d == 1:
+            out[self.stick, 0] += x
+            return out
+        pairs = out.view(complex)[:, 0]          # x + i y per node (a view)
+        pairs[self.stick] += self._pairs(x)
         if self.L.size:
-            t = x[self.k:]
-            out[self.L, 0] += t * self.tx
-            out[self.L, 1] += t * self.ty
+            pairs[self.L] += x[self.k:] * self.t
         return out
 
     def constraint(self):
