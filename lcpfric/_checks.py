@@ -177,12 +177,14 @@ def finite_array(name: str, values, *, nonneg: bool = False, upper: float | None
     except (TypeError, ValueError):
         raise InputError(name, f"expected real numbers, got {values!r}") from None
     kind = raw.dtype.kind
+    # a large array is named by its shape, not printed
+    shown = repr(values) if raw.size <= 16 else f"an array of shape {raw.shape}"
     if kind == "O":  # e.g. a list mixing Python numbers and other objects
         flat = raw.ravel().tolist()
         if any(_not_a_number(v) or isinstance(v, (complex, np.complexfloating)) for v in flat):
-            raise InputError(name, f"expected real numbers (int or float), got {values!r}")
+            raise InputError(name, f"expected real numbers (int or float), got {shown}")
     elif kind not in "fiu":
-        raise InputError(name, f"expected real numbers (int or float), got {values!r} "
+        raise InputError(name, f"expected real numbers (int or float), got {shown} "
                                f"(dtype {raw.dtype})")
     try:
         arr = np.asarray(raw, dtype=float)

@@ -677,6 +677,29 @@ def test_contact_halfspace_bad_input_is_one_line(capsys, extra, option):
     assert_one_line_error(code, err, option)
 
 
+@pytest.mark.parametrize("kind, words", [
+    ("npz", ".npz archive"), ("text", "not a .npy array file"), ("complex", "shape (12, 12)")])
+def test_contact_heightmap_not_one_real_array(capsys, tmp_path, kind, words):
+    """A height map file that is not one real array (a .npz archive, a text file, complex
+    numbers) is refused in one line naming it, before any work."""
+    h = np.zeros((12, 12))
+    path = tmp_path / "h.npy"
+    if kind == "npz":
+        path = tmp_path / "h.npz"
+        np.savez(path, h=h)
+    elif kind == "text":
+        path.write_text("0 1 2\n")
+    else:
+        np.save(path, h + 1j)
+    args = dict(zip(SPHERE[1::2], SPHERE[2::2]))
+    args.update({"--P1": "0", "--Q1": "10", "--model": "halfspace", "--heightmap": path,
+                 "--spacing": "1"})
+    args.pop("--R", None)
+    code, _, err = run(capsys, "contact", *[x for kv in args.items() for x in kv])
+    assert_one_line_error(code, err, "--heightmap" if kind != "complex" else "heights")
+    assert words in err
+
+
 def test_map_contact_halfspace_resumes(capsys, tmp_path):
     """lcpfric map --contact sphere --contact-model halfspace: through sweep, resumable, equal
     to the model's own solve."""

@@ -183,11 +183,7 @@ def _halfspace(args, geometry, num, P, Q, ks, steps):
         if args.spacing is None:
             raise InputError("--spacing", "the height map needs its grid spacing")
         spacing = _checks.parse_number(args.spacing, "--spacing")
-        try:
-            heights = np.load(args.heightmap, allow_pickle=False)
-        except (OSError, ValueError) as exc:
-            raise InputError("--heightmap", f"cannot read {args.heightmap!r} as a .npy "
-                                            f"array: {exc}") from None
+        heights = _load_heightmap(args.heightmap)
         _steps_memory(heights.size, steps, dims, args)
         return HalfSpace(num["E"], num["nu"], num["mu"], P, Q, heights=heights,
                          spacing=spacing, **common)
@@ -266,3 +262,24 @@ def _count(text, option: str) -> int:
     if not (x >= 1 and x == int(x)):
         raise InputError(option, f"must be a whole number >= 1, got {text!r}")
     return int(x)
+
+
+def _load_heightmap(path):
+    """The height map of ``--heightmap``: one array in numpy's ``.npy`` format."""
+    import numpy as np
+
+    from ..errors import InputError
+
+    how = "save the height map (one 2-D array) with numpy.save"
+    try:
+        heights = np.load(path, allow_pickle=False)
+    except OSError as exc:
+        raise InputError("--heightmap", f"cannot read {str(path)!r}: {exc}") from None
+    except ValueError:
+        raise InputError("--heightmap", f"{str(path)!r} is not a .npy array file (or holds "
+                                        f"Python objects); {how}") from None
+    if not isinstance(heights, np.ndarray):        # a .npz archive: several arrays
+        heights.close()
+        raise InputError("--heightmap", f"{str(path)!r} is a .npz archive, not one array; "
+                                        f"{how}")
+    return heights
