@@ -159,8 +159,6 @@ def run(args) -> int:
 
 def _halfspace(args, geometry, num, P, Q, ks, steps):
     """The half-space model of the options, every option checked before any work."""
-    import numpy as np
-
     from .. import _checks
     from ..contact.halfspace import HalfSpace
     from ..errors import InputError
