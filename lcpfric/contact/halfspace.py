@@ -526,17 +526,17 @@ class HalfSpace(ContactModel):
                     continue
             if ks <= 0.0 and np.any(contact) and not np.any(contact & ~slip):
                 # an iterate with every node slipping has no equilibrium: unless the load
-                # exceeds every limit (gross sliding), the node nearest to sticking sticks
+                # exceeds every limit (gross sliding), the nodes nearest to sticking stick,
+                # as many as can carry what the others' slip forces leave of the load
                 total = float(b[contact].sum())
                 if abs(Q) > total * (1.0 + 1e-12):
                     raise SolverError(f"half-space: |Q| = {abs(Q):.6g} exceeds the sum of "
                                       f"the friction limits {total:.6g} (gross sliding)",
                                       backend="halfspace", status="gross_sliding")
-                ratio = np.where(contact, zn / np.where(b > 0, b, 1.0), np.inf)
-                i = int(np.argmin(ratio))
-                slip[i] = False
+                stuck = _nearest_to_sticking(z, zn, b, contact, Qv)
+                slip[stuck] = False
                 if d == 1:
-                    up[i] = dn[i] = False
+                    up[stuck] = dn[stuck] = False
             self.stats["newton"] += 1
             # d = 1: a step whose pattern is new is solved loosely (its answer only says
             # which pattern comes next), once a pattern repeats to full accuracy; the first
@@ -697,6 +697,24 @@ class HalfSpace(ContactModel):
             x, res = _cg(M, None, x0, project, pre, tol, self.stats, step, res=res)
             dd = W @ res
         return space.nodes(x, known), dd, total.reshape(n, d)
+
+
+def _nearest_to_sticking(z, zn, b, contact, Qv):
+    """For an iterate with every node in contact slipping (its forces ``b z/|z|``) under pure
+    load control: the nodes to stick, those nearest to sticking (the smallest ``|z|/b``),
+    the fewest whose limits add up to what the other nodes' forces leave of the load (so
+    the Newton step can balance it within their limits; one node alone, the old rule, made
+    the line search crawl on a large increment: 2808 Newton steps on grid 96, 8 steps per
+    cycle)."""
+    inside = np.flatnonzero(contact)
+    order = inside[np.argsort(zn[inside] / b[inside], kind="stable")]
+    e = np.sign(z[order]) if z.shape[1] == 1 else z[order] / zn[order, None]
+    pull = b[order, None] * e                       # each node's force while it slips
+    # the load left to the stuck nodes with the first k + 1 of the order stuck
+    left = Qv + pull.sum(axis=0) - np.cumsum(pull, axis=0)
+    need = np.sqrt(np.einsum("ij,ij->i", left, left))
+    k = int(np.argmax(np.cumsum(b[order]) >= need * (1.0 - 1e-12)))
+    return order[: k + 1]
 
 
 def _condition(A):
