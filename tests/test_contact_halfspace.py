@@ -228,6 +228,23 @@ def test_d1_large_increments_on_a_fine_grid(monkeypatch):
     assert _md(40).solve(8).W == pytest.approx(w, rel=1e-12)
 
 
+def test_d2_residual_hovering_about_the_tolerance():
+    """Large increments with phases of gross sliding (the support holds the body): the damped
+    steps' linear solves, stopped at 0.9 of the tolerance, left one increment's residual
+    hovering between 0.5 and 1.02 of it until the Newton iterations ran out (SolverError,
+    residual 1.27e-11 above 1.24e-11). Steps that begin near the tolerance and do not end the
+    increment now solve ten times tighter each. (The hovering depends on round-off: this case
+    showed it on the development machine.)"""
+    def model(ks):
+        return HalfSpace.sphere(10.0, 200e3, 0.3, 0.5, Harmonic(100.0, 50.0, 0.0, TWO_PI),
+                                Harmonic(0.0, 45.0, np.pi, TWO_PI), grid=32, dims=2,
+                                k_support=ks)
+
+    m = model(model(1.0).k_t0)
+    r = m.solve(8)
+    assert r.converged and m.stats["newton"] < 200
+
+
 @pytest.mark.parametrize("dims, nu", [(1, 0.0), (2, 0.3)])
 def test_carried_products_stay_those_of_the_forces(dims, nu):
     """The state carries ``C F`` and each increment's ``C ΔF`` (an increment's start then

@@ -460,6 +460,7 @@ class HalfSpace(ContactModel):
         updates = PatternUpdate(contact) if d == 1 else None
         up = dn = None
         restarted = loose = fresh = changed = False
+        near = 0              # damped steps begun within ten times the tolerance
         # d = 1: Murty's rule changes one node per iteration, so allow one per node
         limit = _MAX_NEWTON + (int(contact.sum()) if d == 1 else 0)
         inside = contact.astype(float)
@@ -543,8 +544,15 @@ class HalfSpace(ContactModel):
             # pattern too, unless the last increment's first pattern was its answer
             loose = (not damped and fresh and _ETA1 * worst > 0.1 * tolF
                      and (it > 0 or not self._first_right))
+            # the damped steps' linear solves stop at _CG_TOL of the tolerance; where a step
+            # that began near it did not end the increment (the natural map's residual can
+            # then hover about the tolerance), the next ones stop ten times lower each
+            frac = _CG_TOL
+            if damped and worst <= 10.0 * tolF:
+                frac = max(_CG_TOL * 0.1 ** near, 1e-3)
+                near += 1
             dF, dd, CdF = self._newton(F, ds, z, zn, b, contact, slip, eq, worst, tolF,
-                                       _ETA1 if loose else (_ETA if damped else None))
+                                       _ETA1 if loose else (_ETA if damped else None), frac)
             if not damped:
                 F += dF
                 CF += CdF
@@ -616,7 +624,8 @@ class HalfSpace(ContactModel):
             alpha *= 0.5
         return (*trial, ev)
 
-    def _newton(self, F, ds, z, zn, b, contact, slip, eq, worst, tolF, eta=None):
+    def _newton(self, F, ds, z, zn, b, contact, slip, eq, worst, tolF, eta=None,
+                frac=_CG_TOL):
         """One semismooth Newton step (module docstring): ``(ΔF, Δδ)``. For d = 2 the linear
         solve is inexact while the residual ``worst`` is large (to ``1e-2`` of it: the slip
         directions are corrected by the next step anyway); for d = 1 it is to a tenth of the
@@ -682,7 +691,7 @@ class HalfSpace(ContactModel):
         def pre(r):
             return space.restrict(self.op.padded("precondition", space.embed(r), h2))
 
-        tol = (_CG_TOL1 if d == 1 and eta is None else _CG_TOL) * c * tolF
+        tol = (_CG_TOL1 if d == 1 and eta is None else frac) * c * tolF
         if d == 2 or eta is not None:
             tol = max(tol, (_ETA if eta is None else eta) * c * worst)
         if ks > 0.0:
