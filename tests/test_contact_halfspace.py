@@ -245,6 +245,23 @@ def test_d2_residual_hovering_about_the_tolerance():
     assert r.converged and m.stats["newton"] < 200
 
 
+@pytest.mark.parametrize("P1, Q1, phi", [(0.9, 0.8, 0.2), (0.3, 1.5, 0.7), (1.3, 0.6, 0.5),
+                                         (0.5, 0.9, 1.0)])
+@pytest.mark.parametrize("dims, nu", [(1, 0.0), (2, 0.3)])
+def test_large_increments_across_the_loads(P1, Q1, phi, dims, nu):
+    """8 steps per cycle, the support k_t0 holding the body: near separation, gross sliding
+    (Q1 = 1.5 μP0), complete separation (P1 = 1.3) and opposite phases all reach a steady
+    state. (Sweeps of these loads on grids 32 to 120, 8 to 40 steps, spheres, the punch and a
+    rough surface, found the crawl and the hovering that the two tests above guard.)"""
+    def model(ks):
+        return HalfSpace.sphere(10.0, 200e3, nu, 0.5, Harmonic(100.0, 100.0 * P1, 0.0, TWO_PI),
+                                Harmonic(0.0, 50.0 * Q1, phi * np.pi, TWO_PI), grid=32,
+                                dims=dims, k_support=ks)
+
+    r = model(model(1.0).k_t0).solve(8)
+    assert r.converged and r.W > 0
+
+
 @pytest.mark.parametrize("dims, nu", [(1, 0.0), (2, 0.3)])
 def test_carried_products_stay_those_of_the_forces(dims, nu):
     """The state carries ``C F`` and each increment's ``C ΔF`` (an increment's start then
