@@ -45,8 +45,10 @@ the patterns stall (a large increment on a fine grid changes the state of thousa
 and Murty's rule, the pattern rule's fallback, changes one per iteration), d = 1 turns to the
 damped steps of d = 2. For d = 2 each step is damped by a line search on the natural map's
 residual, and the slip directions converge quadratically near the answer. The answer is
-accepted when the natural-map residual is below ``tol × force scale`` on every node; an
-iteration that does not get there raises :class:`~lcpfric.errors.SolverError`.
+accepted when the natural-map residual is below ``tol × force scale`` on every node (the
+force scale: the largest limit μ p h², or the force that moves a node by the loads'
+displacement scale ``Q/k_t0``, if smaller: a small tangential load is solved as accurately as
+a large one); an iteration that does not get there raises :class:`~lcpfric.errors.SolverError`.
 
 Nodes out of contact carry no force and no unknown. d = 1 with ν > 0 takes the tractions along
 the load with the x-x Cerruti coefficient (Mindlin's approximation); d = 2 adds the
@@ -210,6 +212,14 @@ class HalfSpace(ContactModel):
                                         "grid (or surface) is needed")
         self.a0 = float(_a0) if _a0 is not None else self.a_eq0
         self.k_t0 = 2.0 * self.a0 * self.moduli["G*"]
+        # the increments' tolerance is relative to the largest limit, or, if smaller, to the
+        # force that moves a node by the loads' displacement scale (the cycle criterion's):
+        # an increment's error c·r then stays below the criterion's tolerance however small
+        # the tangential load (at Q1 = 1e-4 μP0 the cycles never repeated: their change
+        # hovered at the increments' errors)
+        u = self.scales()[0]
+        self._tol_scale = (min(self._force_scale, u / self.c) if u > 0.0
+                           else self._force_scale)
 
     # -- constructors ---------------------------------------------------------------------------
     @classmethod
@@ -437,7 +447,7 @@ class HalfSpace(ContactModel):
     def _increment(self, state, b, Q, guess, tol):
         n, d, ks, c = self.nodes, self.dims, self.k_support, self.c
         scale = self._force_scale
-        tolF = tol * scale
+        tolF = tol * self._tol_scale
         contact = b > 1e-10 * scale
         s0 = state.v.reshape(n, d)
         if guess is not None:
