@@ -28,8 +28,8 @@ import types
 
 from . import _legacy
 from .errors import (ConvergenceError, ConvergenceWarning, InputError, LcpfricError,
-                     MissingDependency, MissingExtra, SolverError, SolverNotFound,
-                     UndefinedQuantity)
+                     MissingDependency, MissingExtra, ResolutionWarning, SolverError,
+                     SolverNotFound, UndefinedQuantity)
 
 __version__ = "0.1.0"
 
@@ -55,7 +55,8 @@ _LAZY = {
 }
 
 __all__ = ["ConvergenceError", "ConvergenceWarning", "InputError", "LcpfricError",
-           "MissingDependency", "MissingExtra", "SolverError", "SolverNotFound",
+           "MissingDependency", "MissingExtra", "ResolutionWarning", "SolverError",
+           "SolverNotFound",
            "UndefinedQuantity", "__version__", *_LAZY]
 
 

@@ -157,3 +157,9 @@ def _rebuild_solver_error(cls, message, backend, status, residuals):
 
 class ConvergenceWarning(UserWarning):
     """Warning issued instead of :class:`ConvergenceError` when ``on_nonconvergence="warn"``."""
+
+
+class ResolutionWarning(UserWarning):
+    """A continuum contact's answer that its grid cannot resolve: no element slipped over the
+    steady cycle (W = 0), where the exact contact may slip in a zone thinner than an element
+    (:func:`lcpfric.contact.steady.steady_state`)."""

@@ -700,6 +700,17 @@ def test_contact_heightmap_not_one_real_array(capsys, tmp_path, kind, words):
     assert words in err
 
 
+def test_contact_unresolved_slip_warns_in_one_line(capsys):
+    """Q1 = 1e-3 μP0 on grid 16: no element slips (W = 0); the run succeeds and says in one
+    line on stderr that the grid does not resolve the slip zone."""
+    code, out, err = run(capsys, *SPHERE, "--P1", "0", "--Q1", "0.05", "--model",
+                         "halfspace", "--grid", "16", "--steps", "40")
+    assert code == 0 and "W = 0 per cycle" in out
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("lcpfric contact: warning: ") and (
+        "no element slipped" in lines[0]), err
+
+
 def test_map_contact_halfspace_resumes(capsys, tmp_path):
     """lcpfric map --contact sphere --contact-model halfspace: through sweep, resumable, equal
     to the model's own solve."""

@@ -267,9 +267,14 @@ def test_small_tangential_loads_reach_the_steady_state(dims, nu):
     """Q1 = 1e-4 μP0: the increments' tolerance follows the loads' displacement scale (the
     cycle criterion's), not only the largest limit; with the latter the cycles' change hovered
     at the increments' errors (1.7e-9 for d = 1, 2e-4 for d = 2, never below 1e-10)."""
+    from lcpfric.errors import ResolutionWarning
+
     m = sphere(Q1=0.5e-4, grid=16, dims=dims, nu=nu)
-    r = m.solve(100, max_cycles=30)
-    assert r.converged and r.change <= 1e-10
+    # no element slips at this load: the slip annulus (about x/3 of the radius in Mindlin's
+    # solution, x = 1e-4) is far thinner than an element, and the result says so
+    with pytest.warns(ResolutionWarning, match="no element slipped"):
+        r = m.solve(100, max_cycles=30)
+    assert r.converged and r.change <= 1e-10 and r.W == 0.0
 
 
 @pytest.mark.parametrize("dims, nu", [(1, 0.0), (2, 0.3)])

@@ -58,6 +58,7 @@ def test_in_phase_dissipates_nothing_and_half_period_symmetry():
     assert Wa > 1e-3 and Wb == pytest.approx(Wa, rel=1e-12)
 
 
+@pytest.mark.filterwarnings("ignore::lcpfric.errors.ResolutionWarning")   # W = 0: one spring
 def test_one_spring_is_the_single_node():
     """One spring of stiffness k1 on the bar held by k_s: the paper's node with k11 = k1 k_s /
     (k1 + k_s) under -k1/(k1 + k_s) Q, N = P: the same increments as lcpfric's projection."""

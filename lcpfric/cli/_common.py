@@ -13,6 +13,7 @@ interrupted.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib.util
 import os
 import sys
@@ -149,19 +150,43 @@ def _message(exc: BaseException) -> str:
     return one_line("; ".join([str(exc), *notes]))
 
 
+@contextlib.contextmanager
+def _one_line_warnings(prog):
+    """lcpfric's own warnings (a result the grid cannot resolve, say) as one line on stderr,
+    ``prog: warning: ...``, like its errors; other warnings as Python shows them."""
+    import warnings
+
+    from ..errors import ConvergenceWarning, ResolutionWarning
+
+    with warnings.catch_warnings():
+        default = warnings.showwarning
+
+        def show(message, category, filename, lineno, file=None, line=None):
+            if issubclass(category, (ConvergenceWarning, ResolutionWarning)):
+                print(f"{prog}: warning: {message}", file=sys.stderr)
+            else:
+                default(message, category, filename, lineno, file, line)
+
+        warnings.showwarning = show
+        for category in (ConvergenceWarning, ResolutionWarning):   # shown, never raised
+            warnings.simplefilter("default", category)
+        yield
+
+
 def execute(args) -> int:
     """Run the subcommand chosen in ``args``; turn every expected failure into one line on
     stderr and an exit code (see the module docstring)."""
     module, parser = args._module, args._parser
     prog = parser.prog
     try:
-        given = getattr(args, "max_memory", None)
-        if given is None:
-            return int(module.run(args) or 0)
-        from .. import memory  # --max-memory holds for the library's own checks too
+        with _one_line_warnings(prog):
+            given = getattr(args, "max_memory", None)
+            if given is None:
+                return int(module.run(args) or 0)
+            from .. import memory  # --max-memory holds for the library's own checks too
 
-        with memory.limit(parse_size(given, "--max-memory"), "--max-memory"):
-            return int(module.run(args) or 0)
+            with memory.limit(parse_size(given, "--max-memory"), "--max-memory"):
+                return int(module.run(args) or 0)
     except InputError as exc:
         option = option_for(exc.parameter, option_names(parser, getattr(module, "OPTIONS", {})))
         notes = "".join(f"; {n}" for n in getattr(exc, "__notes__", ()) or ())

@@ -50,7 +50,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _checks
-from ..errors import ConvergenceError, ConvergenceWarning, InputError
+from ..errors import ConvergenceError, ConvergenceWarning, InputError, ResolutionWarning
 from ..model.loads import Harmonic, Load
 from ..periodic import Anderson, cycle_change
 from ..results import State
@@ -275,6 +275,15 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
         warnings.warn(msg, ConvergenceWarning, stacklevel=2)
     name, factor = model.normalization()
     W = W_cycles[-1]
+    if W == 0.0 and not (model.P.is_constant and model.Q.is_constant) and np.any(Q != 0.0):
+        # no element slipped: a smooth contact slips at its edge (where p -> 0) under almost
+        # any change of the loads, in a zone the grid may not resolve
+        warnings.warn(f"{type(model).__name__}: no element slipped over the steady cycle "
+                      f"(W = 0 on {n} nodes): a slip zone thinner than an element is not "
+                      f"resolved (unless the loads change in proportion, |dQ/dP| < mu, "
+                      f"where W = 0 is exact); refine the grid"
+                      + (" or use the MDR model for a sphere" if type(model).__name__
+                         == "HalfSpace" else ""), ResolutionWarning, stacklevel=2)
     size = model.sizes(t)
     return ContactResult(W=W, W_normalized=W * factor, normalization=name,
                          W_cycles=np.asarray(W_cycles), contact_size_max=float(size.max()),
