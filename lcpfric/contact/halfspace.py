@@ -212,14 +212,6 @@ class HalfSpace(ContactModel):
                                         "grid (or surface) is needed")
         self.a0 = float(_a0) if _a0 is not None else self.a_eq0
         self.k_t0 = 2.0 * self.a0 * self.moduli["G*"]
-        # the increments' tolerance is relative to the largest limit, or, if smaller, to the
-        # force that moves a node by the loads' displacement scale (the cycle criterion's):
-        # an increment's error c·r then stays below the criterion's tolerance however small
-        # the tangential load (at Q1 = 1e-4 μP0 the cycles never repeated: their change
-        # hovered at the increments' errors)
-        u = self.scales()[0]
-        self._tol_scale = (min(self._force_scale, u / self.c) if u > 0.0
-                           else self._force_scale)
 
     # -- constructors ---------------------------------------------------------------------------
     @classmethod
@@ -447,7 +439,7 @@ class HalfSpace(ContactModel):
     def _increment(self, state, b, Q, guess, tol):
         n, d, ks, c = self.nodes, self.dims, self.k_support, self.c
         scale = self._force_scale
-        tolF = tol * self._tol_scale
+        tolF = tol * self._tolerance_scale()
         contact = b > 1e-10 * scale
         s0 = state.v.reshape(n, d)
         if guess is not None:
@@ -596,6 +588,15 @@ class HalfSpace(ContactModel):
         new = _Tangential(v.ravel(), delta, F_end, F_end - state.F, delta - state.delta, side,
                           CF, CF - state.CF)
         return new, F_flat, ds.ravel()
+
+    def _tolerance_scale(self) -> float:
+        """The increments' force scale: the largest limit, or, if smaller, the force that moves
+        a node by the loads' displacement scale (the cycle criterion's), so an increment's
+        error c·r stays below the criterion's tolerance however small the tangential load (at
+        Q1 = 1e-4 μP0 the cycles never repeated: their change hovered at the increments'
+        errors). From the current loads (a map changes Q between points)."""
+        u = self.scales()[0]
+        return min(self._force_scale, u / self.c) if u > 0.0 else self._force_scale
 
     def _safe_start(self, state, b, contact):
         """The previous increment's forces and rigid displacement (no extrapolation)."""
