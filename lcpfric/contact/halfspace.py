@@ -567,7 +567,7 @@ class HalfSpace(ContactModel):
             near = (f"; |Q| is {abs(Q) / total:.6f} of the sum of the friction limits, so "
                     f"close to gross sliding that the stick zone spans about one element: "
                     f"refine the grid or lower Q" if ks <= 0.0 and total > 0.0
-                    and abs(Q) > 0.999 * total else "")
+                    and abs(Q) >= 0.999 * (1.0 - 1e-9) * total else "")
             raise SolverError(f"half-space tangential increment: residual {worst:.3g} above "
                               f"{tolF:.3g} after {limit} Newton iterations{near}",
                               backend="halfspace", status="max_iter")
