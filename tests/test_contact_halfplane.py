@@ -85,3 +85,23 @@ def test_as_an_lcpfric_system():
         assert r.W == pytest.approx(ref, rel=1e-9), method
     with pytest.raises(InputError):
         cylinder(nodes=20).system()
+
+
+@pytest.mark.parametrize("P1, Q1, phi, steps", [(0.3, 1.5, 0.7, 100), (0.9, 0.8, 0.2, 8),
+                                                 (0.5, 0.9, 1.0, 8)])
+def test_gross_sliding_held_by_a_support(P1, Q1, phi, steps):
+    """Phases of gross sliding (|Q| > μP) with a support: the stick/slip patterns could cycle
+    there (a node flipping between its bounds) and ran out of iterations (SolverError after
+    400); the increment then falls back to bounded-variable least squares, which ends."""
+    m = cylinder(P1, Q1, phi * np.pi, nodes=400, k_support=1e4)
+    r = m.solve(steps)
+    assert r.converged and r.W > 0
+
+
+def test_bounded_least_squares_is_the_increment():
+    """The fallback (BVLS on min ½ Fᵀ(C + 1 1ᵀ/k_s)F + (Q/k_s − s0)ᵀF over |F| <= b) gives the
+    active set's W, increment for increment, to 1e-12."""
+    a = cylinder(0.5, 0.4, 0.5 * np.pi, nodes=100, k_support=1e4)
+    b = cylinder(0.5, 0.4, 0.5 * np.pi, nodes=100, k_support=1e4)
+    b.increment = lambda state, lim, Q: b._bounded(state, lim, Q, lim > 1e-10 * b._force_scale)
+    assert b.solve(40).W == pytest.approx(a.solve(40).W, rel=1e-12)

@@ -62,6 +62,8 @@ __all__ = ["HalfPlaneCylinder", "MAX_NODES", "log_kernel", "entry_loads"]
 #: largest number of elements (the influence matrix is dense: 8 N² bytes)
 MAX_NODES = 6000
 _MAX_ITER = 400
+#: with a support, single changes by Murty's rule before the bounded least squares take over
+_SINGLE_MAX = 64
 _EPS = np.finfo(float).eps
 
 
@@ -250,7 +252,9 @@ class HalfPlaneCylinder(ContactModel):
         up, dn = state.up & contact, state.dn & contact
         updates = PatternUpdate(contact)
         block = self._tangential
-        for _ in range(_MAX_ITER):
+        # Murty's rule (the pattern rule's fallback) changes one node per iteration
+        limit = _MAX_ITER + int(contact.sum())
+        for _ in range(limit):
             F = np.where(up, b, np.where(dn, -b, 0.0))
             S = np.flatnonzero(contact & ~up & ~dn)
             if S.size:
@@ -280,8 +284,54 @@ class HalfPlaneCylinder(ContactModel):
                 np.clip(F, -b, b, out=F)  # round-off only (tol above)
                 return _Surface(s, delta, up, dn), F, ds
             up, dn = nxt
-        raise SolverError(f"half-plane: the stick/slip pattern did not settle in {_MAX_ITER} "
+            if ks > 0.0 and updates.stats["single_changes"] > _SINGLE_MAX:
+                break                     # Murty's rule is slow here, or cycling: see below
+        if ks > 0.0:
+            # with a support the increment is a bounded least-squares problem: solved by
+            # scipy's bounded-variable least squares, whose active set terminates (the
+            # patterns above can cycle under gross sliding, a node flipping between its
+            # bounds)
+            return self._bounded(state, b, Q, contact)
+        raise SolverError(f"half-plane: the stick/slip pattern did not settle in {limit} "
                           f"iterations", backend="halfplane", status="max_iter")
+
+    def _bounded(self, state, b, Q, contact):
+        """The increment with ``k_support > 0`` as ``min ½ Fᵀ (C + 1 1ᵀ/k_s) F + (Q/k_s - s0)ᵀ
+        F`` over ``|F| <= b`` (its optimality conditions are problem (P)'s: the gradient is the
+        increment's slip), by BVLS on the Cholesky factor; its answer is checked."""
+        from scipy.linalg import cho_factor, solve_triangular
+        from scipy.optimize import lsq_linear
+
+        C, ks, s0 = self.C, self.k_support, state.v
+        on = np.flatnonzero(contact)
+        H = C[np.ix_(on, on)] + 1.0 / ks
+        g = Q / ks - s0[on]
+        U, _ = cho_factor(H, lower=False)                  # H = Uᵀ U
+        U = np.triu(U)
+        y = -solve_triangular(U, g, trans="T")              # ½|U F - y|² = ½FᵀHF + gᵀF + c
+        sol = lsq_linear(U, y, bounds=(-b[on], b[on]), method="bvls", tol=1e-14,
+                         max_iter=50 * on.size)
+        F = np.zeros(self.total)
+        F[on] = sol.x
+        delta = (F.sum() + Q) / ks
+        s = delta + C @ F
+        ds = s - s0
+        band = 1e-10 * self._force_scale + 64 * _EPS * (b + np.abs(F))
+        up, dn = contact & (F >= b - band) & (ds < 0.0), contact & (F <= -b + band) & (ds > 0.0)
+        stick = contact & ~up & ~dn
+        # the natural map's residual: sticking nodes keep their slip, the others sit on
+        # their limits with the slip opposing the force
+        worst = max(float(np.max(np.abs(ds[stick]) / self.cdiag[stick], initial=0.0)),
+                    float(np.max(np.abs(np.abs(F[~stick & contact]) - b[~stick & contact]),
+                                 initial=0.0)))
+        if not sol.success or worst > 1e-8 * self._force_scale:
+            raise SolverError(f"half-plane: the bounded least-squares increment ended with "
+                              f"residual {worst:.3g} (status {sol.status}: {sol.message})",
+                              backend="halfplane", status=str(sol.status))
+        s[stick] = s0[stick]
+        ds[stick] = 0.0
+        np.clip(F, -b, b, out=F)
+        return _Surface(s, delta, up, dn), F, ds
 
 
 def entry_loads(A: np.ndarray, h: np.ndarray, area: float, P_max: float) -> np.ndarray:
