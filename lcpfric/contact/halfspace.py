@@ -95,9 +95,11 @@ _ETA1 = 1e-2
 _SINGLE_MAX = 32
 #: the linear solves end with their residual below this fraction of the increment's
 #: tolerance where the natural map's residual is checked after the step (d = 2, and d = 1's
-#: loose or damped steps); d = 1's step with a repeated pattern ends the increment unchecked,
-#: so it keeps a margin (``_CG_TOL1``): at 0.9 a cycle tolerance of 1e-12 with increments at
-#: 1e-10 (the backends' cross-check) took 46 cycles, their errors keeping the change about 1e-11
+#: loose or damped steps; ten times lower for each further step once one that began within ten
+#: times the tolerance did not end the increment); d = 1's step with a repeated pattern ends
+#: the increment unchecked, so it keeps a margin (``_CG_TOL1``): at 0.9 a cycle tolerance of
+#: 1e-12 with increments at 1e-10 (the backends' cross-check) took 46 cycles, their errors
+#: keeping the change about 1e-11
 _CG_TOL, _CG_TOL1 = 0.9, 0.1
 
 
@@ -462,7 +464,7 @@ class HalfSpace(ContactModel):
         updates = PatternUpdate(contact) if d == 1 else None
         up = dn = None
         restarted = loose = fresh = changed = False
-        near = 0              # damped steps begun within ten times the tolerance
+        close = 0             # damped steps begun within ten times the tolerance
         # d = 1: Murty's rule changes one node per iteration, so allow one per node
         limit = _MAX_NEWTON + (int(contact.sum()) if d == 1 else 0)
         inside = contact.astype(float)
@@ -551,8 +553,8 @@ class HalfSpace(ContactModel):
             # then hover about the tolerance), the next ones stop ten times lower each
             frac = _CG_TOL
             if damped and worst <= 10.0 * tolF:
-                frac = max(_CG_TOL * 0.1 ** near, 1e-3)
-                near += 1
+                frac = max(_CG_TOL * 0.1 ** close, 1e-3)
+                close += 1
             dF, dd, CdF = self._newton(F, ds, z, zn, b, contact, slip, eq, worst, tolF,
                                        _ETA1 if loose else (_ETA if damped else None), frac)
             if not damped:

@@ -37,7 +37,10 @@ HalfPlaneCylinder`) provides
   before any work.
 
 :func:`steady_state` runs cycles until the slips repeat, with the driver's own criterion
-(:func:`~lcpfric.periodic.cycle_change`), and returns one :class:`ContactResult`.
+(:func:`~lcpfric.periodic.cycle_change`), and returns one :class:`ContactResult`. A steady
+cycle in which no element slips (W = 0) while the loads change issues a
+:class:`~lcpfric.errors.ResolutionWarning`: a smooth contact slips at its edge under almost any
+change of the loads, in a zone that may be thinner than an element.
 """
 
 from __future__ import annotations
