@@ -1,7 +1,7 @@
 """The continuum contact models across hard loads, grids and steps: does every case reach its
 steady state, in how many cycles and how long?
 
-`OPENBLAS_NUM_THREADS=1 python benchmarks/robustness_contact.py` (about 4 minutes) writes
+`OPENBLAS_NUM_THREADS=1 python benchmarks/robustness_contact.py` (about 1.5 minutes) writes
 `benchmarks/results/robustness_contact.md`. The cases: large increments (8 steps per cycle)
 and finer ones (40), near separation, gross sliding held by a support (Q1 = 1.5 μP0), complete
 separation (P1 = 1.3), opposite phases; small tangential loads (Q1 down to 1e-4 μP0); large
