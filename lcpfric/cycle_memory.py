@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["SlipMemory", "MAX_GAIN"]
+__all__ = ["SlipMemory", "MAX_GAIN", "row_norms"]
 
 #: the largest factor by which a node's cycle change is multiplied (a node that slips very
 #: little each cycle remembers nearly all of its start)
@@ -56,7 +56,7 @@ class SlipMemory:
         """After an increment with the slips ``dv`` (flat, node-major) under the limits b:
         ``R_i <- r p pᵀ R_i`` on every node that moved, in place."""
         d = dv.reshape(self.n, 2)
-        mag = np.abs(np.ascontiguousarray(d, dtype=float).view(complex)[:, 0])   # |Δs|
+        mag = row_norms(d)                                # |Δs|
         moved = np.flatnonzero(mag > 0.0)
         if not moved.size:
             return
@@ -99,3 +99,9 @@ class SlipMemory:
         still = np.all(A == 0.0, axis=(1, 2))
         out[still] = f[still]
         return out.reshape(-1)
+
+
+def row_norms(X) -> np.ndarray:
+    """The lengths of the rows of an ``(k, 2)`` array (as complex numbers: one contiguous
+    pass, several times faster than ``hypot`` of the strided columns)."""
+    return np.abs(np.ascontiguousarray(X, dtype=float).view(complex)[:, 0])

@@ -65,7 +65,7 @@ import numpy as np
 
 from .. import _checks
 from ..backends.active_set import PatternUpdate
-from ..cycle_memory import SlipMemory
+from ..cycle_memory import SlipMemory, row_norms
 from ..errors import InputError, SolverError
 from .closed_forms import hertz_contact
 from .influence import Convolution
@@ -163,6 +163,8 @@ class HalfSpace(ContactModel):
     """
 
     max_nodes = MAX_GRID * MAX_GRID
+    #: what to do where no element slips (``steady_state``'s ResolutionWarning)
+    refine_hint = "refine the grid or use the MDR model for a sphere"
 
     def __init__(self, E, nu, mu, P, Q, *, heights, spacing, dims: int = 1,
                  k_support: float = 0.0, tol: float = 1e-10, _a0=None, geometry="heightmap"):
@@ -614,7 +616,7 @@ class HalfSpace(ContactModel):
         |equilibrium|², the equilibrium)`` with ``z = F - Δs/c``."""
         ds = delta + CF - s0
         z = F - ds / self.c
-        zn = _norms(z) if self.dims == 2 else np.abs(z[:, 0])
+        zn = row_norms(z) if self.dims == 2 else np.abs(z[:, 0])
         slip = (zn > b) & (inside > 0.0)
         scale = inside.copy()
         np.divide(b, zn, out=scale, where=slip)
@@ -843,16 +845,10 @@ def _project(F, b):
     if F.shape[1] == 1:
         np.clip(F[:, 0], -b, b, out=F[:, 0])
         return
-    norm = _norms(F)
+    norm = row_norms(F)
     scale = np.ones_like(norm)
     np.divide(b, norm, out=scale, where=norm > b)
     F *= scale[:, None]
-
-
-def _norms(X):
-    """The lengths of the rows of an ``(k, 2)`` array (as complex numbers: one contiguous
-    pass, several times faster than ``hypot`` of the strided columns)."""
-    return np.abs(np.ascontiguousarray(X, dtype=float).view(complex)[:, 0])
 
 
 def _dots(X, Y):

@@ -284,9 +284,9 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
         warnings.warn(f"{type(model).__name__}: no element slipped over the steady cycle "
                       f"(W = 0 on {n} nodes): a slip zone thinner than an element is not "
                       f"resolved (unless the loads change in proportion, |dQ/dP| < mu, "
-                      f"where W = 0 is exact); refine the grid"
-                      + (" or use the MDR model for a sphere" if type(model).__name__
-                         == "HalfSpace" else ""), ResolutionWarning, stacklevel=2)
+                      f"where W = 0 is exact); "
+                      f"{getattr(model, 'refine_hint', 'refine the grid')}",
+                      ResolutionWarning, stacklevel=2)
     size = model.sizes(t)
     return ContactResult(W=W, W_normalized=W * factor, normalization=name,
                          W_cycles=np.asarray(W_cycles), contact_size_max=float(size.max()),
