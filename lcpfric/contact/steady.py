@@ -221,7 +221,7 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
             # tolerance (or its own tol, if tighter) once the cycles nearly repeat; only a
             # cycle at that accuracy can end the iteration
             final = max(_LOOSE * tol, min(model.tol, _FINAL * tol))
-            options["tol"] = max(final, min(_LOOSE_MAX, _LOOSE * change))
+            options["tol"] = max(final, _loose_tolerance(change))
             accurate = options["tol"] == final
         v0 = state.v.copy()
         if record:
@@ -296,6 +296,13 @@ def steady_state(model, steps: int = 400, *, tol: float = 1e-10, max_cycles: int
                          change=change, seconds=time.perf_counter() - start, t=t, x=model.x,
                          size=size, state=Ss, F=Fs, extrapolations=jumps,
                          changes=np.asarray(changes))
+
+
+def _loose_tolerance(change: float) -> float:
+    """Models with ``loose_cycles``: the early cycles' increments' tolerance after a cycle whose
+    change was ``change`` (a hundredth of it, at most ``_LOOSE_MAX``; the final tolerance is
+    the floor). ``benchmarks/late_cycles.py`` measures other schedules against it."""
+    return min(_LOOSE_MAX, _LOOSE * change)
 
 
 def _states(b, dv, dims: int = 1) -> np.ndarray:

@@ -1,0 +1,200 @@
+"""What the d = 2 half-space's cycles cost, cycle by cycle, and why its late cycles cost what
+they do: the issue's goal case (Mindlin-Deresiewicz, Q1/(μP0) = 0.5, ν = 0.3, d = 2, grid 40,
+400 steps per cycle, cycle tolerance 1e-10).
+
+``OPENBLAS_NUM_THREADS=1 python benchmarks/late_cycles.py [--out DIR]``
+
+writes ``DIR/late_cycles.md`` (default ``benchmarks/results``; about 2 minutes). For each cycle:
+the tolerance its increments are solved to (the steady-state driver's loose early cycles), the
+FFT products, the Newton steps, the increments whose start (the same increment of the previous
+cycle) already met the tolerance, the start's natural-map residual over the tolerance
+(percentiles over the cycle's increments), the conjugate-gradient iterations per Newton step, and
+the cycle's relative change. Then, over the Newton steps of the cycles from the fifth on, how far
+each step's conjugate gradients had to reduce their residual (max norm) and in how many
+iterations. Last, the same case with other schedules of the increments' tolerance and other
+stopping points of the conjugate gradients: the cycles and products each takes, and W against
+the default's. Product counts repeat from run to run; the seconds are this machine's.
+
+The instrumentation wraps the model's private ``_natural`` (the natural map's residual; its
+first call in an increment is at the start) and the module's ``_cg``, and sets the module
+constants ``_CG_TOL`` and ``steady._LOOSE`` / ``steady._loose_tolerance`` for the variants.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+
+from halfspace import sphere  # noqa: E402
+
+import lcpfric.contact.halfspace as hs  # noqa: E402
+import lcpfric.contact.steady as steady  # noqa: E402
+
+STEPS = 400
+#: the cycles whose Newton steps the conjugate-gradient table covers (from the fifth on)
+LATE = 4
+
+
+def run(record=False):
+    """Solve the goal's case: ``(model, result, seconds, increments, steps)``. Per increment:
+    (products, Newton steps, CG iterations, tolerance, start residual / tolerance, the last
+    NaN unless ``record``); with ``record``, per Newton step: (the CG's starting residual /
+    its tolerance, iterations, the increment's index)."""
+    model = sphere(Q1=0.5, nu=0.3, grid=40, dims=2)
+    incs, steps = [], []
+    cg = hs._cg
+    probe = {"first": math.nan}
+    natural, increment = model._natural, model.increment
+
+    def first_natural(*args):
+        ev = natural(*args)
+        if math.isnan(probe["first"]):
+            probe["first"] = ev[4]
+        return ev
+
+    def counted(state, b, Q, guess=None, tol=None):
+        st = model.stats
+        before = (st["tangential_products"], st["newton"], st["cg"])
+        probe["first"] = math.nan
+        out = increment(state, b, Q, guess, tol=tol)
+        tolF = tol * model._tolerance_scale()
+        incs.append((st["tangential_products"] - before[0], st["newton"] - before[1],
+                     st["cg"] - before[2], tol, probe["first"] / tolF))
+        return out
+
+    def counted_cg(M, g, x, project, pre, tol, stats, step=None, max_iter=None, res=None):
+        r = res if project is None else project(res)
+        start = float(np.max(np.abs(r))) / tol
+        n = stats["cg"]
+        out = cg(M, g, x, project, pre, tol, stats, step, max_iter, res)
+        steps.append((start, stats["cg"] - n, len(incs)))     # its increment's index
+        return out
+
+    model.increment = counted
+    if record:
+        model._natural = first_natural
+        hs._cg = counted_cg
+    try:
+        t = time.perf_counter()
+        res = model.solve(STEPS)
+        seconds = time.perf_counter() - t
+    finally:
+        hs._cg = cg
+    return model, res, seconds, np.array(incs), np.array(steps)
+
+
+def variant(label, **settings):
+    """The goal's case with module settings changed: ``(label, result, model, seconds,
+    products of each cycle)``."""
+    saved = {name: getattr(mod, attr) for name, (mod, attr, _) in settings.items()}
+    try:
+        for mod, attr, value in settings.values():
+            setattr(mod, attr, value)
+        model, res, seconds, incs, _ = run()
+    finally:
+        for name, (mod, attr, _) in settings.items():
+            setattr(mod, attr, saved[name])
+    per = [int(incs[c * STEPS:(c + 1) * STEPS, 0].sum()) for c in range(res.cycles)]
+    return label, res, model, seconds, per
+
+
+def rounded(base):
+    """The default schedule rounded down to a power of ``base`` (cycles at the same level
+    share their tolerance)."""
+    def schedule(change):
+        x = min(steady._LOOSE_MAX, steady._LOOSE * change)
+        return base ** math.floor(math.log(x) / math.log(base) + 1e-9)
+    return schedule
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default=str(Path(__file__).parent / "results"))
+    args = ap.parse_args(argv)
+    out = Path(args.out)
+    out.mkdir(exist_ok=True)
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
+                            text=True, cwd=Path(__file__).parent).stdout.strip()
+    lines = ["# The d = 2 half-space's cycles, one by one", "",
+             f"`OPENBLAS_NUM_THREADS=1 python benchmarks/late_cycles.py` at {commit}, "
+             f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. Mindlin-Deresiewicz, "
+             f"Q1/(μP0) = 0.5, ν = 0.3, d = 2, grid 40, {STEPS} steps per cycle, cycle "
+             f"tolerance 1e-10 (the issue's d = 2 goal case).", ""]
+
+    def emit(text=""):
+        print(text, flush=True)
+        lines.append(text)
+
+    model, res, seconds, incs, steps = run(record=True)
+    emit(f"W = {res.W:.12e}, {res.cycles} cycles, {model.stats['tangential_products']} "
+         f"tangential FFT products, {model.stats['newton']} Newton steps, "
+         f"{model.stats['cg']} CG iterations ({seconds:.1f} s with the probes).")
+    emit("")
+    emit("| cycle | increments' tolerance | products | Newton steps | increments solved by "
+         "their start | start's residual / tolerance (10th, 50th, 90th percentile) | CG "
+         "iterations per Newton step | change after the cycle |")
+    emit("|---|---|---|---|---|---|---|---|")
+    changes = [math.nan] + list(res.changes)
+    for c in range(res.cycles):
+        blk = incs[c * STEPS:(c + 1) * STEPS]
+        p10, p50, p90 = np.percentile(blk[:, 4], [10, 50, 90])
+        newton = int(blk[:, 1].sum())
+        emit(f"| {c + 1} | {blk[0, 3]:.1e} | {int(blk[:, 0].sum())} | {newton} | "
+             f"{int(np.count_nonzero(blk[:, 1] == 0))} | {p10:.2g}, {p50:.2g}, {p90:.2g} | "
+             f"{blk[:, 2].sum() / max(newton, 1):.2f} | "
+             f"{'—' if c == 0 else f'{changes[c]:.1e}'} |")
+    emit("")
+    late = steps[steps[:, 2] >= LATE * STEPS]
+    emit(f"Newton steps of cycles {LATE + 1} to {res.cycles} ({late.shape[0]}): each step's "
+         f"conjugate gradients start at the residual r0 (max norm) and stop below their "
+         f"tolerance (c times 0.9 of the increment's, or 1e-2 of the step's starting "
+         f"residual where that is larger):")
+    emit("")
+    emit("| CG iterations | steps | r0 / tolerance (median) |")
+    emit("|---|---|---|")
+    for k in sorted(set(late[:, 1].astype(int))):
+        sel = late[:, 1] == k
+        emit(f"| {k} | {int(sel.sum())} | {np.median(late[sel, 0]):.2f} |")
+    emit("")
+    emit("Each iteration costs two FFT products (the operator's and the preconditioner's), and "
+         "each Newton step one more (its known forces and start).")
+    emit("")
+
+    emit("## Other schedules (same case, W against the default's)")
+    emit("")
+    emit("| variant | cycles | products | Newton steps | seconds | W − W(default), relative | "
+         "products of each cycle |")
+    emit("|---|---|---|---|---|---|---|")
+    W0 = res.W
+    runs = [
+        ("default: a hundredth of the last change, at most 1e-6", {}),
+        ("a tenth of the last change", {"loose": (steady, "_LOOSE", 0.1)}),
+        ("3/100 of the last change", {"loose": (steady, "_LOOSE", 0.03)}),
+        ("3/1000 of the last change", {"loose": (steady, "_LOOSE", 0.003)}),
+        ("the default rounded down to a power of 10", {
+            "sched": (steady, "_loose_tolerance", rounded(10.0))}),
+        ("the default rounded down to a power of 100", {
+            "sched": (steady, "_loose_tolerance", rounded(100.0))}),
+        ("CG to 0.3 of the tolerance (default 0.9)", {"cg": (hs, "_CG_TOL", 0.3)}),
+        ("CG to 0.1 of the tolerance", {"cg": (hs, "_CG_TOL", 0.1)}),
+    ]
+    for label, settings in runs:
+        label, r, m, s, per = variant(label, **settings)
+        emit(f"| {label} | {r.cycles} | {m.stats['tangential_products']} | "
+             f"{m.stats['newton']} | {s:.1f} | {(r.W - W0) / W0:+.1e} | "
+             f"{' '.join(str(p) for p in per)} |")
+    emit("")
+    (out / "late_cycles.md").write_text("\n".join(lines) + "\n", encoding="utf-8")
+    print(f"wrote {out / 'late_cycles.md'}")
+
+
+if __name__ == "__main__":
+    main()
