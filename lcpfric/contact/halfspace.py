@@ -191,6 +191,7 @@ class HalfSpace(ContactModel):
         M = self.op.M
         # each node's first component in the FFT's padded layout (Convolution.view, flat)
         self._pos = self.dims * (np.arange(N)[:, None] * M + np.arange(N)[None, :]).ravel()
+        self._cpos = self._pos // self.dims          # d = 2: each node's complex entry
         coords = (np.arange(N) - (N - 1) / 2.0) * self.h
         X, Y = np.meshgrid(coords, coords, indexing="ij")
         self.xy = np.stack([X.ravel(), Y.ravel()], axis=1)
@@ -644,44 +645,29 @@ class HalfSpace(ContactModel):
 
     def _newton(self, F, ds, z, zn, b, contact, slip, eq, worst, tolF, eta=None,
                 frac=_CG_TOL):
-        """One semismooth Newton step (module docstring): ``(ΔF, Δδ)``. For d = 2 the linear
-        solve is inexact while the residual ``worst`` is large (to ``1e-2`` of it: the slip
-        directions are corrected by the next step anyway); for d = 1 it is to a tenth of the
-        tolerance (``_CG_TOL1``), which ends the iteration when the pattern is right."""
-        n, d, ks, c = self.nodes, self.dims, self.k_support, self.c
+        """One semismooth Newton step (module docstring): ``(ΔF, Δδ, C ΔF)``. For d = 2
+        (:meth:`_newton2`) the linear solve is inexact while the residual ``worst`` is large
+        (to ``1e-2`` of it: the slip directions are corrected by the next step anyway); for
+        d = 1 it is to a tenth of the tolerance (``_CG_TOL1``), which ends the iteration when
+        the pattern is right."""
+        if self.dims == 2:
+            return self._newton2(F, ds, z, zn, b, contact, slip, eq, worst, tolF, eta, frac)
+        n, ks, c = self.nodes, self.k_support, self.c
         stick = np.flatnonzero(contact & ~slip)
         L = np.flatnonzero(slip)
         known = np.where(contact[:, None], 0.0, -F)          # off the contact: no force
-        if d == 1:
-            known[L, 0] = np.sign(z[L, 0]) * b[L] - F[L, 0]
-            space = _Space(stick, None, None, self._pos, self.op, 1)
-            rhs = -ds[stick, 0]
-        else:
-            e = z[L] / zn[L, None]
-            FL = F[L]
-            known[L] = e * (b[L] - _dots(FL, e))[:, None]
-            tang = np.stack([-e[:, 1], e[:, 0]], axis=1)
-            beta = b[L] / zn[L]
-            space = _Space(stick, L, tang, self._pos, self.op, 2, c * (1.0 - beta) / beta)
-            rhs = np.concatenate([-ds[stick].ravel(), -(c / beta) * _dots(FL, tang)])
+        known[L, 0] = np.sign(z[L, 0]) * b[L] - F[L, 0]
+        space = _Space(stick, self._pos, self.op)
+        rhs = -ds[stick, 0]
         if space.size == 0:
             if ks <= 0.0:
-                raise SolverError("half-space: every node in contact slips or is separated "
-                                  "under pure load control (gross sliding)",
-                                  backend="halfspace", status="gross_sliding")
+                _every_node_slips()
             return known, (eq + _total(known)) / ks, self.compliance(known)
         cons = -(eq + _total(known))
-        B = space.constraint()                                        # (d, size)
         if ks > 0.0:
             x0 = np.zeros(space.size)
         else:
-            BBt = B @ B.T
-            if _condition(BBt) > 1e12:
-                raise SolverError("half-space: the sticking nodes cannot carry the load in "
-                                  "every direction (gross sliding)", backend="halfspace",
-                                  status="gross_sliding")
-            W = _inverse(BBt) @ B                                      # (d, size)
-            x0 = W.T @ cons
+            x0 = np.full(space.size, float(cons[0]) / space.size)     # B = 1ᵀ: B⁺ cons
         # the known forces and the start in one product (linearity); the residual from it
         h2 = self.h ** 2
         N = self.N
@@ -689,55 +675,192 @@ class HalfSpace(ContactModel):
             start = self._pad(known)
             space.add(start, x0)
             first = self.op.padded("tangential", start, 1.0 / h2)
-            res = rhs - space.restrict(first) - space.diagonal * x0
+            res = rhs - space.restrict(first)
             total = self.op.view(first)[:N, :N].copy()
         else:
             res = rhs.copy()
-            total = np.zeros((N, N, d))
+            total = np.zeros((N, N, 1))
         # C of the step on the grid's nodes, summed from the products (the padded arrays'
         # corner: the rest is the wrap-around)
         acc = {"last": None}
 
         def M(x):
             acc["last"] = self.op.padded("tangential", space.embed(x), 1.0 / h2)
-            out = space.restrict(acc["last"])
-            return out if d == 1 else out + space.diagonal * x
+            return space.restrict(acc["last"])
 
         def step(alpha):
             np.add(total, alpha * self.op.view(acc["last"])[:N, :N], out=total)
 
-        if space.L.size:
-            # d = 2: a slipping node's tangential unknown carries the diagonal term besides C
-            # (the operator there is about c + tdiag, where C's inverse assumes c): the
-            # preconditioner scaled symmetrically by sqrt(c / (c + tdiag)) on those unknowns
-            # (M-D, grid 40, d = 2: 21432 products to 18894, the same cycles)
-            k, wL = space.k, np.sqrt(c / (c + space.diagonal[space.k:]))
+        def pre(r):
+            return space.restrict(self.op.padded("precondition", space.embed(r), h2))
 
-            def pre(r):
-                r = r.copy()
-                r[k:] *= wL
-                out = space.restrict(self.op.padded("precondition", space.embed(r), h2))
-                out[k:] *= wL
-                return out
-        else:
-            def pre(r):
-                return space.restrict(self.op.padded("precondition", space.embed(r), h2))
-
-        tol = (_CG_TOL1 if d == 1 and eta is None else frac) * c * tolF
-        if d == 2 or eta is not None:
-            tol = max(tol, (_ETA if eta is None else eta) * c * worst)
+        tol = (_CG_TOL1 if eta is None else frac) * c * tolF
+        if eta is not None:
+            tol = max(tol, eta * c * worst)
         if ks > 0.0:
-            x, _ = _cg(lambda y: M(y) + B.T @ (B @ y) / ks, None, x0, None, pre, tol,
-                       self.stats, step, res=res + B.T @ cons / ks)
-            dd = (B @ x - cons) / ks
+            x, _ = _cg(lambda y: M(y) + y.sum() / ks, None, x0, None, pre, tol, self.stats,
+                       step, res=res + float(cons[0]) / ks)
+            dd = (np.array([x.sum()]) - cons) / ks
         else:
 
             def project(r):
-                return r - B.T @ (W @ r)
+                return r - r.mean()
 
             x, res = _cg(M, None, x0, project, pre, tol, self.stats, step, res=res)
-            dd = W @ res
-        return space.nodes(x, known), dd, total.reshape(n, d)
+            dd = np.array([res.sum() / space.size])
+        return space.nodes(x, known), dd, total.reshape(n, 1)
+
+    def _newton2(self, F, ds, z, zn, b, contact, slip, eq, worst, tolF, eta, frac):
+        """d = 2: the Newton step of :meth:`_newton`, each node's force (and slip) one complex
+        number x + i y, as in the FFT's padded layout. The unknowns: the sticking nodes'
+        forces, and each slipping node's force along the tangent τ = i e of its circle (e its
+        slip direction), held as t τ; the operator there adds the diagonal term
+        ``c (1 − β)/β`` (β = b/|z|) to the τ-component of C's. The conjugate gradients see
+        the unknowns as the floats of those complex numbers: their inner product is the real
+        one, and a slipping node's two floats t τ_x, t τ_y carry the length t. The
+        equilibrium's constraint B sums the forces: ``B u = Σ u`` (complex), and ``Bᵀ λ`` is λ
+        on the sticking nodes and ``τ Re(τ̄ λ)`` on the slipping ones."""
+        n, ks, c, N = self.nodes, self.k_support, self.c, self.N
+        op = self.op
+        Fc, zc, dsc = _complex(F), _complex(z), _complex(ds)
+        stick = np.flatnonzero(contact & ~slip)
+        L = np.flatnonzero(slip)
+        ns = stick.size
+        size = ns + L.size
+        known = np.where(contact, 0.0, -Fc)                  # off the contact: no force
+        e = zc[L] / zn[L]                                    # the slip directions
+        ex, ey = e.real, e.imag
+        FL = Fc[L]
+        known[L] = e * (b[L] - (ex * FL.real + ey * FL.imag))
+        if size == 0:
+            if ks <= 0.0:
+                _every_node_slips()
+            kn = _floats(known, n)
+            return kn, (eq + _total(kn)) / ks, self.compliance(kn)
+        tau = 1j * e                                         # the tangents
+        tx, ty = -ey, ex
+        beta = b[L] / zn[L]
+        tdiag = c * (1.0 - beta) / beta
+        idx = np.concatenate([self._cpos[stick], self._cpos[L]])
+        rhs = np.empty(size, dtype=complex)
+        rhs[:ns] = -dsc[stick]
+        rhs[ns:] = tau * (-(c / beta) * (tx * FL.real + ty * FL.imag))
+        cons = -(eq + _total(_floats(known, n)))
+        # B Bᵀ: ns I plus the tangents' outer products
+        BBt = np.array([[ns + tx @ tx, tx @ ty], [tx @ ty, ns + ty @ ty]])
+
+        # Bᵀ as columns over the unknowns' floats (λ = (1, 0) and (0, 1))
+        Bt = np.empty((size, 2, 2))
+        Bt[:ns] = np.eye(2)
+        Bt[ns:, :, 0] = (tau * tx).view(float).reshape(-1, 2)
+        Bt[ns:, :, 1] = (tau * ty).view(float).reshape(-1, 2)
+        Bt = Bt.reshape(2 * size, 2)
+
+        def bsum(r):                                         # B r: the force sums
+            t = r.view(complex).sum()
+            return np.array([t.real, t.imag])
+
+        if ks > 0.0:
+            x0 = np.zeros(2 * size)
+        else:
+            if _condition(BBt) > 1e12:
+                raise SolverError("half-space: the sticking nodes cannot carry the load in "
+                                  "every direction (gross sliding)", backend="halfspace",
+                                  status="gross_sliding")
+            Winv = _inverse(BBt)
+            G = Bt @ Winv                                    # Bᵀ (B Bᵀ)⁻¹
+            x0 = G @ cons
+        h2 = self.h ** 2
+        buf = op.empty()
+        flat = buf.reshape(-1)
+
+        def restrict(full, scale=None):
+            """The unknowns' components of a padded array (the slipping nodes' along τ)."""
+            w = full.reshape(-1)[idx]
+            wL = w[ns:]
+            t = tx * wL.real + ty * wL.imag
+            if scale is not None:
+                t *= scale
+            w[ns:] = tau * t
+            return w
+
+        # the known forces and the start in one product (linearity); the residual from it
+        if np.any(known) or np.any(x0):
+            start = op.empty()
+            start[:N, :N] = known.reshape(N, N)
+            u0 = x0.view(complex)
+            start.reshape(-1)[idx] += u0
+            first = op.padded("tangential", start, 1.0 / h2)
+            res = rhs - restrict(first)
+            res[ns:] -= tdiag * u0[ns:]
+            total = first[:N, :N].copy()
+        else:
+            res = rhs.copy()
+            total = np.zeros((N, N), dtype=complex)
+        # C of the step on the grid's nodes, summed from the products (the padded arrays'
+        # corner: the rest is the wrap-around)
+        acc = {"last": None}
+
+        def M(x):
+            u = x.view(complex)
+            flat[idx] = u
+            acc["last"] = op.padded("tangential", buf, 1.0 / h2)
+            w = restrict(acc["last"])
+            w[ns:] += tdiag * u[ns:]
+            return w.view(float)
+
+        def step(alpha):
+            np.add(total, alpha * acc["last"][:N, :N], out=total)
+
+        # the slipping nodes' unknowns carry the diagonal term besides C (the operator there
+        # is about c + tdiag, where C's inverse assumes c): the preconditioner scaled
+        # symmetrically by sqrt(c / (c + tdiag)) on those (M-D, grid 40: 21432 products to
+        # 18894, the same cycles)
+        wL = np.sqrt(c / (c + tdiag))
+
+        def pre(r):
+            u = r.view(complex)
+            flat[idx[:ns]] = u[:ns]
+            flat[idx[ns:]] = u[ns:] * wL
+            return restrict(op.padded("precondition", buf, h2), wL).view(float)
+
+        tol = frac * c * tolF
+        tol = max(tol, (_ETA if eta is None else eta) * c * worst)
+        if ks > 0.0:
+
+            x, _ = _cg(lambda y: M(y) + Bt @ (bsum(y) / ks), None, x0, None, pre, tol,
+                       self.stats, step, res=res.view(float) + Bt @ (cons / ks))
+            dd = (bsum(x) - cons) / ks
+        else:
+
+            def project(r):
+                return r - G @ bsum(r)
+
+            x, res = _cg(M, None, x0, project, pre, tol, self.stats, step,
+                         res=res.view(float))
+            dd = Winv @ bsum(res)
+        u = x.view(complex)
+        dF = known.copy()
+        dF[stick] += u[:ns]
+        dF[L] += u[ns:]
+        return _floats(dF, n), dd, _floats(total.reshape(-1), n)
+
+
+def _complex(X):
+    """Node-major ``(n, 2)`` floats as n complex numbers x + i y (a view where X is
+    contiguous)."""
+    return np.ascontiguousarray(X).view(complex)[:, 0]
+
+
+def _floats(Z, n):
+    """n complex numbers as node-major ``(n, 2)`` floats (a view)."""
+    return Z.view(float).reshape(n, 2)
+
+
+def _every_node_slips():
+    raise SolverError("half-space: every node in contact slips or is separated under pure "
+                      "load control (gross sliding)", backend="halfspace",
+                      status="gross_sliding")
 
 
 def _nearest_to_sticking(z, zn, b, contact, Qv):
@@ -776,85 +899,36 @@ def _inverse(A):
 
 
 class _Space:
-    """The unknowns of a Newton step: both components of the sticking nodes, and for d = 2 the
-    component of each slipping node's force along its circle (``tang``), with the diagonal
-    term of those. They live in the FFT's padded layout (``op.empty``: real for d = 1, one
-    complex entry x + i y per node for d = 2; ``pos``: each node's first component in its float
-    view, so ``pos // 2`` is its complex entry): ``embed`` puts them in a padded
-    array (zero elsewhere), ``add`` adds them to one, ``restrict`` takes them out of one, and
-    ``nodes`` gives them as node-major forces."""
+    """d = 1: the unknowns of a Newton step, the sticking nodes' forces. They live in the FFT's
+    padded layout (``op.empty``; ``pos``: each node's entry in it): ``embed`` puts them in a
+    padded array (zero elsewhere), ``add`` adds them to one, ``restrict`` takes them out of
+    one, and ``nodes`` gives them as node-major forces."""
 
-    def __init__(self, stick, L, tang, pos, op, d, tdiag=None):
-        self.d, self.stick, self.op = d, stick, op
-        if d == 1:
-            self.idx = pos[stick]
-            self.L = np.zeros(0, dtype=int)
-        else:
-            # d = 2: the padded array is complex (x + i y), one entry per node: the sticking
-            # nodes' pairs of unknowns are complex numbers, the slipping nodes' t times their
-            # tangent (unit, complex)
-            self.idx = pos[stick] // 2
-            self.L, self.tx, self.ty = L, tang[:, 0].copy(), tang[:, 1].copy()
-            self.Lc = pos[L] // 2
-            self.t = self.tx + 1j * self.ty
-        self.k = d * stick.size
-        self.size = self.k + self.L.size
-        self.diagonal = (np.concatenate([np.zeros(self.k), tdiag]) if d == 2
-                         else np.zeros(self.k))
+    def __init__(self, stick, pos, op):
+        self.stick, self.op = stick, op
+        self.idx = pos[stick]
+        self.size = stick.size
         self.buf = op.empty()
         self.flat = self.buf.reshape(-1)
 
-    def _pairs(self, x):
-        """The sticking nodes' unknowns of x: real (d = 1) or complex (d = 2), a view."""
-        return x[: self.k] if self.d == 1 else x[: self.k].view(complex)
-
     def embed(self, x):
         """x in the space's own padded array (its other entries stay zero)."""
-        flat = self.flat
-        flat[self.idx] = self._pairs(x)
-        if self.L.size:
-            flat[self.Lc] = x[self.k:] * self.t
+        self.flat[self.idx] = x
         return self.buf
 
     def add(self, buf, x):
         """``buf += embed(x)``, in place (a padded array)."""
-        flat = buf.reshape(-1)
-        flat[self.idx] += self._pairs(x)
-        if self.L.size:
-            flat[self.Lc] += x[self.k:] * self.t
+        buf.reshape(-1)[self.idx] += x
 
     def restrict(self, full):
         """The unknowns' components of a padded array."""
-        flat = full.reshape(-1)
-        out = np.empty(self.size)
-        np.take(flat, self.idx, out=self._pairs(out))
-        if self.L.size:
-            w = flat[self.Lc]
-            out[self.k:] = w.real * self.tx + w.imag * self.ty
-        return out
+        return full.reshape(-1).take(self.idx)
 
     def nodes(self, x, base):
-        """``base`` (node-major ``(n, d)``) plus the unknowns x, a new array."""
+        """``base`` (node-major ``(n, 1)``) plus the unknowns x, a new array."""
         out = base.copy()
-        if self.d == 1:
-            out[self.stick, 0] += x
-            return out
-        pairs = out.view(complex)[:, 0]          # x + i y per node (a view)
-        pairs[self.stick] += self._pairs(x)
-        if self.L.size:
-            pairs[self.L] += x[self.k:] * self.t
+        out[self.stick, 0] += x
         return out
-
-    def constraint(self):
-        """``B``: the sum of the forces along each direction, as rows over the unknowns."""
-        if self.d == 1:
-            return np.ones((1, self.k))
-        B = np.zeros((2, self.size))
-        B[0, 0: self.k: 2] = 1.0
-        B[1, 1: self.k: 2] = 1.0
-        B[0, self.k:] = self.tx
-        B[1, self.k:] = self.ty
-        return B
 
 
 def _project(F, b):
@@ -866,11 +940,6 @@ def _project(F, b):
     scale = np.ones_like(norm)
     np.divide(b, norm, out=scale, where=norm > b)
     F *= scale[:, None]
-
-
-def _dots(X, Y):
-    """The row-wise dot products of two ``(k, 2)`` arrays."""
-    return X[:, 0] * Y[:, 0] + X[:, 1] * Y[:, 1]
 
 
 def _total(X):
