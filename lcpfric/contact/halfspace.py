@@ -827,7 +827,6 @@ class HalfSpace(ContactModel):
         tol = frac * c * tolF
         tol = max(tol, (_ETA if eta is None else eta) * c * worst)
         if ks > 0.0:
-
             x, _ = _cg(lambda y: M(y) + Bt @ (bsum(y) / ks), None, x0, None, pre, tol,
                        self.stats, step, res=res.view(float) + Bt @ (cons / ks))
             dd = (bsum(x) - cons) / ks
