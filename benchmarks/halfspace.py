@@ -28,6 +28,7 @@ import numpy as np
 
 from lcpfric.contact import MDRSphere, cattaneo_stick_ratio, hertz_contact, mindlin_deresiewicz_W
 from lcpfric.contact.halfspace import HalfSpace
+from _report import Report, stamp
 from lcpfric.model import Harmonic
 
 E, R, MU, P0 = 200e3, 10.0, 0.5, 100.0
@@ -114,17 +115,10 @@ def main(argv=None):
         return heightmap(args.quick)
     if args.readme_figure:
         return readme_figure()
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
-                            text=True, cwd=Path(__file__).parent).stdout.strip()
-    lines = ["# The 3-D half-space contact (issue 13)", "",
-             f"`OPENBLAS_NUM_THREADS=1 python benchmarks/halfspace.py"
-             f"{' --quick' if args.quick else ''}` at {commit}, "
-             f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. E = {E:g}, R = {R:g}, "
-             f"μ = {MU}, P0 = {P0:g}.", ""]
-
-    def emit(text=""):
-        print(text, flush=True)
-        lines.append(text)
+    lines = Report(["# The 3-D half-space contact (issue 13)", "",
+                    f"{stamp('halfspace.py' + (' --quick' if args.quick else ''))}. "
+                    f"E = {E:g}, R = {R:g}, μ = {MU}, P0 = {P0:g}.", ""])
+    emit = lines.emit
 
     grid = 24 if args.quick else 40
     steps = 100 if args.quick else 400
@@ -357,7 +351,7 @@ def main(argv=None):
         emit(proc.stdout.strip())
         emit("")
     path = out / ("halfspace-quick.md" if args.quick else "halfspace.md")
-    path.write_text("\n".join(lines) + "\n")
+    lines.write(path)
     print(f"wrote {path}")
 
 

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -33,6 +32,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
 
+from _report import Report, stamp  # noqa: E402
 from halfspace import sphere  # noqa: E402
 
 import lcpfric.contact.halfspace as hs  # noqa: E402
@@ -121,17 +121,11 @@ def main(argv=None):
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(exist_ok=True)
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
-                            text=True, cwd=Path(__file__).parent).stdout.strip()
-    lines = ["# The d = 2 half-space's cycles, one by one", "",
-             f"`OPENBLAS_NUM_THREADS=1 python benchmarks/late_cycles.py` at {commit}, "
-             f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. Mindlin-Deresiewicz, "
+    lines = Report(["# The d = 2 half-space's cycles, one by one", "",
+             f"{stamp('late_cycles.py')}. Mindlin-Deresiewicz, "
              f"Q1/(μP0) = 0.5, ν = 0.3, d = 2, grid 40, {STEPS} steps per cycle, cycle "
-             f"tolerance 1e-10 (the issue's d = 2 goal case).", ""]
-
-    def emit(text=""):
-        print(text, flush=True)
-        lines.append(text)
+             f"tolerance 1e-10 (the issue's d = 2 goal case).", ""])
+    emit = lines.emit
 
     model, res, seconds, incs, steps = run(record=True)
     emit(f"W = {res.W:.12e}, {res.cycles} cycles, {model.stats['tangential_products']} "
@@ -192,7 +186,7 @@ def main(argv=None):
              f"{m.stats['newton']} | {s:.1f} | {(r.W - W0) / W0:+.1e} | "
              f"{' '.join(str(p) for p in per)} |")
     emit("")
-    (out / "late_cycles.md").write_text("\n".join(lines) + "\n", encoding="utf-8")
+    lines.write(out / "late_cycles.md")
     print(f"wrote {out / 'late_cycles.md'}")
 
 

@@ -14,12 +14,12 @@ from __future__ import annotations
 
 import argparse
 import math
-import subprocess
 import time
 import warnings
 from pathlib import Path
 
 from lcpfric.contact.halfplane import HalfPlaneCylinder
+from _report import stamp
 from lcpfric.contact.halfspace import HalfSpace
 from lcpfric.contact.mdr import MDRSphere
 from lcpfric.errors import LcpfricError, ResolutionWarning
@@ -68,11 +68,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=str(Path(__file__).parent / "results"))
     args = ap.parse_args(argv)
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
-                            text=True, cwd=Path(__file__).parent).stdout.strip()
     lines = ["# The continuum contact models across hard cases", "",
-             f"`OPENBLAS_NUM_THREADS=1 python benchmarks/robustness_contact.py` at {commit}, "
-             f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. E = {E:g}, R = {R:g}, "
+             f"{stamp('robustness_contact.py')}. E = {E:g}, R = {R:g}, "
              f"μ = {MU}, P0 = {P0:g}; the half-space's support, where there is one, is k_t0; "
              f"the half-plane's 1e4 per unit length. At most 100 cycles.", "",
              "| model | case | steps | outcome | seconds | Newton steps |",
