@@ -221,6 +221,13 @@ def main(argv=None):
     emit(f"Ratio d = 2 / d = 1: {w2 / w1:.2f} in all (CPU {c2 / c1:.2f}); an FFT pair costs "
          f"{floor2 / floor:.2f} times d = 1's; tangential FFT products {p2} against {p1} "
          f"({p2 / p1:.2f}x).")
+    # the wall time split into the FFT pairs (their count times the pair's time above) and
+    # the rest (the solvers' NumPy work, the normal problem, the driver)
+    f1, f2 = p1 * floor, p2 * floor2
+    emit(f"Split: the FFT pairs take about {f1:.2f} s of d = 1's {w1:.2f} s and {f2:.2f} s of "
+         f"d = 2's {w2:.2f} s ({f2 / f1:.2f}x), the rest {w1 - f1:.2f} and {w2 - f2:.2f} s "
+         f"({(w2 - f2) / (w1 - f1):.2f}x): with no time outside the FFT pairs in either, d = 2 "
+         f"would still take {f2 / f1:.2f}x d = 1's.")
     if not args.quick:
         for what, attr in (("per-node memory of the cycles' starts (Anderson alone)",
                             "memory"),

@@ -177,6 +177,8 @@ def main(argv=None):
             "sched": (steady, "_loose_tolerance", rounded(10.0))}),
         ("the default rounded down to a power of 100", {
             "sched": (steady, "_loose_tolerance", rounded(100.0))}),
+        ("the early cycles' cap 1e-5 (default 1e-6)", {"cap": (steady, "_LOOSE_MAX", 1e-5)}),
+        ("the early cycles' cap 1e-4", {"cap": (steady, "_LOOSE_MAX", 1e-4)}),
         ("CG to 0.3 of the tolerance (default 0.9)", {"cg": (hs, "_CG_TOL", 0.3)}),
         ("CG to 0.1 of the tolerance", {"cg": (hs, "_CG_TOL", 0.1)}),
     ]
