@@ -34,7 +34,7 @@ from lcpfric.model import Harmonic
 E, R, MU, P0 = 200e3, 10.0, 0.5, 100.0
 PI = math.pi
 #: timings of the d = 1 / d = 2 goal: the best of this many runs each
-REPEATS = 3
+REPEATS = 5
 
 
 def sphere(P1=0.0, Q1=0.5, phi=0.0, nu=0.0, **kw):
