@@ -19,7 +19,7 @@ import warnings
 from pathlib import Path
 
 from lcpfric.contact.halfplane import HalfPlaneCylinder
-from _report import stamp
+from _report import Report, stamp
 from lcpfric.contact.halfspace import HalfSpace
 from lcpfric.contact.mdr import MDRSphere
 from lcpfric.errors import LcpfricError, ResolutionWarning
@@ -68,21 +68,19 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=str(Path(__file__).parent / "results"))
     args = ap.parse_args(argv)
-    lines = ["# The continuum contact models across hard cases", "",
+    lines = Report(["# The continuum contact models across hard cases", "",
              f"{stamp('robustness_contact.py')}. E = {E:g}, R = {R:g}, "
              f"μ = {MU}, P0 = {P0:g}; the half-space's support, where there is one, is k_t0; "
              f"the half-plane's 1e4 per unit length. At most 100 cycles.", "",
              "| model | case | steps | outcome | seconds | Newton steps |",
-             "|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|"])
     failures = 0
 
     def row(model, case, steps, make):
         nonlocal failures
         outcome, seconds, newton = run(make, steps)
         failures += outcome.startswith("**") or outcome.startswith("not")
-        line = f"| {model} | {case} | {steps} | {outcome} | {seconds:.1f} | {newton} |"
-        print(line, flush=True)
-        lines.append(line)
+        lines.emit(f"| {model} | {case} | {steps} | {outcome} | {seconds:.1f} | {newton} |")
 
     for grid in (32, 64):
         for steps in (8, 40):
@@ -111,7 +109,7 @@ def main(argv=None):
     lines += ["", f"{failures} case(s) without a steady state."]
     out = Path(args.out)
     out.mkdir(exist_ok=True)
-    (out / "robustness_contact.md").write_text("\n".join(lines) + "\n")
+    lines.write(out / "robustness_contact.md")
     print(f"{failures} case(s) without a steady state; wrote {out / 'robustness_contact.md'}")
     return 1 if failures else 0
 
