@@ -473,7 +473,6 @@ class HalfSpace(ContactModel):
         close = 0             # damped steps begun within ten times the tolerance
         # d = 1: Murty's rule changes one node per iteration, so allow one per node
         limit = _MAX_NEWTON + (int(contact.sum()) if d == 1 else 0)
-        inside = contact.astype(float)
         eq_tol = tolF * max(1, int(contact.sum()))
         ev = None             # d = 2: the residual at the iterate, if the line search has it
         damped = d == 2       # d = 1 turns to the damped steps if its patterns stall
@@ -526,7 +525,7 @@ class HalfSpace(ContactModel):
                     self.stats["stalled"] += 1
             if damped:
                 if ev is None:
-                    ev = self._natural(F, CF, delta, s0, b, inside, Qv)
+                    ev = self._natural(F, CF, delta, s0, b, contact, Qv)
                 ds, z, zn, slip, worst, merit, eq = ev
                 ev = None
                 if worst <= tolF and float(np.max(np.abs(eq))) <= eq_tol:
@@ -569,7 +568,7 @@ class HalfSpace(ContactModel):
                 delta = delta + dd
             else:
                 F, CF, delta, ev = self._step(merit, F, CF, delta, dF, CdF, dd, s0, b,
-                                              inside, Qv)
+                                              contact, Qv)
         else:
             total = float(b[contact].sum())
             near = (f"; |Q| is {abs(Q) / total:.6f} of the sum of the friction limits, so "
@@ -613,23 +612,30 @@ class HalfSpace(ContactModel):
         _project(F, b)
         return F, state.delta.copy(), self.compliance(F)
 
-    def _natural(self, F, CF, delta, s0, b, inside, Qv):
+    def _natural(self, F, CF, delta, s0, b, contact, Qv):
         """d = 2 (and d = 1 once its patterns stall): the natural map's residual at ``(F, CF =
-        C F, δ)`` (``inside``: 1 on the nodes in contact, 0 elsewhere): ``(Δs, z, |z|,
-        slipping, its largest component, the line search's merit |F - proj(z)|² +
-        |equilibrium|², the equilibrium)`` with ``z = F - Δs/c``."""
-        ds = delta + CF - s0
-        z = F - ds / self.c
+        C F, δ)`` (``contact``: the nodes in contact): ``(Δs, z, |z|, slipping, its largest
+        component, the line search's merit |F - proj(z)|² + |equilibrium|², the
+        equilibrium)`` with ``z = F - Δs/c``."""
+        ds = CF + delta
+        ds -= s0
+        z = ds / -self.c
+        z += F
         zn = row_norms(z) if self.dims == 2 else np.abs(z[:, 0])
-        slip = (zn > b) & (inside > 0.0)
-        scale = inside.copy()
+        slip = zn > b
+        slip &= contact
+        scale = contact.astype(float)
         np.divide(b, zn, out=scale, where=slip)
-        R = F - z * scale[:, None]
-        eq = _total(F) - self.k_support * delta + Qv
+        R = z * scale[:, None]
+        np.subtract(F, R, out=R)
+        eq = _total(F)
+        if self.k_support:
+            eq -= self.k_support * delta
+        eq += Qv
         return (ds, z, zn, slip, float(np.max(np.abs(R), initial=0.0)),
                 float(np.vdot(R, R) + eq @ eq), eq)
 
-    def _step(self, m0, F, CF, delta, dF, CdF, dd, s0, b, inside, Qv):
+    def _step(self, m0, F, CF, delta, dF, CdF, dd, s0, b, contact, Qv):
         """d = 2 (and d = 1 once its patterns stall): the Newton step, its length halved from
         1 until the merit (``m0`` at the start) decreases (products are linear: ``C(F + α ΔF)
         = CF + α CΔF``, so a trial costs no FFT): ``(F, CF, δ)`` there and :meth:`_natural`
@@ -637,7 +643,7 @@ class HalfSpace(ContactModel):
         alpha = 1.0
         for _ in range(12):
             trial = F + alpha * dF, CF + alpha * CdF, delta + alpha * dd
-            ev = self._natural(*trial, s0, b, inside, Qv)
+            ev = self._natural(*trial, s0, b, contact, Qv)
             if ev[5] <= (1.0 - 1e-4 * alpha) * m0:
                 break
             alpha *= 0.5
@@ -728,33 +734,35 @@ class HalfSpace(ContactModel):
         ns = stick.size
         size = ns + L.size
         known = np.where(contact, 0.0, -Fc)                  # off the contact: no force
-        e = zc[L] / zn[L]                                    # the slip directions
-        ex, ey = e.real, e.imag
+        zL = zn[L]
+        e = zc[L] / zL                                       # the slip directions
         FL = Fc[L]
-        known[L] = e * (b[L] - (ex * FL.real + ey * FL.imag))
+        known[L] = e * (b[L] - (e.conjugate() * FL).real)    # Re(ē F): F's part along e
         if size == 0:
             if ks <= 0.0:
                 _every_node_slips()
             kn = _floats(known, n)
             return kn, (eq + _total(kn)) / ks, self.compliance(kn)
         tau = 1j * e                                         # the tangents
-        tx, ty = -ey, ex
-        beta = b[L] / zn[L]
+        taub = tau.conjugate()
+        tx, ty = tau.real, tau.imag
+        beta = b[L] / zL
         tdiag = c * (1.0 - beta) / beta
         idx = np.concatenate([self._cpos[stick], self._cpos[L]])
         rhs = np.empty(size, dtype=complex)
         rhs[:ns] = -dsc[stick]
-        rhs[ns:] = tau * (-(c / beta) * (tx * FL.real + ty * FL.imag))
-        cons = -(eq + _total(_floats(known, n)))
+        rhs[ns:] = tau * ((-c / beta) * (taub * FL).real)
+        ksum = known.sum()
+        cons = -(eq + np.array([ksum.real, ksum.imag]))
         # B Bᵀ: ns I plus the tangents' outer products
         BBt = np.array([[ns + tx @ tx, tx @ ty], [tx @ ty, ns + ty @ ty]])
 
-        # Bᵀ as columns over the unknowns' floats (λ = (1, 0) and (0, 1))
-        Bt = np.empty((size, 2, 2))
-        Bt[:ns] = np.eye(2)
-        Bt[ns:, :, 0] = (tau * tx).view(float).reshape(-1, 2)
-        Bt[ns:, :, 1] = (tau * ty).view(float).reshape(-1, 2)
-        Bt = Bt.reshape(2 * size, 2)
+        def bt(lam):
+            """Bᵀ λ (λ: the two floats of a force sum) as the unknowns' floats."""
+            out = np.empty(size, dtype=complex)
+            out[:ns] = complex(lam[0], lam[1])
+            out[ns:] = tau * (tx * lam[0] + ty * lam[1])
+            return out.view(float)
 
         def bsum(r):                                         # B r: the force sums
             t = r.view(complex).sum()
@@ -768,8 +776,7 @@ class HalfSpace(ContactModel):
                                   "every direction (gross sliding)", backend="halfspace",
                                   status="gross_sliding")
             Winv = _inverse(BBt)
-            G = Bt @ Winv                                    # Bᵀ (B Bᵀ)⁻¹
-            x0 = G @ cons
+            x0 = bt(Winv @ cons)                             # Bᵀ (B Bᵀ)⁻¹ cons
         h2 = self.h ** 2
         buf = op.empty()
         flat = buf.reshape(-1)
@@ -777,20 +784,19 @@ class HalfSpace(ContactModel):
         def restrict(full, scale=None):
             """The unknowns' components of a padded array (the slipping nodes' along τ)."""
             w = full.reshape(-1)[idx]
-            wL = w[ns:]
-            t = tx * wL.real + ty * wL.imag
+            t = (taub * w[ns:]).real
             if scale is not None:
                 t *= scale
             w[ns:] = tau * t
             return w
 
         # the known forces and the start in one product (linearity); the residual from it
-        if np.any(known) or np.any(x0):
-            start = op.empty()
-            start[:N, :N] = known.reshape(N, N)
+        if x0.any() or known.any():
+            buf[:N, :N] = known.reshape(N, N)
             u0 = x0.view(complex)
-            start.reshape(-1)[idx] += u0
-            first = op.padded("tangential", start, 1.0 / h2)
+            flat[idx] += u0
+            first = op.padded("tangential", buf, 1.0 / h2)
+            buf[:N, :N] = 0.0
             res = rhs - restrict(first)
             res[ns:] -= tdiag * u0[ns:]
             total = first[:N, :N].copy()
@@ -799,41 +805,41 @@ class HalfSpace(ContactModel):
             total = np.zeros((N, N), dtype=complex)
         # C of the step on the grid's nodes, summed from the products (the padded arrays'
         # corner: the rest is the wrap-around)
-        acc = {"last": None}
+        last = None
 
         def M(x):
+            nonlocal last
             u = x.view(complex)
             flat[idx] = u
-            acc["last"] = op.padded("tangential", buf, 1.0 / h2)
-            w = restrict(acc["last"])
+            last = op.padded("tangential", buf, 1.0 / h2)
+            w = restrict(last)
             w[ns:] += tdiag * u[ns:]
             return w.view(float)
 
         def step(alpha):
-            np.add(total, alpha * acc["last"][:N, :N], out=total)
+            np.add(total, alpha * last[:N, :N], out=total)
 
         # the slipping nodes' unknowns carry the diagonal term besides C (the operator there
         # is about c + tdiag, where C's inverse assumes c): the preconditioner scaled
         # symmetrically by sqrt(c / (c + tdiag)) on those (M-D, grid 40: 21432 products to
         # 18894, the same cycles)
         wL = np.sqrt(c / (c + tdiag))
+        weights = np.concatenate([np.ones(ns), wL])
 
         def pre(r):
-            u = r.view(complex)
-            flat[idx[:ns]] = u[:ns]
-            flat[idx[ns:]] = u[ns:] * wL
+            flat[idx] = r.view(complex) * weights
             return restrict(op.padded("precondition", buf, h2), wL).view(float)
 
         tol = frac * c * tolF
         tol = max(tol, (_ETA if eta is None else eta) * c * worst)
         if ks > 0.0:
-            x, _ = _cg(lambda y: M(y) + Bt @ (bsum(y) / ks), None, x0, None, pre, tol,
-                       self.stats, step, res=res.view(float) + Bt @ (cons / ks))
+            x, _ = _cg(lambda y: M(y) + bt(bsum(y) / ks), None, x0, None, pre, tol,
+                       self.stats, step, res=res.view(float) + bt(cons / ks))
             dd = (bsum(x) - cons) / ks
         else:
 
             def project(r):
-                return r - G @ bsum(r)
+                return r - bt(Winv @ bsum(r))
 
             x, res = _cg(M, None, x0, project, pre, tol, self.stats, step,
                          res=res.view(float))
