@@ -28,8 +28,9 @@ import numpy as np
 
 from lcpfric.contact import MDRSphere, cattaneo_stick_ratio, hertz_contact, mindlin_deresiewicz_W
 from lcpfric.contact.halfspace import HalfSpace
-from _report import Report, stamp
 from lcpfric.model import Harmonic
+
+from _report import Report, stamp
 
 E, R, MU, P0 = 200e3, 10.0, 0.5, 100.0
 PI = math.pi

@@ -122,9 +122,9 @@ def main(argv=None):
     out = Path(args.out)
     out.mkdir(exist_ok=True)
     lines = Report(["# The d = 2 half-space's cycles, one by one", "",
-             f"{stamp('late_cycles.py')}. Mindlin-Deresiewicz, "
-             f"Q1/(μP0) = 0.5, ν = 0.3, d = 2, grid 40, {STEPS} steps per cycle, cycle "
-             f"tolerance 1e-10 (the issue's d = 2 goal case).", ""])
+                    f"{stamp('late_cycles.py')}. Mindlin-Deresiewicz, Q1/(μP0) = 0.5, ν = 0.3, "
+                    f"d = 2, grid 40, {STEPS} steps per cycle, cycle tolerance 1e-10 (the "
+                    f"issue's d = 2 goal case).", ""])
     emit = lines.emit
 
     model, res, seconds, incs, steps = run(record=True)
