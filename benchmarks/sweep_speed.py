@@ -27,7 +27,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import lcpfric  # noqa: E402
-from lcpfric.analytic import jang_barber  # noqa: E402
+from lcpfric.analysis.analytic import jang_barber  # noqa: E402
 from lcpfric.analysis.sweep import sweep  # noqa: E402
 
 

@@ -23,17 +23,12 @@ line) stays fast.
 from __future__ import annotations
 
 import importlib
-import sys
-import types
 
-from . import _legacy
 from .errors import (ConvergenceError, ConvergenceWarning, InputError, LcpfricError,
                      MissingDependency, MissingExtra, ResolutionWarning, SolverError,
                      SolverNotFound, UndefinedQuantity)
 
 __version__ = "0.1.0"
-
-_legacy.install()
 
 # public name -> the module that defines it
 _LAZY = {
@@ -72,19 +67,3 @@ def __getattr__(name: str):
 
 def __dir__():
     return sorted(set(globals()) | set(_LAZY))
-
-
-class _Package(types.ModuleType):
-    """The package module: importing a 0.1 module path of the same name as a public function
-    (``from lcpfric.shakedown import ...``) must not replace the function ``lcpfric.shakedown``
-    with the module, which the import system would do when it binds a submodule to its
-    package."""
-
-    def __setattr__(self, name, value):
-        if (isinstance(value, types.ModuleType) and name in _LAZY and name != "analytic"
-                and value.__name__ != f"{__name__}.{name}"):
-            return
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package

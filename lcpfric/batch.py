@@ -58,7 +58,7 @@ class _Grids:
         h = T / steps
         sep = P1 > 1.0
         inv = np.divide(1.0, P1, out=np.zeros_like(P1), where=sep)
-        base = np.arcsin(-inv)  # the roots of 1 + P̂1 sin θ (lcpfric.loads.Harmonic.zeros)
+        base = np.arcsin(-inv)  # the roots of 1 + P̂1 sin θ (lcpfric.model.loads.Harmonic.zeros)
         start = np.where(sep, base + 1 * T, 0.0)  # re-contact (lcpfric.scene._start_time)
         th_s = np.where(sep, (math.pi - base) + 1 * T, np.nan)  # separation within the cycle
         end = start + T

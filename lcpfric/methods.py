@@ -169,7 +169,7 @@ for _m in (
            "lcpfric.backends.osqp_:OSQPStepper", dims=(1,), extra="osqp", requires="osqp",
            seconds_per_point_step=3e-5),
     Method("active-set", TIME_STEPPER, "problem (P) on K by a primal-dual active-set method "
-           "(many nodes, stiff K)", "lcpfric.backends.active_set:ActiveSetStepper",
+           "(many nodes, stiff K)", "lcpfric.steppers.active_set:ActiveSetStepper",
            dims=(1, 2), seconds_per_point_step=3e-6, floats_per_step=32),
     Method("qpsolvers", TIME_STEPPER, "problem (P) by any QP solver qpsolvers has installed",
            "lcpfric.backends.qpsolvers_:QpsolversStepper", dims=(1,), extra="qpsolvers",

@@ -57,7 +57,7 @@ def test_blocks_agree_and_reordered_band():
     shuffled = ContactSystem(K, system.friction[perm],
                              tuple(system.tangential_loads[i] for i in perm),
                              IndependentSprings(tuple(system.normal.loads[i] for i in perm)))
-    from lcpfric.backends.blocks import BandedBlock, make_block
+    from lcpfric.linalg.blocks import BandedBlock, make_block
 
     block = make_block(shuffled.stiffness)
     assert isinstance(block, BandedBlock) and block.width == 1 and not block.natural
@@ -69,7 +69,7 @@ def test_dense_block_updates_fold_and_products():
     """The dense block through a walk of free sets that change by a few unknowns (corrections,
     folds) or by many (rebuilds): every solve and every product over the solved unknowns equals
     numpy's on K itself."""
-    from lcpfric.backends.blocks import DenseBlock, FOLD_RANK
+    from lcpfric.linalg.blocks import DenseBlock, FOLD_RANK
 
     rng = np.random.default_rng(5)
     m = 120

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import lcpfric
-from lcpfric.analytic import jang_barber
+from lcpfric.analysis.analytic import jang_barber
 from lcpfric.exact import BACKWARD, FORWARD, SEPARATION, STICK, exact_cycle, exact_W_hat
-from lcpfric.shakedown import shakedown, shakedown_margin
+from lcpfric.analysis.shakedown import shakedown, shakedown_margin
 
 
 def test_jang_barber_regimes_values():

@@ -1,4 +1,4 @@
-"""Events inside an increment on coupled systems (lcpfric.backends.events): the convex backends
+"""Events inside an increment on coupled systems (lcpfric.steppers.rates): the convex backends
 split an increment where a node starts to slip, so that on coupled d = 1 systems they are second
 order (one projection per step is first order there) and reproduce the event-located explicit
 stepper on the same grid."""

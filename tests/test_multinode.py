@@ -65,7 +65,7 @@ def test_chain_convex_and_explicit_converge_together(separation):
     W = {m: [steady_state(system, m, s, tol=1e-9).W for s in steps]
          for m in ("explicit", "osqp")}
     diff = np.abs(np.subtract(W["explicit"], W["osqp"])) / W["explicit"][-1]
-    # the convex backends locate the events inside an increment (lcpfric.backends.events):
+    # the convex backends locate the events inside an increment (lcpfric.steppers.rates):
     # they solve the same piecewise-linear problem as the explicit stepper (measured: equal to
     # round-off from 400 steps on; 2.4e-5 apart at 100 steps with separation)
     assert np.all(diff[1:] < 1e-9) and diff[0] < 1e-4, diff

@@ -13,7 +13,7 @@ import pytest
 
 pytest.importorskip("xarray")
 
-from lcpfric.analytic import jang_barber  # noqa: E402
+from lcpfric.analysis.analytic import jang_barber  # noqa: E402
 from lcpfric.errors import InputError  # noqa: E402
 from lcpfric.exact import exact_W_hat  # noqa: E402
 from lcpfric.analysis.sweep import parse_grid, parse_phi_list, sweep  # noqa: E402

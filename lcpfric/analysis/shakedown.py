@@ -9,7 +9,7 @@ for all t, i.e. the load ellipse of Fig. 1, shifted along Q, fits between the li
 
 so shakedown holds iff ``R_lo + R_hi <= 2`` (the sum of the distances from Q̂1 e^{iφ} to ±P̂1 is at
 most 2: the load point lies in an ellipse with foci ±P̂1). For other periodic loads the extrema
-are found by sampling and polishing (:meth:`lcpfric.loads.Load.extrema`).
+are found by sampling and polishing (:meth:`lcpfric.model.loads.Load.extrema`).
 """
 
 from __future__ import annotations

@@ -24,9 +24,9 @@ package is imported only when the method is used.
 """
 
 from .base import ConvexData, ConvexStepper, quiet
-from .checks import accept, residuals
+from .checks import residuals
 from .problem import DEFAULT_PLAN_BUDGET, IncrementProblem, ProblemCache, ScenePlan, triu_csc
-from .refine import refine_box, refine_disc
+from .refine import accept, refine_box, refine_disc
 from .settings import CONIC_METHODS, TIGHT_SETTINGS
 from .status import (INACCURATE, INFEASIBLE, MAX_ITER, NUMERICAL, SOLVED, TIME_LIMIT, UNKNOWN,
                      advice)

@@ -28,8 +28,9 @@ from ..errors import InputError, SolverError
 from ..results import CycleResult, State, StepState
 from ..steppers.base import Stepper
 from ..steppers.dissipation import increment_dissipation, scalar_share
-from .checks import accept, scalar_residuals, scalar_worst, worst
-from .events import first_event, path_is_exact
+from .checks import scalar_residuals, scalar_worst, worst
+from .refine import accept
+from ..steppers.rates import first_event, path_is_exact
 from .problem import DEFAULT_PLAN_BUDGET, IncrementProblem, ScenePlan
 from .settings import CONIC_METHODS, settings_for
 from .status import UNKNOWN, advice
@@ -257,9 +258,9 @@ class ConvexStepper(Stepper):
         to the increment's trapezoid (nonzero when it was split at events).
 
         One problem (P) to t_{k+1}; on a coupled d = 1 system whose answer is not the exact
-        end state (:func:`~lcpfric.backends.events.path_is_exact`: a node slips at the end that
+        end state (:func:`~lcpfric.steppers.rates.path_is_exact`: a node slips at the end that
         did not at the start), the increment is split at its events
-        (:mod:`~lcpfric.backends.events`), one problem (P) per sub-increment."""
+        (:mod:`~lcpfric.steppers.rates`), one problem (P) per sub-increment."""
         plan = data.plan
         u1, F1, limit = self._project(data, scene, k, u, stats)
         if (not self.locate_events or limit is None or plan.dims != 1 or plan.diagonal

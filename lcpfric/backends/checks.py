@@ -1,5 +1,6 @@
 """Checking every answer: the residuals of a candidate solution of problem (P), and the
-acceptance of a solver's answer (refined on its active set, or as it is).
+acceptance of a solver's answer (:func:`lcpfric.backends.refine.accept`: refined on its
+active set, or as it is).
 
 Checking every answer
 ---------------------
@@ -29,9 +30,7 @@ import math
 
 import numpy as np
 
-from .refine import refine_box, refine_disc
-
-__all__ = ["residuals", "scalar_residuals", "scalar_worst", "worst", "accept"]
+__all__ = ["residuals", "scalar_residuals", "scalar_worst", "worst"]
 
 
 def residuals(F, g, b, dims: int, fscale: float, cscale: float) -> dict:
@@ -70,34 +69,6 @@ def residuals(F, g, b, dims: int, fscale: float, cscale: float) -> dict:
         "complementarity": float(np.abs(dot + b * normg).max()) / (cscale * fscale * fscale),
         "stationarity": float(stat.max()) / fscale,
     }
-
-
-def accept(prob, F, q, b, *, refine: bool, active_tol: float, check_tol: float,
-           fscale: float, cscale: float):
-    """Accept a solver's answer ``F`` of ``prob`` (linear term ``q``, limits ``b``).
-
-    With ``refine`` the answer identifies the active set and the refined point
-    (:mod:`~lcpfric.backends.refine`) is used if it passes the residual check; otherwise the
-    solver's own answer must pass on its own.
-
-    Returns
-    -------
-    (F, stick, res, kind)
-        The accepted forces (None when nothing passed), the mask of the variables that stick
-        exactly (None for an unrefined answer), the residuals, and ``"refined"``,
-        ``"unrefined"`` or ``"failed"``.
-    """
-    if refine:
-        refine_fn = refine_box if prob.dims == 1 else refine_disc
-        refined = refine_fn(prob, F, q, b, active_tol * fscale, fscale, cscale)
-        if refined is not None and worst(refined[2]) <= check_tol:
-            return refined[0], refined[1], refined[2], "refined"
-    g = prob.P @ F
-    g += q
-    res = residuals(F, g, b, prob.dims, fscale, cscale)
-    if not worst(res) <= check_tol:  # also catches NaN
-        return None, None, res, "failed"
-    return F, None, res, "unrefined"
 
 
 def worst(res: dict) -> float:

@@ -19,9 +19,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from .checks import residuals, worst
 from .problem import IncrementProblem
 
-__all__ = ["refine_box", "refine_disc"]
+__all__ = ["refine_box", "refine_disc", "accept"]
 
 
 def refine_box(prob: IncrementProblem, F, q, b, delta: float, fscale: float, cscale: float,
@@ -94,7 +95,6 @@ def refine_disc(prob: IncrementProblem, F, q, b, delta: float, fscale: float, cs
     """
     import scipy.sparse as sp
 
-    from .checks import residuals as _residuals  # checks uses this module: import at call
 
     a = b.size
     P = prob.P.toarray() if sp.issparse(prob.P) else prob.P
@@ -142,7 +142,35 @@ def refine_disc(prob: IncrementProblem, F, q, b, delta: float, fscale: float, cs
         over = ~at & (normx > b)
         if not (negative.any() or over.any()):
             Fr = x.ravel()
-            return Fr, np.repeat(~at, 2), _residuals(Fr, g, b, 2, fscale, cscale)
+            return Fr, np.repeat(~at, 2), residuals(Fr, g, b, 2, fscale, cscale)
         at = (at & ~negative) | over
         F2 = x
     return None
+
+
+def accept(prob, F, q, b, *, refine: bool, active_tol: float, check_tol: float,
+           fscale: float, cscale: float):
+    """Accept a solver's answer ``F`` of ``prob`` (linear term ``q``, limits ``b``).
+
+    With ``refine`` the answer identifies the active set and the refined point
+    (:mod:`~lcpfric.backends.refine`) is used if it passes the residual check; otherwise the
+    solver's own answer must pass on its own.
+
+    Returns
+    -------
+    (F, stick, res, kind)
+        The accepted forces (None when nothing passed), the mask of the variables that stick
+        exactly (None for an unrefined answer), the residuals, and ``"refined"``,
+        ``"unrefined"`` or ``"failed"``.
+    """
+    if refine:
+        refine_fn = refine_box if prob.dims == 1 else refine_disc
+        refined = refine_fn(prob, F, q, b, active_tol * fscale, fscale, cscale)
+        if refined is not None and worst(refined[2]) <= check_tol:
+            return refined[0], refined[1], refined[2], "refined"
+    g = prob.P @ F
+    g += q
+    res = residuals(F, g, b, prob.dims, fscale, cscale)
+    if not worst(res) <= check_tol:  # also catches NaN
+        return None, None, res, "failed"
+    return F, None, res, "unrefined"

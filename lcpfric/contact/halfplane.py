@@ -27,7 +27,7 @@ gaps ``g = h - d + A p >= 0``, ``p g = 0``, ``Δ Σ p = P`` with the rigid appro
 solved by a primal-dual active-set iteration on the contact set (the set with positive pressure
 gives ``A_SS p_S = d - h_S`` and d from the load; the set is then updated from ``p - g / A_ii``),
 warm-started from the previous instant's set, each set's solve by the dense block of the
-active-set backend (:class:`~lcpfric.backends.blocks.DenseBlock`, updated when the set changes
+active-set backend (:class:`~lcpfric.linalg.blocks.DenseBlock`, updated when the set changes
 by a few nodes). ``P <= 0`` is complete separation.
 
 The tangential problem
@@ -51,8 +51,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _checks
-from ..backends.active_set import PatternUpdate
-from ..backends.blocks import DenseBlock
+from ..linalg import PatternUpdate
+from ..linalg import DenseBlock
 from ..errors import InputError, SolverError
 from .closed_forms import cylinder_contact
 from .steady import ContactModel

@@ -67,7 +67,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import _checks
-from ..backends.active_set import PatternUpdate
+from ..linalg import PatternUpdate
 from ..cycle_memory import SlipMemory, row_norms
 from ..errors import InputError, SolverError
 from .closed_forms import hertz_contact

@@ -26,7 +26,7 @@ of a segment, ``Σ_slip ∫ f_i P_i |du_i|``, is integrated in closed form
 At an event: the rate problem
 -----------------------------
 Which nodes slip after an event is decided by the slip-rate complementarity problem, a P-matrix
-LCP (the explicit stepper's :meth:`~lcpfric.steppers.explicit.ExplicitStepper._rates`, with the
+LCP (:func:`lcpfric.steppers.rates.slip_rates`, the explicit stepper's too, with the
 load rates at the event). The common case, one node changing state, is first tried as a guess
 (the node that reached its limit slips, the node whose rate vanished sticks) and accepted when
 the rates of the new pattern satisfy the LCP's conditions at the event; that is the LCP's unique
@@ -84,6 +84,7 @@ import numpy as np
 from .. import _checks
 from ..errors import ConvergenceError, InputError, SolverError
 from ..results import State
+from ..steppers.rates import slip_rates
 
 __all__ = ["DiscreteCycle", "harmonic_triples", "next_entry", "segment_dissipation",
            "exact_system_cycle"]
@@ -603,8 +604,6 @@ class _Solver:
         if attempt >= 2:
             self.stats["degenerate"] += 1
         self.stats["lcp_solves"] += 1
-        from ..steppers.explicit import ExplicitStepper
-
         u = self.u_at(theta)
         sep = guess == SEPARATION
         F0 = _value(self.Qt, theta) + self.Kmul(u)
@@ -619,9 +618,9 @@ class _Solver:
         tr = theta + eta
         dQ = _value(self.dQt, tr)
         dN = np.where(sep, 0.0, _value(self.dPt, tr))
-        _du, new = ExplicitStepper._rates(self.K, self.f, F0, bound, dQ, dN, sep,
-                                          slipping & (guess == FORWARD),
-                                          slipping & (guess == BACKWARD), touch_lo, touch_hi)
+        _du, new = slip_rates(self.K, self.f, F0, bound, dQ, dN, sep,
+                              slipping & (guess == FORWARD), slipping & (guess == BACKWARD),
+                              touch_lo, touch_hi)
         self.set_pattern(np.asarray(new, dtype=np.int8), theta, refresh=True, u=u)
 
     def _violation(self, theta):

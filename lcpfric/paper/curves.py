@@ -129,7 +129,7 @@ def figure_motor(M: float = MOTOR["M"], delta: float = MOTOR["delta"], P0: float
     ----------
     M, delta, P0, k11 : float
         Rotor mass [kg], out-of-balance offset [m], bolt preload [N], joint tangential stiffness
-        [N/m] (see :class:`lcpfric.motor.Motor`).
+        [N/m] (see :class:`lcpfric.paper.motor.Motor`).
     friction : sequence of float
         Coefficients of friction, one curve each.
     speeds : array_like, optional

@@ -10,7 +10,7 @@
   (logarithmic axes, so that the onset of slip and of separation show).
 
 Every map carries the exact shakedown boundary (the zero contour of
-:func:`~lcpfric.shakedown.shakedown_margin`, computed on a finer grid than the map). Figures are
+:func:`~lcpfric.analysis.shakedown.shakedown_margin`, computed on a finer grid than the map). Figures are
 built as :class:`matplotlib.figure.Figure` objects without pyplot, so nothing here touches the
 user's matplotlib backend or global settings; files are written with the Agg renderer.
 
@@ -60,7 +60,7 @@ def write_figures(out_dir, grid: int = 101, points: int = 361, formats=("png", "
         Called with a one-line message when the maps are computed and as each figure is written
         (e.g. ``lambda m: print(m, file=sys.stderr)``); default: silent.
     **sweep_options
-        Passed to :func:`lcpfric.sweep.sweep` for the maps (``scheduler``, ``processes``...).
+        Passed to :func:`lcpfric.analysis.sweep.sweep` for the maps (``scheduler``, ``processes``...).
 
     Returns
     -------

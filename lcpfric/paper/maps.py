@@ -28,7 +28,7 @@ _NO_SLIP_HATCH = "////"
 def map_data(grid: int = 101, extent: float = 10.0, phases=None, **sweep_options):
     """The maps of Figs. 3 and 4: Ŵ on ``grid x grid`` points of [0, extent]² at
     ``phases`` (default φ = kπ/10, k = 0..10), as an ``xarray.Dataset`` from
-    :func:`lcpfric.sweep.sweep`."""
+    :func:`lcpfric.analysis.sweep.sweep`."""
     from ..analysis.sweep import sweep
 
     grid = _checks.positive_int("grid", grid, minimum=3)
@@ -175,7 +175,7 @@ def figure_maps(ds, phases=(0.0,), ncols: int = 5, title: str | None = None):
     Parameters
     ----------
     ds : xarray.Dataset
-        A dataset from :func:`lcpfric.sweep.sweep` (coordinates ``phi``, ``P1``, ``Q1``).
+        A dataset from :func:`lcpfric.analysis.sweep.sweep` (coordinates ``phi``, ``P1``, ``Q1``).
     phases : sequence of float
         Phases to draw (radians), one panel each.
     ncols : int

@@ -35,13 +35,12 @@ from ..results import CycleResult, State, StepState
 from .base import Stepper
 from .dissipation import increment_dissipation, scalar_share
 from .lcp import solve_lcp
+from .rates import EPS8, REL, limit_crossings, slip_rates
 
-__all__ = ["ExplicitStepper", "solve_lcp", "limit_crossings"]
+__all__ = ["ExplicitStepper"]
 
 STICK, FORWARD, BACKWARD, SEPARATION = (State.STICK, State.FORWARD, State.BACKWARD,
                                         State.SEPARATION)
-_REL = 1e-12  # relative tolerance for "on the friction limit" and for a margin's rate
-_EPS8 = 8 * np.finfo(float).eps  # an event closer than this (relative) to τ happens at τ
 
 
 class ExplicitStepper(Stepper):
@@ -84,11 +83,11 @@ class ExplicitStepper(Stepper):
             Qt = Qa + tau * dQ
             bound = f * Nt
             F0 = _on_limits(Qt + K @ u, bound, slipping & ~sep, slipping_b & ~sep)
-            du, node_state = self._rates(K, f, F0, bound, dQ, dN, sep, slipping, slipping_b,
-                                         touch_lo, touch_hi)
+            du, node_state = slip_rates(K, f, F0, bound, dQ, dN, sep, slipping, slipping_b,
+                                        touch_lo, touch_hi)
             events = limit_crossings(K, f, F0, bound, dQ, dN, du, node_state, tau)
             t_end = min(1.0, float(np.min(events[0])), float(np.min(events[1])))
-            now = tau + _EPS8 * max(1.0, tau)
+            now = tau + EPS8 * max(1.0, tau)
             if t_end <= now:
                 # limits reached within round-off of τ: decide those nodes' slip at τ
                 touch_hi, touch_lo = events[0] <= now, events[1] <= now
@@ -115,69 +114,6 @@ class ExplicitStepper(Stepper):
                 "events": data["events"] + n_events}
         return StepState(u, F, node_state, W, data)
 
-    @staticmethod
-    def _rates(K, f, F0, bound, dQ, dN, sep, was_fwd, was_bwd, touch_lo, touch_hi):
-        """Per-node states and displacement rates du (per unit τ) at one instant.
-
-        ``touch_lo``/``touch_hi`` mark nodes whose limit is reached within round-off of this
-        instant (treated as on that limit)."""
-        n = f.size
-        scale = np.abs(F0) + bound
-        gtol = _REL * scale + 1e-300
-        on_lo = ~sep & ((F0 <= -bound + gtol) | touch_lo)
-        on_hi = ~sep & ((F0 >= bound - gtol) | touch_hi)
-        both = on_lo & on_hi  # at re-contact (N = 0): the sign is decided below
-        B = on_lo | on_hi
-        s = np.where(on_lo & ~on_hi, 1.0, np.where(on_hi & ~on_lo, -1.0, 0.0))
-        Z = sep
-        if both.any():
-            # sign from the force rate with every limit node stuck
-            du0 = np.zeros(n)
-            if Z.any():
-                du0[Z] = -np.linalg.solve(K[np.ix_(Z, Z)], dQ[Z])
-            dF0 = dQ + K @ du0
-            s[both] = np.where(dF0[both] < 0.0, 1.0, -1.0)
-        du = np.zeros(n)
-        state = np.where(sep, SEPARATION, STICK).astype(np.int8)
-        for _attempt in range(n + 2):
-            if not B.any():
-                if Z.any():
-                    du[Z] = -np.linalg.solve(K[np.ix_(Z, Z)], dQ[Z])
-                return du, state
-            Bi = np.nonzero(B)[0]
-            Zi = np.nonzero(Z)[0]
-            KBB = K[np.ix_(Bi, Bi)]
-            if Zi.size:
-                KZZ = K[np.ix_(Zi, Zi)]
-                KZB = K[np.ix_(Zi, Bi)]
-                X = np.linalg.solve(KZZ, np.column_stack([KZB, dQ[Zi]]))
-                S = KBB - K[np.ix_(Bi, Zi)] @ X[:, :-1]
-                qp = dQ[Bi] - K[np.ix_(Bi, Zi)] @ X[:, -1]
-            else:
-                S, qp = KBB, dQ[Bi]
-            D = s[Bi]
-            M = D[:, None] * S * D[None, :]
-            q = f[Bi] * dN[Bi] + D * qp
-            warm = np.where(D > 0, was_fwd[Bi], was_bwd[Bi])
-            lam = solve_lcp(M, q, basis=warm)
-            du[:] = 0.0
-            du[Bi] = D * lam
-            if Zi.size:
-                du[Zi] = -(X[:, -1] + X[:, :-1] @ du[Bi])
-            slip = lam > 0.0
-            state[Bi[slip & (D > 0)]] = FORWARD
-            state[Bi[slip & (D < 0)]] = BACKWARD
-            # a re-contact node that sticks must also respect the limit on its other side
-            dF = dQ + K @ du
-            flip = both & (state == STICK) & (f * dN - s * dF < -_REL * (np.abs(f * dN)
-                                                                       + np.abs(dF)))
-            if not flip.any():
-                return du, state
-            s[flip] = -s[flip]
-            state[:] = np.where(sep, SEPARATION, STICK)
-        raise SolverError("explicit stepper: could not decide the slip directions at re-contact",
-                          backend="explicit", status="recontact_sign")
-
     # ------------------------------------------------------------------------------------------
     def cycle(self, scene, state, history: bool = True):
         if scene.system.m != 1 or not history:
@@ -186,25 +122,6 @@ class ExplicitStepper(Stepper):
 
     def stats(self, state):
         return {"substeps": state.data["substeps"], "events": state.data["events"]}
-
-
-def limit_crossings(K, f, F0, bound, dQ, dN, du, node_state, tau, dF=None):
-    """Per node, the instant (fraction of the increment, 2 for never) where a sticking node
-    reaches its upper and its lower friction limit, the rates ``du`` held from ``tau``: the
-    margins ``f N ∓ F`` are linear in time, so the instants are exact. Returns (upper, lower).
-    ``dF``, the force rates ``dQ + K du``, when the caller has them.
-    """
-    if dF is None:
-        dF = dQ + K @ du
-    stick = node_state == STICK
-    rtol = _REL * (np.abs(f * dN) + np.abs(dF)) + 1e-300
-    gtol = _REL * (bound + np.abs(F0))
-    events = []
-    with np.errstate(divide="ignore", invalid="ignore"):
-        for g, r in ((bound - F0, f * dN - dF), (bound + F0, f * dN + dF)):
-            hit = stick & (r < -rtol) & (g > gtol)
-            events.append(np.where(hit, tau + g / -r, 2.0))
-    return events
 
 
 def _on_limits(F, bound, forward, backward):
@@ -244,7 +161,7 @@ def _single_node_cycle(scene, state):
         F0 = -ba if st == FORWARD else (ba if st == BACKWARD else Qa + k * u)
         while True:
             bt = ba + tau * db
-            tol = _REL * (bt + abs(F0))
+            tol = REL * (bt + abs(F0))
             r_lo, r_hi = db + dQ, db - dQ  # margin rates while stuck
             if F0 <= -bt + tol and r_lo < 0.0:
                 st, du = FORWARD, -r_lo / k
@@ -255,10 +172,10 @@ def _single_node_cycle(scene, state):
             else:
                 st, du = STICK, 0.0
                 t_end = 1.0
-                rtol = _REL * (abs(db) + abs(dQ))
+                rtol = REL * (abs(db) + abs(dQ))
                 t_hi = tau + (bt - F0) / -r_hi if r_hi < -rtol and bt - F0 > tol else 2.0
                 t_lo = tau + (bt + F0) / -r_lo if r_lo < -rtol and bt + F0 > tol else 2.0
-                if min(t_hi, t_lo) <= tau + _EPS8 * max(1.0, tau):
+                if min(t_hi, t_lo) <= tau + EPS8 * max(1.0, tau):
                     # the limit is reached within round-off of τ: slip now (τ cannot advance)
                     st, du = (BACKWARD, r_hi / k) if t_hi <= t_lo else (FORWARD, -r_lo / k)
                 else:

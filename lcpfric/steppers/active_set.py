@@ -31,7 +31,7 @@ least-index rule), which terminates for any symmetric positive definite K.
 
 Every solve is refined (iterative refinement on K: ``δ_F += K_FF⁻¹ (r - F)_F``) until the forces
 of the free nodes are at round-off, so an inverse that lost digits (a stiff K, many updates)
-does not reach the answer. The block ``K_FF`` is kept by :mod:`~lcpfric.backends.blocks`:
+does not reach the answer. The block ``K_FF`` is kept by :mod:`~lcpfric.linalg.blocks`:
 updated, not rebuilt, when the pattern changes by a few nodes.
 
 The method (d = 2)
@@ -49,7 +49,7 @@ compliance=LinearOperator)``: a half-space, where a product is an FFT pair) is s
 compliance form of the same iteration (:meth:`ActiveSetStepper._pattern_operator`): with the
 pattern fixed, the forces of the sticking nodes solve ``C_SS (F - F^tr)_S = -C_SA (F -
 F^tr)_A``, by conjugate gradients warm-started from the previous iteration's forces, one
-product with C per CG iteration (:class:`~lcpfric.backends.blocks.OperatorBlock`). Events are
+product with C per CG iteration (:class:`~lcpfric.linalg.blocks.OperatorBlock`). Events are
 located as for K. The equilibrium check compares ``u`` with ``C (F - Q)``.
 
 Limits
@@ -80,12 +80,12 @@ import numpy as np
 from .._checks import boolean, positive, positive_int
 from ..errors import InputError, SolverError
 from ..results import State, StepState
-from ..steppers.base import Recorder, Stepper
-from ..steppers.dissipation import increment_dissipation
+from .base import Recorder, Stepper
+from .dissipation import increment_dissipation
 from ..scene import column_reduce
-from .blocks import OperatorBlock, make_block
-from .checks import residuals, worst
-from .events import first_event, path_is_exact
+from ..linalg import OperatorBlock, PatternUpdate, make_block
+from ..backends.checks import residuals, worst
+from .rates import first_event, path_is_exact
 
 __all__ = ["ActiveSetStepper", "ActiveSetData", "PatternUpdate"]
 
@@ -180,7 +180,7 @@ class ActiveSetStepper(Stepper):
     Parameters
     ----------
     block : {"auto", "dense", "banded", "sparse"}
-        How ``K_FF`` is kept (:mod:`~lcpfric.backends.blocks`): by default an inverse with a
+        How ``K_FF`` is kept (:mod:`~lcpfric.linalg.blocks`): by default an inverse with a
         low-rank correction for a dense K; LAPACK's banded Cholesky for a sparse K of small bandwidth; SuperLU
         otherwise.
     check_tol : float
@@ -190,7 +190,7 @@ class ActiveSetStepper(Stepper):
     locate_events : bool
         On coupled d = 1 systems, split an increment at the instant where a node starts to slip
         when the single projection cannot be exact there, as the convex backends do
-        (:mod:`~lcpfric.backends.events`).
+        (:mod:`~lcpfric.steppers.rates`).
     cg_max_iter : int
         Matrix-free systems: cap on the conjugate-gradient iterations of one solve (then
         SolverError, status "cg_max_iter").
@@ -283,7 +283,7 @@ class ActiveSetStepper(Stepper):
         u and F (the equilibrium check of every cycle bounds what remains).
 
         One projection to t_{k+1}; on a coupled d = 1 system whose answer is not the exact end
-        state (:func:`~lcpfric.backends.events.path_is_exact`), the increment is split at its
+        state (:func:`~lcpfric.steppers.rates.path_is_exact`), the increment is split at its
         events as the convex backends do, the rates at an event from this backend's own pattern
         iteration (:meth:`_rate_function`)."""
         Qk, Nk, bk, ck = plan.row(k)
@@ -328,7 +328,7 @@ class ActiveSetStepper(Stepper):
 
     def _rate_function(self, plan, stats, k):
         """The rate problem at an instant inside increment k, for
-        :func:`~lcpfric.backends.events.first_event`: the same pattern iteration, on the rates.
+        :func:`~lcpfric.steppers.rates.first_event`: the same pattern iteration, on the rates.
         A node on its upper limit may slip back (its force rate then the limit's, ``f dN``) or
         stick below it; likewise on its lower limit; a node inside its limits sticks; a node
         separated over the increment carries no force."""
@@ -492,7 +492,7 @@ class ActiveSetStepper(Stepper):
         Each iteration corrects the previous one rather than solving afresh: the nodes that
         stop are put back (``δ_i = 0``), and ``K_FF Δ = (r - F)_F`` is solved for the nodes
         whose force is off its target by more than round-off, so that a block that can solve
-        locally (:class:`~lcpfric.backends.blocks.BandedBlock`) touches only the parts of the
+        locally (:class:`~lcpfric.linalg.blocks.BandedBlock`) touches only the parts of the
         free set that changed. The first iteration starts from everything stuck (``δ = 0``,
         ``F = F^tr``) and the pattern of the nodes whose trial force is out of its limits,
         with, if ``warm`` is given, the nodes on their limits at the start of the increment
@@ -528,7 +528,7 @@ class ActiveSetStepper(Stepper):
         With the pattern fixed, the forces of the nodes on a limit (and of the separated ones,
         0) are known; those of the sticking nodes S solve ``C_SS (F - F^tr)_S = -C_SA (F -
         F^tr)_A`` (``δ_S = 0``), corrected from the previous iteration's forces by conjugate
-        gradients (:class:`~lcpfric.backends.blocks.OperatorBlock`) to ``max |δ_S| <=
+        gradients (:class:`~lcpfric.linalg.blocks.OperatorBlock`) to ``max |δ_S| <=
         1e-13 s_C s_F`` (the compliance and force scales: 1e7 below the residual check).
         The pattern update, the warm start and the least-index fallback are :meth:`_pattern`'s:
         ``z_i = F_i - δ_i / C_ii``."""
@@ -658,51 +658,6 @@ class ActiveSetStepper(Stepper):
         raise SolverError(f"active-set: increment {k}: the answer fails lcpfric's residual "
                           f"check ({name} {res[name]:.3g} > check_tol {self.check_tol:g})",
                           backend=self.name, status="residual", residuals=res)
-
-
-class PatternUpdate:
-    """The pattern update of a box-constrained problem (d = 1), shared by the stiffness and
-    compliance forms here and by the half-plane contact: from the natural map ``z`` (``z >
-    hi``: on the upper bound; ``z < lo``: on the lower; else stick), the semismooth Newton
-    (primal-dual active-set) step; once a pattern repeats, Murty's least-index rule (change only
-    the lowest-numbered node whose state is wrong), which terminates for a symmetric positive
-    definite matrix. ``bounded``: the nodes that can be on a bound (the others are free)."""
-
-    def __init__(self, bounded: np.ndarray, stats: dict | None = None):
-        self.bounded = bounded
-        self.stats = stats if stats is not None else {"iterations": 0, "single_changes": 0}
-        self.seen: set = set()
-        self.single = False
-
-    def first(self, F_tr, lo, hi, warm=None):
-        """The first pattern: the nodes whose trial force is out of its bounds, and those on
-        their bounds at the start (``warm = (upper, lower)``)."""
-        b = self.bounded
-        nup, ndn = b & (F_tr > hi), b & (F_tr < lo)
-        if warm is not None:
-            nup = nup | (b & warm[0] & ~ndn)
-            ndn = ndn | (b & warm[1] & ~nup)
-        return nup, ndn
-
-    def next(self, z, lo, hi, up, dn):
-        """The next ``(upper, lower)``, or None when the pattern ``(up, dn)`` is the answer."""
-        b = self.bounded
-        nup, ndn = b & (z > hi), b & (z < lo)
-        changed = (nup != up) | (ndn != dn)
-        self.stats["iterations"] += 1
-        if not changed.any():
-            return None
-        if not self.single:
-            key = np.packbits(nup).tobytes() + np.packbits(ndn).tobytes()
-            if key in self.seen:
-                self.single = True
-            self.seen.add(key)
-        if self.single:
-            i = int(np.flatnonzero(changed)[0])
-            nup, ndn = up.copy(), dn.copy()
-            nup[i], ndn[i] = (z[i] > hi[i]) & b[i], (z[i] < lo[i]) & b[i]
-            self.stats["single_changes"] += 1
-        return nup, ndn
 
 
 def _accumulate(u, lo, du):

@@ -1,6 +1,6 @@
 r"""Solves with the principal block ``K_FF`` of the stiffness on a set F that changes by a few
-unknowns at a time: the linear algebra of the active-set backend
-(:mod:`~lcpfric.backends.active_set`).
+unknowns at a time: the linear algebra of the active-set stepper
+(:mod:`~lcpfric.steppers.active_set`).
 
 At every iteration the active-set method solves ``K_FF x = r`` for the free unknowns F (those
 of the slipping and the separated nodes; a sticking node's displacement is fixed). Between two
@@ -32,7 +32,7 @@ from scipy.linalg import lapack
 
 from ..errors import SolverError
 
-__all__ = ["DenseBlock", "BandedBlock", "SparseBlock", "OperatorBlock", "make_block"]
+__all__ = ["DenseBlock", "BandedBlock", "SparseBlock", "make_block", "not_spd"]
 
 #: largest bandwidth (after reordering) for which the banded Cholesky is used: beyond it the
 #: band holds more than a sparse factor would
@@ -41,7 +41,7 @@ MAX_BANDWIDTH = 64
 FOLD_RANK = 48
 
 
-def _not_spd(what: str) -> SolverError:
+def not_spd(what: str) -> SolverError:
     return SolverError(f"active-set: {what} is not positive definite (K must be SPD)",
                        backend="active-set", status="not_spd")
 
@@ -257,10 +257,10 @@ def _spd_inverse(A: np.ndarray, what: str) -> np.ndarray:
         return np.zeros((0, 0))
     c, info = lapack.dpotrf(A, lower=False, clean=True)
     if info != 0:
-        raise _not_spd(what)
+        raise not_spd(what)
     G, info = lapack.dpotri(c, lower=False, overwrite_c=True)
     if info != 0:
-        raise _not_spd(what)
+        raise not_spd(what)
     iu = np.tril_indices(A.shape[0], -1)
     G[iu] = G.T[iu]
     return G
@@ -345,7 +345,7 @@ class BandedBlock(_Block):
         band[w] = self.band[w, sel]
         c, info = lapack.dpbtrf(band, lower=0)
         if info != 0:
-            raise _not_spd("K_FF")
+            raise not_spd("K_FF")
         self.factor, self.sel = c, sel
         self.stats["factorizations"] += 1
 
@@ -373,78 +373,13 @@ class SparseBlock(_Block):
             self.lu = spl.splu(A, permc_spec="MMD_AT_PLUS_A",
                                options={"SymmetricMode": True})
         except RuntimeError as exc:
-            raise _not_spd(f"K_FF ({exc})") from None
+            raise not_spd(f"K_FF ({exc})") from None
         self.stats["factorizations"] += 1
 
     def solve(self, r: np.ndarray, support=None):
         if self.lu is None:
             return self.index, np.zeros(0)
         return self.index, self.lu.solve(r[self.index])
-
-
-class OperatorBlock:
-    """The compliance C of a matrix-free system, known by its products (a LinearOperator):
-    the active-set backend then works in the compliance form, where the unknowns of a pattern
-    are the forces of the sticking nodes S and each iteration solves ``C_SS x = b``, here by
-    conjugate gradients (C_SS is symmetric positive definite), one product with C per CG
-    iteration. The products of every iteration are kept over all rows, so that the slips
-    ``C x`` of the other nodes come with the solution, without one more product.
-
-    ``stats``: ``products`` (with C) and ``cg_iterations``."""
-
-    def __init__(self, C, max_iter: int):
-        self.C = C
-        self.m = C.shape[0]
-        self.max_iter = max_iter
-        self.stats = {"products": 0, "cg_iterations": 0}
-
-    def apply(self, x: np.ndarray) -> np.ndarray:
-        """``C x``."""
-        self.stats["products"] += 1
-        return np.asarray(self.C.matvec(x), dtype=float).reshape(self.m)
-
-    def apply_many(self, X: np.ndarray) -> np.ndarray:
-        """``C X`` for the columns of X."""
-        self.stats["products"] += X.shape[1]
-        return np.asarray(self.C.matmat(X), dtype=float).reshape(self.m, X.shape[1])
-
-    def solve(self, S: np.ndarray, b: np.ndarray, tol: float):
-        """``(x, C x̂)``: conjugate gradients on ``C_SS x = b`` from x = 0 until ``max |b - C_SS
-        x| <= tol``; ``x̂`` is x on S and zero elsewhere, and ``C x̂`` is over all m rows.
-        SolverError ``status="cg_max_iter"`` when ``max_iter`` iterations do not reach tol
-        (the residual reached is in the message), ``"not_spd"`` for a direction of
-        non-positive curvature."""
-        m = self.m
-        x = np.zeros(S.size)
-        Cx = np.zeros(m)
-        r = b.copy()
-        p = r.copy()
-        rr = float(r @ r)
-        full = np.zeros(m)
-        for it in range(self.max_iter + 1):
-            if float(np.max(np.abs(r), initial=0.0)) <= tol:
-                self.stats["cg_iterations"] += it
-                return x, Cx
-            if it == self.max_iter:
-                break
-            full[S] = p
-            q = self.apply(full)
-            qS = q[S]
-            curv = float(p @ qS)
-            if not curv > 0.0:
-                raise _not_spd("C_SS (the compliance of the sticking nodes)")
-            alpha = rr / curv
-            x += alpha * p
-            Cx += alpha * q
-            r -= alpha * qS
-            rr, rr_old = float(r @ r), rr
-            p *= rr / rr_old
-            p += r
-        self.stats["cg_iterations"] += self.max_iter
-        raise SolverError(f"active-set: conjugate gradients on the sticking nodes did not reach "
-                          f"{tol:.3g} in {self.max_iter} iterations (residual "
-                          f"{float(np.max(np.abs(r))):.3g}); raise cg_max_iter",
-                          backend="active-set", status="cg_max_iter")
 
 
 def make_block(K, kind: str = "auto"):
