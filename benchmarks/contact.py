@@ -30,10 +30,11 @@ from pathlib import Path
 
 import numpy as np
 
-from lcpfric.contact import (HalfPlaneCylinder, MDRSphere, cattaneo_stick_ratio,
+import lcpfric
+from lcpfric.model.continuum import (HalfPlaneCylinder, MDRSphere, cattaneo_stick_ratio,
                              ciavarella_jager_W, cylinder_contact, cylinder_W,
                              mindlin_deresiewicz_W, moduli)
-from lcpfric.contact.mdr import PowerLaw
+from lcpfric.model.continuum import PowerLaw
 from lcpfric.model import Harmonic
 
 E, R, MU, P0 = 200e3, 10.0, 0.5, 100.0
@@ -51,7 +52,7 @@ def cylinder(P1=0.0, Q1=0.5, phi=0.0, nu=0.0, **kw):
 
 def timed(model, steps, **kw):
     t = time.perf_counter()
-    r = model.solve(steps, **kw)
+    r = lcpfric.steady_state(model, steps_per_cycle=steps, steps_per_cycle=**kw)
     return r, time.perf_counter() - t
 
 
@@ -89,7 +90,7 @@ def normal(lines):
     m = cylinder(nodes=400)
     p = m.pressure(P0)
     ref = cylinder_contact(P0, R, E, 0.0)
-    a = m.sizes([0.0])[0]
+    a = m.normal_solution([0.0])[1][0]
     exact = ref["p0"] * np.sqrt(np.maximum(0.0, 1 - (m.x / ref["a"]) ** 2))
     s = sphere(nodes=2000)
     lines += ["## Normal problem", "",
@@ -111,7 +112,7 @@ def cattaneo(lines):
                                   ("cylinder (400 across)", cylinder(Q1=0.95, nodes=400),
                                    "cylinder")):
         steps = 400
-        r = model.solve(steps, record=True, max_cycles=1, on_nonconvergence="ignore")
+        r = lcpfric.steady_state(model, steps_per_cycle=steps, max_cycles=1, on_nonconvergence="ignore")
         c = r.stick_size()
         for j in (20, 40, 60, 80):
             x = 0.95 * math.sin(2 * PI * j / steps)
@@ -129,9 +130,9 @@ def phases(lines):
               "(φ + π) |", "|---|---|---|---|---|---|"]
     for name, make, n in (("sphere (MDR)", sphere, 2000), ("cylinder (half-plane)", cylinder,
                                                            400)):
-        w0 = make(P1=0.5, Q1=0.4, nodes=n).solve(400).W_normalized
-        wa = make(P1=0.5, Q1=0.4, phi=0.5, nodes=n).solve(400).W_normalized
-        wb = make(P1=0.5, Q1=0.4, phi=0.5 + PI, nodes=n).solve(400).W_normalized
+        w0 = lcpfric.steady_state(make(P1=0.5, Q1=0.4, nodes=n), steps_per_cycle=400).W_normalized
+        wa = lcpfric.steady_state(make(P1=0.5, Q1=0.4, phi=0.5, nodes=n), steps_per_cycle=400).W_normalized
+        wb = lcpfric.steady_state(make(P1=0.5, Q1=0.4, phi=0.5 + PI, nodes=n), steps_per_cycle=400).W_normalized
         lines.append(f"| {name} | {n}, 400 | {w0:.3e} | {wa:.6g} | {wb:.6g} "
                      f"| {rel(wb, wa):.1e} |")
     lines += ["", "W at φ = 0 is not exactly 0: it is the discretization's (it falls with the "
@@ -145,7 +146,7 @@ def chord(lines):
     for x in (0.3, 0.8):
         m = MDRSphere(None, E, 0.3, MU, Harmonic(P0, 0.0), Harmonic(0.0, x * MU * P0),
                       nodes=2000, profile=PowerLaw(1.0, 4))
-        W = m.solve(400).W
+        W = lcpfric.steady_state(m, steps_per_cycle=400).W
         ref = ciavarella_jager_W(m.approach, P0, x * MU * P0, MU, eta)
         lines.append(f"| {x:g} | {W:.8g} | {ref:.8g} | {rel(W, ref):.2e} |")
     lines.append("")
@@ -165,7 +166,7 @@ def convergence(lines, quick):
              (50, 100, 200, 400))):
         es, Ws = [], []
         for n in steps:
-            r = make(nodes=nodes).solve(n)
+            r = lcpfric.steady_state(make(nodes=nodes), steps_per_cycle=n)
             es.append(rel(r.W, ref_of(r)))
             Ws.append(r.W)
         d = np.abs(np.diff(Ws))
@@ -173,7 +174,7 @@ def convergence(lines, quick):
         en = []
         ns = node_set if not (quick and name.startswith("cyl")) else (50, 100, 200)
         for n in ns:
-            r = make(nodes=n).solve(fine_steps if name.startswith("sphere") else 1600)
+            r = lcpfric.steady_state(make(nodes=n), steps_per_cycle=fine_steps if name.startswith("sphere") else 1600)
             en.append(rel(r.W, ref_of(r)))
         lines += [f"**{name}**: steps {list(steps)} at {nodes} nodes: errors "
                   + ", ".join(f"{e:.2e}" for e in es)
@@ -187,7 +188,7 @@ def convergence(lines, quick):
 
 
 def small_amplitude(lines):
-    from lcpfric.contact.maps import mdr_W_normalized
+    from lcpfric.analysis.contact_maps import mdr_W_normalized
 
     lines += ["## Small amplitudes: W grows as Q1³ (sphere, 4000 springs, 200 steps, Q1/(μP1) = "
               "0.8)", "", "| φ | W_norm at Q1/(μP0) = 0.01, 0.02, 0.04 | ratios (8 for Q1³) |",
@@ -204,8 +205,8 @@ def small_amplitude(lines):
 def question(lines, quick):
     """Where the maximum over φ lies: the MDR sphere against the paper's single node."""
     from lcpfric.analysis.sweep import sweep
-    from lcpfric.contact.figures import K_SUPPORT, PHASE_CASES
-    from lcpfric.contact.maps import mdr_W_normalized
+    from lcpfric.figures.contact import K_SUPPORT, PHASE_CASES
+    from lcpfric.analysis.contact_maps import mdr_W_normalized
 
     phi = np.linspace(0.0, PI, 181)
     lines += ["## The paper's question: at which phase is the dissipation largest?", "",

@@ -32,8 +32,9 @@ from pathlib import Path
 
 import numpy as np
 
+import lcpfric
 import lcpfric.contact.steady as steady
-from lcpfric.periodic import Anderson
+from lcpfric.periodic.acceleration import Anderson
 
 sys.path.insert(0, str(Path(__file__).parent))
 from halfspace import PI, sphere  # noqa: E402  (the same materials and loads)
@@ -92,7 +93,7 @@ def run(factory, depth, memory=True):
     steady.Anderson = (lambda: plain) if depth is None else (lambda: Anderson(depth))
     try:
         w = time.perf_counter()
-        r = model.solve(max_cycles=200, on_nonconvergence="ignore", **kw)
+        r = lcpfric.steady_state(model, max_cycles=200, on_nonconvergence="ignore", steps_per_cycle=**kw)
         seconds = time.perf_counter() - w
     finally:
         steady.Anderson = Anderson
@@ -159,7 +160,7 @@ def figure(out: Path):
     """``cycle_acceleration.png`` and ``.pdf``: each cycle's relative change (``changes`` of
     the result) for Mindlin-Deresiewicz with d = 2 on grids 40 and 56, by how the cycles'
     starts are moved; page width, TrueType fonts."""
-    from lcpfric import plotting
+    from lcpfric.figures import style as plotting
 
     runs = {}
     for g in (40, 56):

@@ -29,7 +29,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from _report import Report, stamp  # noqa: E402
 from halfspace import sphere  # noqa: E402
 
-from lcpfric.periodic import Anderson  # noqa: E402
+from lcpfric.periodic.acceleration import Anderson  # noqa: E402
 
 #: Arnoldi steps (products with J)
 KRYLOV = 40

@@ -26,8 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
-from lcpfric.contact import MDRSphere, cattaneo_stick_ratio, hertz_contact, mindlin_deresiewicz_W
-from lcpfric.contact.halfspace import HalfSpace
+import lcpfric
+from lcpfric.model.continuum import MDRSphere, cattaneo_stick_ratio, hertz_contact, mindlin_deresiewicz_W
+from lcpfric.model.continuum.halfspace import HalfSpace
 from lcpfric.model import Harmonic
 
 from _report import Report, stamp
@@ -50,7 +51,7 @@ def mdr(P1=0.0, Q1=0.5, phi=0.0, nu=0.0, nodes=2000):
 
 def timed(model, steps, **kw):
     w, c = time.perf_counter(), time.process_time()
-    r = model.solve(steps, **kw)
+    r = lcpfric.steady_state(model, steps_per_cycle=steps, steps_per_cycle=**kw)
     return r, time.perf_counter() - w, time.process_time() - c
 
 
@@ -273,10 +274,10 @@ def main(argv=None):
         f"grid {g}" for g in grids) + " | order |")
     emit("|---" * (5 + len(grids)) + "|")
     for P1, Q1, phi in cases:
-        ref = mdr(P1, Q1, phi).solve(st).W_normalized
+        ref = lcpfric.steady_state(mdr(P1, Q1, phi), steps_per_cycle=st).W_normalized
         diffs = []
         for g in grids:
-            diffs.append(rel(sphere(P1, Q1, phi, grid=g).solve(st).W_normalized, ref))
+            diffs.append(rel(lcpfric.steady_state(sphere(P1, Q1, phi, grid=g), steps_per_cycle=st).W_normalized, ref))
         hs = np.array([1.0 / g for g in grids])
         order = np.polyfit(np.log(hs), np.log(np.abs(diffs)), 1)[0]
         emit(f"| {P1} | {Q1} | {phi / PI:.2f} | {ref:.6f} | " + " | ".join(
@@ -286,10 +287,10 @@ def main(argv=None):
     emit("")
     P1, Q1, phi = cases[0]
     g = 24 if args.quick else 40
-    ref3 = mdr(P1, Q1, phi, nu=0.3).solve(st).W_normalized
+    ref3 = lcpfric.steady_state(mdr(P1, Q1, phi, nu=0.3), steps_per_cycle=st).W_normalized
     r3, w3, _ = timed(sphere(P1, Q1, phi, nu=0.3, dims=2, grid=g), st, max_cycles=80,
                       on_nonconvergence="ignore")
-    r4 = sphere(P1, Q1, phi, nu=0.3, dims=1, grid=g).solve(st)
+    r4 = lcpfric.steady_state(sphere(P1, Q1, phi, nu=0.3, dims=1, grid=g), steps_per_cycle=st)
     emit(f"ν = 0.3, P1/P0 = {P1}, Q1/(μP0) = {Q1}, φ = {phi / PI:.2f}π, grid {g}: d = 2 "
          f"(Cerruti's coupling) {r3.W_normalized:.6f}, d = 1 (Mindlin's approximation) "
          f"{r4.W_normalized:.6f}, MDR {ref3:.6f}: d = 2 differs from MDR by "
@@ -330,7 +331,7 @@ def main(argv=None):
         scene = make_scene(m.system(), 200)
         w = time.perf_counter()
         tol = 1e-12 if dims == 1 else 1e-10     # d = 2: the increments' own accuracy
-        ref = m.solve(t=scene.t, tol=tol)
+        ref = lcpfric.steady_state(lcpfric.make_scene(m, grid=scene.t), tol=tol)
         w_model = time.perf_counter() - w
         for method in methods:
             opts = {"check_tol": 1e-4} if dims == 2 else {}
@@ -348,10 +349,10 @@ def main(argv=None):
     emit("")
     g = 24 if args.quick else 32
     for s in ((100, 200) if args.quick else (100, 200, 400)):
-        w0 = sphere(0.5, 0.4, 0.0, grid=g).solve(s).W_normalized
+        w0 = lcpfric.steady_state(sphere(0.5, 0.4, 0.0, grid=g), steps_per_cycle=s).W_normalized
         emit(f"In phase, P1/P0 = 0.5, Q1/(μP0) = 0.4, grid {g}, {s} steps: W_norm = {w0:.3e}")
-    wa = sphere(0.5, 0.4, 0.5 * PI, grid=g).solve(200).W_normalized
-    wb = sphere(0.5, 0.4, 1.5 * PI, grid=g).solve(200).W_normalized
+    wa = lcpfric.steady_state(sphere(0.5, 0.4, 0.5 * PI, grid=g), steps_per_cycle=200).W_normalized
+    wb = lcpfric.steady_state(sphere(0.5, 0.4, 1.5 * PI, grid=g), steps_per_cycle=200).W_normalized
     emit(f"φ = 0.5π: {wa:.10f}; φ = 1.5π: {wb:.10f} (relative difference {rel(wb, wa):+.1e}).")
     emit("")
 
@@ -376,7 +377,7 @@ def heightmap(quick: bool):
     start = time.perf_counter()
     m = HalfSpace(E, 0.0, MU, Harmonic(P0, 0.5 * P0), Harmonic(0.0, 0.4 * MU * P0, 0.5 * PI),
                   heights=heights, spacing=h)
-    r = m.solve(steps)
+    r = lcpfric.steady_state(m, steps_per_cycle=steps)
     wall = time.perf_counter() - start
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(f"## A {N} x {N} height map\n")

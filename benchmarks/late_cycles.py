@@ -30,12 +30,13 @@ from pathlib import Path
 
 import numpy as np
 
+import lcpfric
 sys.path.insert(0, str(Path(__file__).parent))
 
 from _report import Report, stamp  # noqa: E402
 from halfspace import sphere  # noqa: E402
 
-import lcpfric.contact.halfspace as hs  # noqa: E402
+import lcpfric.model.continuum.halfspace as hs  # noqa: E402
 import lcpfric.contact.steady as steady  # noqa: E402
 
 STEPS = 400
@@ -84,7 +85,7 @@ def run(record=False):
         hs._cg = counted_cg
     try:
         t = time.perf_counter()
-        res = model.solve(STEPS)
+        res = lcpfric.steady_state(model, steps_per_cycle=STEPS)
         seconds = time.perf_counter() - t
     finally:
         hs._cg = cg

@@ -18,10 +18,10 @@ import time
 import warnings
 from pathlib import Path
 
-from lcpfric.contact.halfplane import HalfPlaneCylinder
+from lcpfric.model.continuum.halfplane import HalfPlaneCylinder
 from _report import Report, stamp
-from lcpfric.contact.halfspace import HalfSpace
-from lcpfric.contact.mdr import MDRSphere
+from lcpfric.model.continuum.halfspace import HalfSpace
+from lcpfric.model.continuum import MDRSphere
 from lcpfric.errors import LcpfricError, ResolutionWarning
 from lcpfric.model import Harmonic
 
@@ -53,7 +53,7 @@ def run(make, steps):
         model = make()
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", ResolutionWarning)
-            r = model.solve(steps, max_cycles=100)
+            r = lcpfric.steady_state(model, steps_per_cycle=steps, max_cycles=100)
         note = " (W = 0: ResolutionWarning)" if any(
             issubclass(w.category, ResolutionWarning) for w in caught) else ""
         outcome = (f"{r.cycles} cycles, W_norm {r.W_normalized:.6g}{note}" if r.converged

@@ -95,6 +95,7 @@ from pathlib import Path
 
 import numpy as np
 
+import lcpfric
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 #: the rows' method -> (lcpfric method, options)
@@ -558,7 +559,7 @@ def plot(rows: list[dict], out_dir: Path) -> list[Path]:
     """scaling.png and scaling.pdf: s/step against n, one colour and marker per method, one
     line style per system, the floors dashed (nothing written without matplotlib)."""
     try:
-        from lcpfric import plotting
+        from lcpfric.figures import style as plotting
         fig = plotting.figure(figsize=(6.5, 4.0))
     except Exception:
         return []

@@ -41,7 +41,7 @@ _LAZY = {
     "chain": "lcpfric.model", "block_diagonal": "lcpfric.model",
     "available_methods": "lcpfric.methods", "get_stepper": "lcpfric.methods",
     "get_method": "lcpfric.methods",
-    "steady_state": "lcpfric.periodic",
+    "steady_state": "lcpfric.periodic.driver",
     "CycleResult": "lcpfric.results", "State": "lcpfric.results",
     "SteadyState": "lcpfric.results", "StepState": "lcpfric.results",
     "BatchResult": "lcpfric.results",

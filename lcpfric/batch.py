@@ -17,23 +17,22 @@ length zero, which changes nothing), so step j of every point is taken at once:
     problem's structure never changes.
 
 Both iterate whole cycles until every point repeats its previous cycle within ``tol`` (the
-criterion of :func:`lcpfric.steady_state`, :func:`lcpfric.periodic.cycle_change`); a point's Ŵ
-is that of its first converged cycle, Ŵ = J / Q̂1 (0 at Q̂1 = 0). They return Ŵ; their
-``*_steady_states`` twins return a :class:`~lcpfric.results.BatchResult` with the convergence
-of every point.
+batched cycle loop, :func:`lcpfric.periodic.batched.run`, with the criterion of
+:func:`lcpfric.steady_state`); a point's Ŵ is that of its first converged cycle, Ŵ = J / Q̂1 (0
+at Q̂1 = 0), and NaN where it did not converge. They return Ŵ; their ``*_steady_states`` twins
+return a :class:`~lcpfric.results.BatchResult` with the convergence of every point.
 """
 
 from __future__ import annotations
 
 import math
 import time
-import warnings
 
 import numpy as np
 
 from . import _checks
-from .errors import ConvergenceError, ConvergenceWarning, InputError, SolverError
-from .periodic import cycle_change
+from .errors import InputError, SolverError
+from .periodic import batched
 from .results import BatchResult
 from .scene import PLACEMENTS, increments
 from .steppers.dissipation import node_shares
@@ -126,66 +125,56 @@ def _inputs(P1, Q1, phi, steps_per_cycle, placement, tol, max_cycles, on_nonconv
     return grids, shape, tol, max_cycles
 
 
+class _Points:
+    """The points of a grid as a batched stepper (:mod:`lcpfric.periodic.batched`): ``advance(j,
+    Q, N, u, F) -> (u, F)`` takes every point to instant j."""
+
+    def __init__(self, grids: _Grids, advance):
+        self.grids, self.advance = grids, advance
+        self.size = grids.P1.size
+        self.steps = grids.size - 1
+
+    def init(self):
+        _theta, Q, _N = self.grids.at(0)
+        u = np.zeros(self.size)
+        return u, Q + u
+
+    def step(self, j, state):
+        u, F = state
+        _theta, Q, N = self.grids.at(j + 1)
+        u1, F1 = self.advance(j + 1, Q, N, u, F)
+        return (u1, F1), node_shares(F, F1, u1 - u)  # each point is one node
+
+    def unknowns(self, state):
+        return state[0][:, None]
+
+    def scales(self):
+        """K = f = 1: the loads' displacement scale is the range of Q over the cycle, the force
+        scale the largest N."""
+        _theta, Q, N = self.grids.at(0)
+        qlo, qhi, nmax = Q.copy(), Q.copy(), N.copy()
+        for j in range(1, self.grids.size):
+            _theta, Q, N = self.grids.at(j)
+            np.minimum(qlo, Q, out=qlo)
+            np.maximum(qhi, Q, out=qhi)
+            np.maximum(nmax, N, out=nmax)
+        return qhi - qlo, nmax
+
+
 def _periodic(grids: _Grids, advance, tol: float, max_cycles: int, on_nonconvergence: str,
               shape, method: str, steps: int, start: float) -> BatchResult:
-    """Run whole cycles of every point with ``advance(j, Q, N, u, F) -> (u, F)`` until each
-    repeats its previous cycle (the criterion of :func:`lcpfric.steady_state`)."""
-    npts = grids.P1.size
-    _theta, Q, _N = grids.at(0)
-    u = np.zeros(npts)
-    F = Q + u
-    J = np.full(npts, np.nan)
-    cycles = np.zeros(npts, dtype=int)
-    change = np.full(npts, np.inf)
-    done = np.zeros(npts, dtype=bool)
-    prev_start = prev_W = None
-    qlo, qhi = Q.copy(), Q.copy()
-    nmax = _N.copy()
-    for c in range(max_cycles):
-        start_u = u.copy()
-        lo, hi = u.copy(), u.copy()
-        W = np.zeros(npts)
-        for j in range(1, grids.size):
-            _theta, Q, N = grids.at(j)
-            u1, F1 = advance(j, Q, N, u, F)
-            W += node_shares(F, F1, u1 - u)  # each point is one node
-            u, F = u1, F1
-            np.minimum(lo, u, out=lo)
-            np.maximum(hi, u, out=hi)
-            if c == 0:
-                np.minimum(qlo, Q, out=qlo)
-                np.maximum(qhi, Q, out=qhi)
-                np.maximum(nmax, N, out=nmax)
-        if prev_start is not None:
-            # the clamp is non-expansive, so the largest change of v over the cycle is the
-            # change of its starting value: the driver's criterion, per point (K = f = 1: the
-            # loads' displacement scale is the range of Q, the force scale the largest N)
-            ch = cycle_change(np.abs(start_u - prev_start), hi - lo, W - prev_W, W,
-                              (qhi - qlo, nmax))
-            new = ~done & (ch <= tol)
-            J[new] = W[new]
-            cycles[new] = c + 1
-            change = np.where(done, change, ch)
-            done |= new
-            if done.all():
-                break
-        prev_start, prev_W = start_u, W
-    if not done.all():
-        J[~done] = W[~done]
-        cycles[~done] = max_cycles
-        msg = (f"{int((~done).sum())} of {npts} points reached no periodic steady state in "
-               f"{max_cycles} cycles (largest relative change {float(np.max(change)):.3g} > "
-               f"tol {tol:g}); raise max_cycles or loosen tol")
-        if on_nonconvergence == "raise":
-            raise ConvergenceError(msg)
-        if on_nonconvergence == "warn":
-            warnings.warn(msg, ConvergenceWarning, stacklevel=3)
+    """Whole cycles of every point (:func:`lcpfric.periodic.batched.run`; the clamp is
+    non-expansive, so the largest change of v over a cycle is the change of its starting
+    value: the cycles compare their starts)."""
     Q1 = grids.Q1
-    W_hat = np.where(Q1 > 0, J / np.where(Q1 > 0, Q1, 1.0), 0.0).reshape(shape)
-    return BatchResult(W_hat=W_hat if W_hat.ndim else float(W_hat),
-                       converged=done.reshape(shape), cycles=cycles.reshape(shape),
-                       change=change.reshape(shape), method=method, steps_requested=steps,
-                       steps_used=grids.size - 1, seconds=time.perf_counter() - start)
+
+    def W_hat(J):
+        return np.where(Q1 > 0, J / np.where(Q1 > 0, Q1, 1.0), 0.0)
+
+    return batched.run(_Points(grids, advance), tol=tol, max_cycles=max_cycles,
+                       on_nonconvergence=on_nonconvergence, measure="cycles",
+                       quantity="W_hat", values=W_hat, method=method, steps_requested=steps,
+                       shape=shape, start=start)
 
 
 def projection_steady_states(P1, Q1, phi, steps_per_cycle: int = 2000,

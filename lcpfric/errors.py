@@ -162,4 +162,4 @@ class ConvergenceWarning(UserWarning):
 class ResolutionWarning(UserWarning):
     """A continuum contact's answer that its grid cannot resolve: no element slipped over the
     steady cycle (W = 0), where the exact contact may slip in a zone thinner than an element
-    (:func:`lcpfric.contact.steady.steady_state`)."""
+    (:func:`lcpfric.steady_state`)."""

@@ -19,7 +19,7 @@ from contextlib import contextmanager
 from .errors import InputError
 
 __all__ = ["MEMORY_ENV", "parse_size", "format_bytes", "physical_memory", "default_limit", "limit",
-           "steady_state_bytes", "map_bytes", "check"]
+           "steady_state_bytes", "continuum_bytes", "map_bytes", "check", "fits"]
 
 MEMORY_ENV = "LCPFRIC_MAX_MEMORY"
 _DEFAULT_FRACTION = 0.5
@@ -82,6 +82,12 @@ def steady_state_bytes(steps: int, method: str = "exact", dofs: int = 1) -> floa
         (float(steps) + 1.0) * max(1, dofs)
 
 
+def continuum_bytes(nodes: int, dims: int, steps: int, history: bool = True) -> float:
+    """Bytes of a continuum contact's scene (the friction limits of every node at every
+    instant) and, with the history, of its cycle's slips, forces and states."""
+    return 8.0 * nodes * (steps + 1) * (1 + (2 * dims + 1 if history else 0))
+
+
 def _entry(method, attr: str, default):
     """An attribute of ``method``'s registry entry (``default`` for an unknown name: the name
     itself is checked, and reported, where the method is resolved)."""
@@ -132,6 +138,12 @@ def default_limit() -> tuple[float, str]:
     if phys is None:
         return 8e9, "the default when the physical memory is unknown"
     return _DEFAULT_FRACTION * phys, f"half the physical memory of {format_bytes(phys)}"
+
+
+def fits(need: float) -> bool:
+    """Whether ``need`` bytes fit under the limit (for what is kept only where it fits, as a
+    stepper's warm starts)."""
+    return need <= default_limit()[0]
 
 
 def check(need: float, parameter: str, what: str, limit: tuple[float, str] | None = None,

@@ -17,6 +17,12 @@ name                     kind           d       what it is                      
                                                 sparse K, stiff K)
 ``qpsolvers:<solver>``   time-stepper   1       any solver qpsolvers has installed          qpsolvers
 ``cvxpy:<SOLVER>``       time-stepper   1, 2    one DPP-parametrized cvxpy problem          cvxpy
+``mdr-bar``              time-stepper   1       the MDR sphere's bar equation, exact per    -
+                                                increment (MDRSphere)
+``halfplane-pdas``       time-stepper   1       the half-plane's primal-dual active set     -
+                                                (HalfPlaneCylinder)
+``newton-cg``            time-stepper   1, 2    the half-space's semismooth Newton, CG on   -
+                                                FFT products (HalfSpace)
 =======================  =============  ======  ==========================================  ========
 
 Every caller (the periodic driver, sweeps, benchmarks, the CLI) asks this registry: nothing else
@@ -31,16 +37,20 @@ from __future__ import annotations
 import difflib
 import importlib
 import importlib.util
+import inspect
 from dataclasses import dataclass, field
 
 from .errors import InputError, SolverNotFound
 
 __all__ = ["Method", "CLOSED_FORM", "TIME_STEPPER", "METHODS", "register", "unregister",
-           "get_method", "get_stepper", "available_methods", "grid_function"]
+           "get_method", "get_stepper", "available_methods", "grid_function", "methods_for",
+           "check_options", "DISCRETE"]
 
 CLOSED_FORM = "closed-form"
 TIME_STEPPER = "time-stepper"
 KINDS = (CLOSED_FORM, TIME_STEPPER)
+#: the models of the discrete methods (``Method.models``)
+DISCRETE = ("SingleNode", "ContactSystem")
 
 
 @dataclass(frozen=True)
@@ -63,6 +73,9 @@ class Method:
         Tangential directions per node it accepts.
     accepts : str
         The systems it accepts, in words (the implementation's ``check`` is the authority).
+    models : tuple of str
+        The model classes it solves (their names: :func:`methods_for` lists a model's
+        methods).
     extra : str or None
         The pip extra that installs what it needs (``pip install "lcpfric[<extra>]"``).
     requires : str or None
@@ -90,6 +103,7 @@ class Method:
     target: object
     dims: tuple = (1,)
     accepts: str = "any ContactSystem or SingleNode"
+    models: tuple = DISCRETE
     extra: str | None = None
     requires: str | None = None
     solvers: dict = field(default_factory=dict)
@@ -150,7 +164,7 @@ def unregister(name: str) -> None:
 
 for _m in (
     Method("exact", CLOSED_FORM, "closed-form event-by-event steady state",
-           "lcpfric.closed_form:ExactSolver", dims=(1,),
+           "lcpfric.exact.solver:ExactSolver", dims=(1,),
            accepts="harmonic loads of one frequency: SingleNode, or ContactSystem (d = 1, "
                    "IndependentSprings)",
            grid="lcpfric.exact:exact_W_hat", seconds_per_point=1.2e-6, floats_per_step=12),
@@ -178,6 +192,15 @@ for _m in (
            "lcpfric.backends.cvxpy_:CvxpyStepper", dims=(1, 2), extra="cvxpy",
            requires="cvxpy", solvers=_CVXPY, default_solver="CLARABEL",
            seconds_per_point_step=1.5e-3),
+    Method("mdr-bar", TIME_STEPPER, "the MDR sphere's bar equation, exact per increment (no "
+           "solver)", "lcpfric.steppers.mdr_bar:MDRBarStepper", dims=(1,),
+           accepts="MDRSphere", models=("MDRSphere",)),
+    Method("halfplane-pdas", TIME_STEPPER, "the half-plane cylinder's primal-dual active set "
+           "on the stick set", "lcpfric.steppers.halfplane_pdas:HalfPlanePDASStepper",
+           dims=(1,), accepts="HalfPlaneCylinder", models=("HalfPlaneCylinder",)),
+    Method("newton-cg", TIME_STEPPER, "the half-space's semismooth Newton, conjugate "
+           "gradients on FFT products", "lcpfric.steppers.newton_cg:NewtonCGStepper",
+           dims=(1, 2), accepts="HalfSpace", models=("HalfSpace",)),
 ):
     register(_m)
 del _m
@@ -208,6 +231,20 @@ def get_method(method: str) -> tuple[Method, str | None]:
     return entry, sub
 
 
+def check_options(cls, options: dict, what: str) -> None:
+    """Raise InputError for keyword options that ``cls``'s constructor does not take (unless it
+    takes ``**settings``, passed on to a solver that checks them itself)."""
+    params = inspect.signature(cls.__init__).parameters
+    if any(p.kind is p.VAR_KEYWORD for p in params.values()):
+        return
+    valid = sorted(n for n, p in params.items()
+                   if n != "self" and p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD))
+    unknown = sorted(set(options) - set(valid))
+    if unknown:
+        raise InputError(unknown[0], f"is not an option of {what}; valid options: "
+                                     f"{', '.join(valid) if valid else 'none'}")
+
+
 def get_stepper(method, **options):
     """An instance of a method, ready to use: a time stepper, or a closed-form solver.
 
@@ -227,10 +264,7 @@ def get_stepper(method, **options):
     SolverNotFound
         The method's optional dependency is missing (the message names what to install).
     """
-    from .steppers.base import Stepper, check_options
-
-    if isinstance(method, Stepper) or (getattr(method, "kind", None) in KINDS
-                                       and not isinstance(method, type)):
+    if getattr(method, "kind", None) in KINDS and not isinstance(method, type):
         if options:
             raise InputError(sorted(options)[0], "options cannot be given with a method "
                                                  "instance; pass them to its constructor")
@@ -285,6 +319,17 @@ def available_methods() -> list[str]:
             out.extend(f"{entry.name}:{s}" for s in entry.installed_solvers())
         else:
             out.append(entry.name)
+    return out
+
+
+def methods_for(model) -> list[str]:
+    """The installed method names that solve ``model``, by the registry's ``models``."""
+    names = {c.__name__ for c in type(model).__mro__}
+    out = []
+    for entry in METHODS.values():
+        if names & set(entry.models) and entry.installed:
+            out.extend([f"{entry.name}:{s}" for s in entry.installed_solvers()]
+                       if entry.solvers else [entry.name])
     return out
 
 

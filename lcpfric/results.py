@@ -1,5 +1,6 @@
 """Result types, one per level: a step (:class:`StepState`), a cycle (:class:`CycleResult`), a
-steady state (:class:`SteadyState`) and a batch of single-node steady states
+steady state (:class:`SteadyState`, for every model: a continuum contact's geometry in its
+``contact`` field, :class:`ContactExtras`) and a batch of steady states of many points
 (:class:`BatchResult`). Sweeps return an ``xarray.Dataset`` (see :mod:`lcpfric.analysis.sweep`).
 
 Every result is immutable: the driver builds new ones instead of changing a stepper's.
@@ -16,7 +17,8 @@ import numpy as np
 
 from .errors import UndefinedQuantity
 
-__all__ = ["State", "StepState", "CycleResult", "SteadyState", "BatchResult", "Normalization"]
+__all__ = ["State", "StepState", "CycleResult", "SteadyState", "BatchResult", "Normalization",
+           "ContactExtras"]
 
 
 class State(IntEnum):
@@ -75,6 +77,10 @@ class CycleResult:
     instant) holds only the first and last instants in ``t``, ``u``, ``F`` and ``state``, and
     in ``span`` each unknown's range (max - min) over the whole cycle; with the history
     ``span`` is None (it is ``np.ptp(u, axis=0)``).
+
+    ``memory`` is what the cycle remembers of its start, node by node (``(n, 2, 2)``, d = 2:
+    :class:`lcpfric.steppers.slip_memory.SlipMemory`), for a stepper that tracks it during the
+    cycle; None otherwise (the driver then takes it from the recorded cycle where it needs it).
     """
 
     t: np.ndarray
@@ -84,6 +90,7 @@ class CycleResult:
     W: float
     stats: dict = field(default_factory=dict)
     span: np.ndarray | None = None
+    memory: np.ndarray | None = None
 
     @property
     def u_span(self) -> np.ndarray:
@@ -100,6 +107,39 @@ class Normalization:
     v: float
     F: float
     N: float
+
+
+@dataclass(frozen=True)
+class ContactExtras:
+    """What a continuum contact's steady state adds (:attr:`SteadyState.contact`).
+
+    Attributes
+    ----------
+    W_normalized : float
+        ``W k_t0 / (μ² P0²)`` (sphere, half-space) or ``W π E* / (μ² P0²)`` (cylinder).
+    normalization : str
+        The formula of ``W_normalized``, in words.
+    contact_size_max : float
+        The largest contact radius (sphere, half-space) or half-width (cylinder) over the cycle.
+    k_t0 : float or None
+        The initial tangential stiffness 2 a0 G* at P0 (None for the plane contact).
+    nodes, nodes_in_contact_max : int
+        Nodes of the grid; the most in contact at one instant.
+    x : ndarray
+        The nodes' positions (their distance from the centre: the radius for the sphere and
+        the half-space, the signed coordinate for the cylinder).
+    size : ndarray
+        The contact size at each instant of the cycle's grid.
+    """
+
+    W_normalized: float
+    normalization: str
+    contact_size_max: float
+    k_t0: float | None
+    nodes: int
+    nodes_in_contact_max: int
+    x: np.ndarray
+    size: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -145,6 +185,16 @@ class SteadyState:
         Backend statistics (solves, refinements, events), where there are any.
     normalization : Normalization or None
         The units of Eq. (6) for a single node; None for a general system.
+    W_hat_cycles : ndarray or None
+        Ŵ of every cycle (single node only).
+    changes : ndarray or None
+        The convergence measure of every cycle after the first (``cycles - 1`` values, the
+        last is ``change``): how the cycles settled. None for the closed form.
+    contact : ContactExtras or None
+        A continuum contact's normalized dissipation and geometry; None for other models.
+
+    For a continuum contact ``v`` and ``F`` are the nodes' slips and friction forces
+    (``(len(t), nodes·d)``), ``N`` the nodes' normal forces and ``state`` their states.
     """
 
     W: float
@@ -165,6 +215,8 @@ class SteadyState:
     solver_stats: dict = field(default_factory=dict)
     normalization: Normalization | None = None
     W_hat_cycles: np.ndarray | None = None
+    changes: np.ndarray | None = None
+    contact: ContactExtras | None = None
 
     def _norm(self, name: str) -> Normalization:
         if self.normalization is None:
@@ -177,6 +229,35 @@ class SteadyState:
         """Ŵ = k11 W / (f P0 Q1) (Eq. 6; 0 where Q1 = 0). Single node only."""
         self._norm("W_hat")
         return float(self.W_hat_cycles[-1])
+
+    @property
+    def W_normalized(self) -> float:
+        """A continuum contact's normalized dissipation (:class:`ContactExtras`)."""
+        if self.contact is None:
+            raise UndefinedQuantity("W_normalized", "is defined for continuum contacts only "
+                                                    "(MDRSphere, HalfPlaneCylinder, HalfSpace)")
+        return self.contact.W_normalized
+
+    def stick_size(self) -> np.ndarray:
+        """A continuum contact's stick size at each instant of the last cycle: the largest |x|
+        of the sticking nodes that hold the centre (the stick radius or half-width; 0 when the
+        centre does not stick). Needs the cycle's history (``history=True``)."""
+        from .errors import InputError
+
+        if self.contact is None:
+            raise UndefinedQuantity("stick_size", "is defined for continuum contacts only")
+        if self.t.size != self.steps_used + 1:
+            raise InputError("history", "the stick zone needs the whole cycle (history=True)")
+        x = self.contact.x
+        order = np.argsort(np.abs(x), kind="stable")
+        half = (np.min(np.diff(np.sort(x))) / 2.0) if x.size > 1 else abs(x[0])
+        out = np.zeros(self.state.shape[0])
+        for j, s in enumerate(self.state):
+            ranked = s[order]
+            off = np.flatnonzero(ranked != State.STICK)
+            inner = off[0] if off.size else ranked.size
+            out[j] = abs(x[order[inner - 1]]) + half if inner else 0.0
+        return out
 
     @property
     def v_hat(self) -> np.ndarray:
@@ -198,6 +279,13 @@ class SteadyState:
         out = {"W": self.W}
         if self.normalization is not None:
             out["W_hat"] = self.W_hat
+        if self.contact is not None:
+            c = self.contact
+            out.update(W_normalized=c.W_normalized, normalization=c.normalization,
+                       contact_size_max=c.contact_size_max, nodes=c.nodes,
+                       nodes_in_contact_max=c.nodes_in_contact_max)
+            if c.k_t0 is not None:
+                out["k_t0"] = c.k_t0
         out.update(method=self.method, steps_requested=self.steps_requested,
                    steps_used=self.steps_used, cycles=self.cycles, converged=self.converged,
                    change=self.change, seconds=self.seconds, message=self.message)
@@ -207,19 +295,27 @@ class SteadyState:
         return json.dumps(self.summary())
 
     def __repr__(self) -> str:
-        head = f"W_hat={self.W_hat!r}, " if self.normalization is not None else ""
+        head = (f"W_hat={self.W_hat!r}, " if self.normalization is not None else
+                f"W_normalized={self.W_normalized!r}, " if self.contact is not None else "")
         return (f"SteadyState({head}W={self.W!r}, method={self.method!r}, steps_used="
                 f"{self.steps_used}, cycles={self.cycles}, converged={self.converged})")
 
 
 @dataclass(frozen=True)
 class BatchResult:
-    """Steady states of many single-node points advanced together (:mod:`lcpfric.batch`).
+    """Steady states of many points advanced together: single-node points
+    (:mod:`lcpfric.batch`) or the MDR sphere's map points
+    (:func:`lcpfric.analysis.contact_maps.mdr_W_normalized`), by the batched cycle loop
+    (:mod:`lcpfric.periodic.batched`).
 
     Attributes
     ----------
-    W_hat : ndarray (or float for scalar input)
-        Ŵ per point.
+    values : ndarray (or float for scalar input)
+        Per point, the quantity ``quantity`` of its first converged cycle; NaN where the point
+        did not converge in ``max_cycles`` (``converged`` False; never a value that did not
+        converge).
+    quantity : str
+        ``"W_hat"`` (single nodes, Eq. 6) or ``"W_normalized"`` (continuum contacts).
     converged : ndarray of bool
         Per point, whether its cycle repeated within ``tol``.
     cycles : ndarray of int
@@ -232,7 +328,8 @@ class BatchResult:
     seconds : float
     """
 
-    W_hat: Any
+    values: Any
+    quantity: str
     converged: np.ndarray
     cycles: np.ndarray
     change: np.ndarray
@@ -240,3 +337,23 @@ class BatchResult:
     steps_requested: int
     steps_used: int
     seconds: float = 0.0
+
+    def _get(self, name: str):
+        if self.quantity != name:
+            raise UndefinedQuantity(name, f"this batch holds {self.quantity}")
+        return self.values
+
+    @property
+    def W_hat(self):
+        """Ŵ per point (single-node batches)."""
+        return self._get("W_hat")
+
+    @property
+    def W_normalized(self):
+        """The normalized dissipation per point (continuum contacts)."""
+        return self._get("W_normalized")
+
+    @property
+    def unconverged(self) -> int:
+        """The number of points that did not converge (their value is NaN)."""
+        return int(np.size(self.converged) - np.count_nonzero(self.converged))

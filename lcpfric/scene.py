@@ -1,4 +1,4 @@
-"""The scene: one load cycle of a system sampled on a time grid.
+"""The scene: one load cycle of a model sampled on a time grid, for every model.
 
 A scene fixes everything a time-stepping method needs before it takes its first step: the grid
 ``t_0 < t_1 < ... < t_N`` over one period, the tangential loads ``Q(t_k)`` and the normal
@@ -17,56 +17,87 @@ Placement of the remaining steps:
     second order). Without separation it is the uniform grid.
 ``"uniform"``
     ``steps_per_cycle`` equal increments over the period, plus the transition instants.
+
+A continuum contact (:mod:`lcpfric.model.continuum`) has its scene on ``steps_per_cycle`` equal
+increments (or a grid given), its normal problem solved once for those instants: the scene
+keeps the friction limits of every node (``limits``), the contact size at each instant
+(``sizes``), the total tangential load on the body (``Q``, along x) and the loads'
+displacement and force scales (``scales``). Its stepper (``mdr-bar``, ``halfplane-pdas``,
+``newton-cg``) advances the model on it; :func:`with_tangential_load` gives the same scene under
+another tangential load (a map's points of one normal load share their normal problem).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import math
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from . import _checks
+from . import _checks, memory
 from .errors import InputError
 from .model import ContactSystem, SingleNode
 
-__all__ = ["Scene", "Rows", "make_scene", "increments", "column_reduce"]
+__all__ = ["Scene", "Rows", "make_scene", "with_tangential_load", "increments",
+           "column_reduce"]
 
 PLACEMENTS = ("contact", "uniform")
 
 
 @dataclass(frozen=True, eq=False)
 class Scene:
-    """A system over one load cycle on a fixed time grid.
+    """A model over one load cycle on a fixed time grid.
 
     Attributes
     ----------
-    system : ContactSystem
-        The (normalized, for a single node) system the steppers advance.
-    model : SingleNode or None
-        The model the scene came from, for normalization of the results.
+    system : ContactSystem or None
+        The (normalized, for a single node) system the steppers advance; None for a continuum
+        contact, advanced by its own stepper.
+    model : SingleNode, ContactModel or None
+        The model the scene came from (None for a ContactSystem given as such).
     t : (N+1,) ndarray
         The grid, ``t[0]`` to ``t[0] + period``.
     Q : (N+1, m) ndarray or Rows
         Tangential loads on the grid (:class:`Rows`, computed when asked for, when Q and N
-        would take more than :data:`LAZY_BYTES`).
+        would take more than :data:`LAZY_BYTES`); for a continuum contact ``(N+1,)``, the
+        total tangential load on the body.
     N : (N+1, n) ndarray or Rows
-        Normal reactions on the grid (``max(P, 0)`` for independent springs).
+        Normal reactions on the grid (``max(P, 0)`` for independent springs; a continuum
+        contact's nodes' normal forces).
     transitions : ndarray
         The separation / re-contact instants placed on the grid.
     placement : str
         How the steps were placed (see module docstring).
     steps_requested : int
         The steps per cycle asked for (``steps`` is what the grid has, transitions added).
+    limits : (N+1, n) ndarray or None
+        A continuum contact's friction limits ``μ N_i`` on the grid, as its normal problem
+        gives them; None for a system (its steppers form ``f N``).
+    sizes : (N+1,) ndarray or None
+        A continuum contact's contact size (radius or half-width) on the grid.
+    scales : (float, float) or None
+        A continuum contact's loads' displacement and force scales (the cycles' convergence
+        measure, :func:`lcpfric.periodic.measure.cycle_change`).
+    loads : (Load, Load) or None
+        A continuum contact's normal and tangential loads.
+    stats : dict
+        The normal problem's statistics (solves, products, seconds), reported with the
+        result's.
     """
 
-    system: ContactSystem
-    model: SingleNode | None
+    system: ContactSystem | None
+    model: object
     t: np.ndarray
     Q: np.ndarray
     N: np.ndarray
     transitions: np.ndarray
     placement: str
     steps_requested: int = 0
+    limits: np.ndarray | None = None
+    sizes: np.ndarray | None = None
+    scales: tuple | None = None
+    loads: tuple | None = None
+    stats: dict = field(default_factory=dict)
     _cache: dict = field(default_factory=dict, repr=False)
 
     @property
@@ -76,7 +107,30 @@ class Scene:
 
     @property
     def period(self) -> float:
-        return self.system.period
+        return self.model.period if self.system is None else self.system.period
+
+    @property
+    def n(self) -> int:
+        """Nodes."""
+        return self.model.nodes if self.system is None else self.system.n
+
+    @property
+    def dims(self) -> int:
+        """Tangential directions per node."""
+        return self.model.dims if self.system is None else self.system.dims
+
+    @property
+    def m(self) -> int:
+        """Tangential unknowns, n·d."""
+        return self.n * self.dims
+
+    @property
+    def held(self) -> np.ndarray:
+        """A continuum contact's unknowns whose slips are its state: those of the nodes in
+        contact at the cycle's start (a node out of contact has no force, and its slip
+        follows from the others' forces). ``(m,)`` bool."""
+        b = self.limits[0]
+        return np.repeat(b > 1e-10 * np.max(self.limits, initial=0.0), self.dims)
 
     @property
     def contact(self) -> np.ndarray:
@@ -104,28 +158,48 @@ def _start_time(system: ContactSystem) -> float:
     return 0.0
 
 
-def make_scene(system_or_model, steps_per_cycle: int = 1000, *, placement: str = "contact",
-               t0: float | None = None) -> Scene:
-    """Sample one cycle of a :class:`ContactSystem` or :class:`SingleNode` on a time grid.
+def make_scene(system_or_model, steps_per_cycle: int | None = None, *,
+               placement: str | None = None, t0: float | None = None, grid=None,
+               history: bool = True) -> Scene:
+    """Sample one cycle of a model on a time grid.
 
     Parameters
     ----------
-    system_or_model : ContactSystem or SingleNode
-    steps_per_cycle : int
-        Number of increments per cycle (>= 4), before the known transition instants are added.
-    placement : {"uniform", "contact"}
-        See the module docstring.
+    system_or_model : ContactSystem, SingleNode or ContactModel
+    steps_per_cycle : int, optional
+        Number of increments per cycle (>= 4), before the known transition instants are added
+        (default: the model's, 2000 for a discrete system and 400 for a continuum contact).
+    placement : {"uniform", "contact"}, optional
+        See the module docstring (default: the model's; a continuum contact's steps are
+        uniform).
     t0 : float, optional
         Start of the cycle; by default a re-contact instant for a single separating node, else 0.
+    grid : array_like, optional
+        A continuum contact's instants, increasing from 0 to the period (instead of
+        ``steps_per_cycle`` uniform steps).
+    history : bool
+        Whether the cycle will be kept whole (for a continuum contact's memory estimate).
     """
+    from .model.continuum.base import ContactModel
+
+    if isinstance(system_or_model, ContactModel):
+        if t0 is not None:
+            raise InputError("t0", "a continuum contact's cycle starts at t = 0")
+        return _continuum_scene(system_or_model, steps_per_cycle, placement, grid, history)
+    if grid is not None:
+        raise InputError("grid", "is for continuum contacts; a discrete system's grid is "
+                                 "made of steps_per_cycle and placement")
+    if steps_per_cycle is None:
+        steps_per_cycle = getattr(system_or_model, "default_steps", 2000)
+    placement = "contact" if placement is None else placement
     steps = _checks.positive_int("steps_per_cycle", steps_per_cycle, minimum=4)
     if placement not in PLACEMENTS:
         raise InputError("placement", f"must be one of {PLACEMENTS}, got {placement!r}")
     model = system_or_model if isinstance(system_or_model, SingleNode) else None
     system = model.system() if model is not None else system_or_model
     if not isinstance(system, ContactSystem):
-        raise InputError("scene", "expected a SingleNode or a ContactSystem, got "
-                                  f"{type(system_or_model).__name__}")
+        raise InputError("scene", "expected a SingleNode, a ContactSystem or a continuum "
+                                  f"contact, got {type(system_or_model).__name__}")
     T = system.period
     start = _start_time(system) if t0 is None else _checks.finite("t0", t0)
     end = start + T
@@ -158,6 +232,56 @@ def make_scene(system_or_model, steps_per_cycle: int = 1000, *, placement: str =
     else:
         Q, N = Rows(system.tangential, grid, system.m), Rows(reactions, grid, system.n)
     return Scene(system, model, grid, Q, N, transitions, placement, steps)
+
+
+def _continuum_scene(model, steps, placement, grid, history) -> Scene:
+    """A continuum contact's scene (module docstring): its normal problem solved on the grid,
+    after the checks (loads, memory) that need no work."""
+    from .model.continuum.base import gross_sliding
+
+    if placement not in (None, "uniform"):
+        raise InputError("placement", f"a continuum contact's steps are uniform (its cycle "
+                                      f"starts at t = 0); got {placement!r}")
+    if grid is not None:
+        t = _checks.finite_array("grid", grid).ravel()
+        if t.size < 5 or t[0] != 0.0 or not np.all(np.diff(t) > 0) or not math.isclose(
+                t[-1], model.period, rel_tol=1e-12):
+            raise InputError("grid", "must increase from 0 to the period, with at least 4 "
+                                     "steps")
+        steps = t.size - 1
+    else:
+        steps = _checks.positive_int("steps_per_cycle",
+                                     model.default_steps if steps is None else steps, 4)
+        t = np.linspace(0.0, model.period, steps + 1)
+    need = memory.continuum_bytes(model.nodes, model.dims, steps, history)
+    memory.check(need, "steps_per_cycle", f"{steps} steps x {model.nodes} nodes (d = "
+                                          f"{model.dims})")
+    gross_sliding(model, model.Q, steps if grid is None else 4)
+    limits, sizes, stats = model.normal_solution(t)
+    scene = Scene(None, model, t, np.empty(0), limits / model.mu, np.empty(0), "uniform", steps,
+                  limits=limits, sizes=sizes, stats=stats)
+    return _tangential(scene, model.Q)
+
+
+def with_tangential_load(scene: Scene, Q) -> Scene:
+    """A continuum contact's scene under the tangential load Q instead (the normal problem
+    shared: a map's points of one normal load), checked as :func:`make_scene` checks it."""
+    from .model.continuum.base import gross_sliding, load
+
+    if scene.system is not None:
+        raise InputError("scene", "with_tangential_load is for a continuum contact's scene")
+    Q = load("Q", Q)
+    if not Q.is_constant and not math.isclose(Q.period, scene.period, rel_tol=1e-12):
+        raise InputError("Q", f"must have the scene's period {scene.period!r}, got {Q.period!r}")
+    gross_sliding(scene.model, Q, scene.steps)
+    return _tangential(scene, Q)
+
+
+def _tangential(scene: Scene, Q) -> Scene:
+    model = scene.model
+    values = np.asarray(Q(scene.t), dtype=float).reshape(scene.t.shape)
+    return replace(scene, Q=values, scales=model.load_scales(Q), loads=(model.P, Q),
+                   _cache={})
 
 
 #: a scene whose Q and N would take more bytes than this keeps them as :class:`Rows`

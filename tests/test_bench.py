@@ -1,17 +1,25 @@
-"""`lcpfric bench` end to end on a tiny set (the full run is benchmarks/compare_backends.py)."""
+"""The backend comparison (benchmarks/compare_backends.py) end to end on a tiny set, run as
+users run it: error against run time, measured orders, Richardson's check of the coupled
+reference."""
 
 import csv
 import json
 import subprocess
 import sys
+from pathlib import Path
+
+SCRIPT = str(Path(__file__).resolve().parents[1] / "benchmarks" / "compare_backends.py")
 
 
-def test_bench_cli_small(tmp_path):
+def _run(*args, timeout=300):
+    return subprocess.run([sys.executable, SCRIPT, *args], capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def test_bench_small(tmp_path):
     out = tmp_path / "b"
-    p = subprocess.run([sys.executable, "-m", "lcpfric", "bench", "--cases", "separation",
-                        "--methods", "explicit,projection,exact", "--steps", "100,200,400,800,1600",
-                        "--out", str(out), "--json"], capture_output=True, text=True,
-                       timeout=300)
+    p = _run("--cases", "separation", "--methods", "explicit,projection,exact", "--steps",
+             "100,200,400,800,1600", "--out", str(out), "--json")
     assert p.returncode == 0, p.stderr
     headline = json.loads(p.stdout.strip().splitlines()[-1])
     assert headline["orders"]["projection"]["separation"] > 1.7
@@ -22,23 +30,22 @@ def test_bench_cli_small(tmp_path):
     assert (out / "compare.md").exists() and (out / "compare.png").exists()
 
 
-def test_bench_cli_bad_input_exit_2(tmp_path):
-    p = subprocess.run([sys.executable, "-m", "lcpfric", "bench", "--cases", "nope", "--out",
-                        str(tmp_path)], capture_output=True, text=True, timeout=120)
+def test_bench_bad_input_exit_2(tmp_path):
+    p = _run("--cases", "nope", "--out", str(tmp_path), timeout=120)
     assert p.returncode == 2 and "--cases" in p.stderr and "Traceback" not in p.stderr
+    p = _run("--cases", "chain-100", "--out", str(tmp_path / "b"), timeout=120)
+    assert p.returncode == 2 and "--cases" in p.stderr and "--coupled" in p.stderr
 
 
-def test_bench_coupled_chain_order_and_richardson(tmp_path, capsys):
+def test_bench_coupled_chain_order_and_richardson(tmp_path):
     """The coupled-case machinery on the small chain: explicit against method 'exact' is second
     order, and the Richardson extrapolation of explicit (independent of 'exact') agrees."""
-    from lcpfric.cli import main
-
     out = tmp_path / "c"
-    code = main(["bench", "--coupled", "--quick", "--budget", "30", "--cases",
-                 "chain-separation", "--methods", "exact,explicit", "--steps", "400,800,1600",
-                 "--out", str(out), "--json"])
-    assert code == 0
-    headline = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    p = _run("--coupled", "--quick", "--budget", "30", "--cases", "chain-separation",
+             "--methods", "exact,explicit", "--steps", "400,800,1600", "--out", str(out),
+             "--json")
+    assert p.returncode == 0, p.stderr
+    headline = json.loads(p.stdout.strip().splitlines()[-1])
     assert headline["orders"]["explicit"]["chain-separation"] >= 1.8
     rich = headline["richardson"]["chain-separation"]
     assert rich["steps"] == [800, 1600]
@@ -49,21 +56,3 @@ def test_bench_coupled_chain_order_and_richardson(tmp_path, capsys):
     rows = list(csv.DictReader(open(out / "compare-coupled.csv")))
     assert [r["note"].startswith("reference") for r in rows if r["method"] == "exact"] == [True]
     assert "Richardson" in (out / "compare-coupled.md").read_text()
-
-
-def test_richardson_is_exact_on_a_second_order_sequence():
-    from lcpfric.analysis.convergence import richardson
-
-    rows = [dict(case="c", method="explicit", steps_per_cycle=n, rel_error=1.0,
-                 W=2.0 + 3.0 / n**2, exact=2.0) for n in (100, 200, 400)]
-    r = richardson(rows, "c")
-    assert r["steps"] == (200, 400) and abs(r["W_rich"] - 2.0) < 1e-14
-    assert abs(r["finest_error"] - 3.0 / 400**2 / 2.0) < 1e-15
-
-
-def test_bench_coupled_case_names_are_checked(capsys, tmp_path):
-    from lcpfric.cli import main
-
-    code = main(["bench", "--cases", "chain-100", "--out", str(tmp_path / "b")])
-    err = capsys.readouterr().err
-    assert code == 2 and "--cases" in err and "--coupled" in err

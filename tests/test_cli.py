@@ -49,7 +49,7 @@ def test_every_subcommand_is_listed(capsys):
     for name in COMMANDS:
         assert name in out
     assert set(COMMANDS) == {"dissipation", "loop", "shakedown", "contact", "methods", "map",
-                             "figures", "paper-claims", "bench"}
+                             "figures", "paper-claims"}
 
 
 def test_subcommands_listed_and_extras_named_when_extras_are_missing(capsys, monkeypatch, tmp_path):
@@ -114,8 +114,6 @@ def test_input_error_is_renamed_from_its_attributes(capsys, monkeypatch):
     assert _common.option_for("P1 (NUM)", names) == "--P1 (NUM)"
     assert _common.option_for("--phi", names) == "--phi"
     assert _common.option_for("model", names) == "model"
-    bench = _common.option_names(sub["bench"], {"method": "--methods"})
-    assert _common.option_for("method", bench) == "--methods"
 
 
 def test_solver_failure_exits_1(capsys, monkeypatch):
@@ -273,14 +271,13 @@ def test_figures_output_checked_before_any_work(capsys, tmp_path, monkeypatch, n
 def test_map_and_figures_share_the_parent_rule(capsys, tmp_path):
     messages = []
     for argv in (["map", *GRID, "--out", tmp_path / "no" / "m.nc"],
-                 ["figures", "--out", tmp_path / "no" / "figs"],
-                 ["bench", "--out", tmp_path / "no" / "b"]):
+                 ["figures", "--out", tmp_path / "no" / "figs"]):
         code, _, err = run(capsys, *argv)
         assert_one_line_error(code, err, "--out")
         messages.append(err.split("--out: ", 1)[1])
     assert len(set(messages)) == 1  # the same rule, the same words
     assert not (tmp_path / "no").exists()
-    for name in ("map", "figures", "bench"):
+    for name in ("map", "figures"):
         code, out, _ = run(capsys, name, "--help")
         assert "parent directory must exist" in " ".join(out.split())
 
@@ -349,20 +346,6 @@ def test_interrupted_restart_does_not_leave_the_old_map(capsys, tmp_path, monkey
     code, text, err = run(capsys, "map", *GRID, "--out", out, "--no-progress", "--json")
     assert code == 0, err
     assert json.loads(text)["chunks_reused"] == 0  # computed again, not the old file
-
-
-# -- B8. options -----------------------------------------------------------------------------------
-@pytest.mark.parametrize("budget", ["-1", "0", "nan", "inf", "abc"])
-def test_bench_budget_must_be_positive_and_finite(capsys, tmp_path, budget):
-    code, _, err = run(capsys, "bench", "--budget", budget, "--out", tmp_path / "b")
-    assert_one_line_error(code, err, "--budget")
-    assert not (tmp_path / "b").exists()
-
-
-def test_bench_method_errors_name_methods(capsys, tmp_path):
-    code, _, err = run(capsys, "bench", "--methods", "explicit,foo", "--out", tmp_path / "b")
-    assert_one_line_error(code, err, "--methods:")
-    assert "--method:" not in err
 
 
 @pytest.mark.parametrize("address,expect", [
@@ -451,20 +434,6 @@ def test_missing_cvxpy_solver_names_its_package(capsys):
     assert code == 2 and "pip install ecos" in err
 
 
-def test_bench_without_matplotlib_claims_no_png(capsys, tmp_path, monkeypatch):
-    monkeypatch.setitem(sys.modules, "matplotlib", None)  # import matplotlib -> ImportError
-    out = tmp_path / "b"
-    out.mkdir()
-    (out / "compare.png").write_bytes(b"an old one")
-    code, text, err = run(capsys, "bench", "--cases", "separation", "--methods", "exact",
-                          "--out", out, "--json")
-    assert code == 0, err
-    first, headline = text.strip().splitlines()[-2:]
-    assert "compare.csv, compare.md" in first
-    assert "compare.png not drawn: matplotlib is not installed" in first
-    assert json.loads(headline)["files"] == ["compare.csv", "compare.md"]
-
-
 # -- B10. honest counts ----------------------------------------------------------------------------
 def test_steps_requested_and_used_are_both_printed(capsys):
     code, out, _ = run(capsys, "dissipation", *CASE, "--method", "explicit", "--steps", "400")
@@ -500,9 +469,6 @@ QUOTED = [  # the failing inputs of the new-user report
     (["figures", "--out", ""], "--out"),
     (["map", *GRID, "--out", "{tmp}/missing/m.nc"], "--out"),
     (["figures", "--out", "{tmp}/missing/figs"], "--out"),
-    (["bench", "--budget", "-1", "--out", "{tmp}/b"], "--budget"),
-    (["bench", "--budget", "nan", "--out", "{tmp}/b"], "--budget"),
-    (["bench", "--methods", "foo", "--out", "{tmp}/b"], "--methods"),
     (["map", *GRID, "--out", "{tmp}/m.nc", "--scheduler", "notanaddress"], "--scheduler"),
     (["dissipation", "--k11", "1e6", "--P1", "300", "--Q1", "200", "--f", "0.3"], "--P0"),
     (["dissipation", *CASE, "--method", "qpsolvers:nonexistent"], "qpsolvers:nonexistent"),
@@ -561,12 +527,6 @@ OWN = [
     (["figures", "--out", "{tmp}/f", "--points", "abc"], "--points"),
     (["figures", "--out", "{tmp}/f", "--format", "gif"], "--format"),
     (["figures", "--out", "{tmp}/f", "--grid", "1000000"], "--grid"),
-    (["bench", "--cases", "nope", "--out", "{tmp}/b"], "--cases"),
-    (["bench", "--steps", "2", "--out", "{tmp}/b"], "--steps"),
-    (["bench", "--steps", ",", "--out", "{tmp}/b"], "--steps"),
-    (["bench", "--budget", "0", "--out", "{tmp}/b"], "--budget"),
-    (["bench", "--methods", ",", "--out", "{tmp}/b"], "--methods"),
-    (["bench", "--out", "{tmp}/afile"], "--out"),
 ]
 
 
@@ -582,7 +542,7 @@ def test_bad_input_tour(capsys, tmp_path, argv, option):
 
 
 def test_tour_size():
-    assert len(QUOTED) >= 15 and len(OWN) >= 20
+    assert len(QUOTED) >= 12 and len(OWN) >= 20
 
 
 # -- contact ---------------------------------------------------------------------------------------
@@ -590,7 +550,7 @@ SPHERE = ("contact", "--R", "10", "--E", "200e3", "--nu", "0", "--mu", "0.5", "-
 
 
 def test_contact_json_against_mindlin_deresiewicz(capsys):
-    from lcpfric.contact import mindlin_deresiewicz_W
+    from lcpfric.model.continuum import mindlin_deresiewicz_W
 
     code, out, err = run(capsys, *SPHERE, "--P1", "0", "--Q1", "25", "--nodes", "500",
                          "--steps", "200", "--json")
@@ -620,7 +580,7 @@ def test_contact_bad_input_is_one_line(capsys, extra, option):
 
 
 def test_contact_cylinder_json_against_the_plane_closed_form(capsys):
-    from lcpfric.contact import cylinder_W
+    from lcpfric.model.continuum import cylinder_W
 
     code, out, err = run(capsys, *SPHERE, "--geometry", "cylinder", "--P1", "0", "--Q1", "25",
                          "--nodes", "200", "--steps", "200", "--json")
@@ -637,7 +597,7 @@ def test_contact_cylinder_json_against_the_plane_closed_form(capsys):
 def test_contact_halfspace_json_and_height_map(capsys, tmp_path):
     """--model halfspace: the contract's JSON fields plus dims, grid and the time split; a
     height map from a .npy file gives the sphere's W when it holds the sphere."""
-    from lcpfric.contact.halfspace import HalfSpace
+    from lcpfric.model.continuum.halfspace import HalfSpace
     from lcpfric.model.loads import Harmonic
 
     base = (*SPHERE, "--model", "halfspace", "--P1", "50", "--Q1", "20", "--phi", "0.5pi",
@@ -652,7 +612,7 @@ def test_contact_halfspace_json_and_height_map(capsys, tmp_path):
     assert res["model"] == "halfspace" and res["method"] == "newton-cg" and res["dims"] == 1
     m = HalfSpace.sphere(10.0, 200e3, 0.0, 0.5, Harmonic(100.0, 50.0), Harmonic(0.0, 20.0,
                          0.5 * np.pi), grid=12)
-    assert res["W"] == pytest.approx(m.solve(40).W, rel=1e-12)
+    assert res["W"] == pytest.approx(lcpfric.steady_state(m, steps_per_cycle=40).W, rel=1e-12)
     np.save(tmp_path / "h.npy", m.g0)
     code, out, err = run(capsys, "contact", "--heightmap", tmp_path / "h.npy", "--spacing",
                          m.h, *[a for a in base[1:] if a not in ("--model", "halfspace")
@@ -714,7 +674,7 @@ def test_contact_unresolved_slip_warns_in_one_line(capsys):
 def test_map_contact_halfspace_resumes(capsys, tmp_path):
     """lcpfric map --contact sphere --contact-model halfspace: through sweep, resumable, equal
     to the model's own solve."""
-    from lcpfric.contact.halfspace import HalfSpace
+    from lcpfric.model.continuum.halfspace import HalfSpace
     from lcpfric.model.loads import Harmonic
 
     out = tmp_path / "hs.nc"
@@ -732,4 +692,4 @@ def test_map_contact_halfspace_resumes(capsys, tmp_path):
         assert ds.attrs["model"] == "halfspace" and ds.attrs["grid"] == 10
     m = HalfSpace.sphere(1.0, 1.0, 0.0, 1.0, Harmonic(1.0, 0.5, 0.0), Harmonic(0.0, 0.4,
                          np.pi / 2), grid=10)
-    assert got == pytest.approx(m.solve(40, tol=1e-8).W_normalized, rel=1e-12)
+    assert got == pytest.approx(lcpfric.steady_state(m, steps_per_cycle=40, tol=1e-8).W_normalized, rel=1e-12)

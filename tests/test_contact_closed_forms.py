@@ -1,4 +1,4 @@
-"""The classical closed forms of lcpfric.contact: consistent with each other (Mindlin-Deresiewicz
+"""The classical closed forms of lcpfric.model.continuum.closed_forms: consistent with each other (Mindlin-Deresiewicz
 is the Ciavarella-Jäger chord area of the Hertz approach), with their small-amplitude limits, and
 with the loads they carry (the Hertz pressures integrate to P)."""
 
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from lcpfric.contact import (cattaneo_stick_ratio, ciavarella_jager_W, cylinder_contact,
+from lcpfric.model.continuum import (cattaneo_stick_ratio, ciavarella_jager_W, cylinder_contact,
                              cylinder_W, hertz_contact, mindlin_deresiewicz_W, moduli)
 from lcpfric.errors import InputError
 
@@ -53,7 +53,7 @@ def test_small_amplitude_limits_and_the_series_switch():
         assert cylinder_W(P, Q, MU, E, NU) == pytest.approx(
             2 * Q ** 3 / (3 * math.pi * MU * Es * P), rel=2 * x)
     # the series and the closed form agree where one hands over to the other
-    from lcpfric.contact import closed_forms as cf
+    from lcpfric.model.continuum import closed_forms as cf
 
     x = cf._SERIES
     direct = 1 - (1 - x) ** (5 / 3) - (5 * x / 6) * (1 + (1 - x) ** (2 / 3))

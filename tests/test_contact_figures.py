@@ -4,13 +4,14 @@ below 7 pt, TrueType fonts in the PDFs, every mark in a legend."""
 import json
 
 import numpy as np
+import lcpfric
 import pytest
 
 pytest.importorskip("matplotlib")
 pytest.importorskip("xarray")
 
 from lcpfric.cli import main  # noqa: E402
-from lcpfric.plotting import COLUMN_WIDTH, MIN_FONT_SIZE, PAGE_WIDTH  # noqa: E402
+from lcpfric.figures.style import COLUMN_WIDTH, MIN_FONT_SIZE, PAGE_WIDTH  # noqa: E402
 
 from test_figures import _renderer, _texts  # noqa: E402
 
@@ -21,8 +22,8 @@ COLUMN = ("hertz-zones", "cylinder-tractions", "sphere-tractions")
 @pytest.fixture(scope="module")
 def built():
     from lcpfric.analysis.sweep import sweep
-    from lcpfric.contact import figures as cf
-    from lcpfric.contact import HalfPlaneCylinder, MDRSphere
+    from lcpfric.figures import contact as cf
+    from lcpfric.model.continuum import HalfPlaneCylinder, MDRSphere
     from lcpfric.model import Harmonic
 
     axis = np.linspace(0, 2, 5)
@@ -32,13 +33,13 @@ def built():
     sphere = MDRSphere(1.0, 1.0, 0.0, 1.0, Harmonic(1.0, 1.5), Harmonic(0.0, 0.6, 1.0),
                        nodes=30, k_support=1.0)
     plane = HalfPlaneCylinder(1.0, 1.0, 0.0, 1.0, 1.0, Harmonic(0.0, 0.95), nodes=40)
-    first = plane.solve(80, record=True, max_cycles=1, on_nonconvergence="ignore")
+    first = lcpfric.steady_state(plane, steps_per_cycle=80, max_cycles=1, on_nonconvergence="ignore")
     ball = MDRSphere(1.0, 1.0, 0.0, 1.0, 1.0, Harmonic(0.0, 0.95), nodes=60)
-    ball_first = ball.solve(80, record=True, max_cycles=1, on_nonconvergence="ignore")
+    ball_first = lcpfric.steady_state(ball, steps_per_cycle=80, max_cycles=1, on_nonconvergence="ignore")
     return {"hertz-maps": cf.figure_hertz_maps(ds),
             "sphere-tractions": cf.figure_tractions(ball_first, ball),
             "hertz-phase": cf.figure_phase(phi, curves, cf.PHASE_CASES, ds),
-            "hertz-zones": cf.figure_zones(sphere.solve(60, record=True), "zones"),
+            "hertz-zones": cf.figure_zones(lcpfric.steady_state(sphere, steps_per_cycle=60), "zones"),
             "cylinder-tractions": cf.figure_tractions(first, plane)}
 
 

@@ -1,12 +1,13 @@
-"""The plane contact by half-plane boundary elements (lcpfric.contact.halfplane): the Hertz
+"""The plane contact by half-plane boundary elements (lcpfric.model.continuum.halfplane and the halfplane-pdas stepper): the Hertz
 pressure, Cattaneo's stick half-width, the plane Mindlin-Deresiewicz dissipation, the in-phase
 condition, W(φ + π) = W(φ), and separation held by a support."""
 
 import numpy as np
+import lcpfric
 import pytest
 
-from lcpfric.contact import cattaneo_stick_ratio, cylinder_contact, cylinder_W
-from lcpfric.contact.halfplane import HalfPlaneCylinder
+from lcpfric.model.continuum import cattaneo_stick_ratio, cylinder_contact, cylinder_W
+from lcpfric.model.continuum.halfplane import HalfPlaneCylinder
 from lcpfric.errors import InputError
 from lcpfric.model import Harmonic
 
@@ -24,43 +25,43 @@ def test_hertz_pressure_and_half_width():
     p = m.pressure(P0)
     ref = cylinder_contact(P0, R, E, NU)
     assert p.sum() * m.dx == pytest.approx(P0, rel=1e-12)
-    assert m.sizes([0.0])[0] == pytest.approx(ref["a"], abs=m.dx)
+    assert m.normal_solution([0.0])[1][0] == pytest.approx(ref["a"], abs=m.dx)
     exact = ref["p0"] * np.sqrt(np.maximum(0.0, 1 - (m.x / ref["a"]) ** 2))
     assert np.max(np.abs(p - exact)) < 0.01 * ref["p0"]  # the edge element: 0.6 %
 
 
 @pytest.mark.parametrize("x", [0.2, 0.5, 0.9])
 def test_plane_mindlin_deresiewicz(x):
-    r = cylinder(Q1=x, nodes=400).solve(400)
+    r = lcpfric.steady_state(cylinder(Q1=x, nodes=400), steps_per_cycle=400)
     ref = cylinder_W(P0, x * MU * P0, MU, E, NU)
     assert r.converged and r.W == pytest.approx(ref, rel=5e-3)  # the goal: 0.5 %
-    assert r.normalization == "W pi E*/(mu^2 P0^2)"
+    assert r.contact.normalization == "W pi E*/(mu^2 P0^2)"
 
 
 def test_cattaneo_stick_half_width():
     steps, m = 400, cylinder(Q1=0.9, nodes=400)
-    r = m.solve(steps, record=True, max_cycles=1, on_nonconvergence="ignore")
+    r = lcpfric.steady_state(m, steps_per_cycle=steps, max_cycles=1, on_nonconvergence="ignore")
     c = r.stick_size()
     for j in (20, 50, 80, 100):
         x = 0.9 * np.sin(2 * np.pi * j / steps)
-        assert c[j] / r.size[j] == pytest.approx(cattaneo_stick_ratio(x, "cylinder"),
-                                                 abs=2 * m.dx / r.size[j])
+        assert c[j] / r.contact.size[j] == pytest.approx(cattaneo_stick_ratio(x, "cylinder"),
+                                                 abs=2 * m.dx / r.contact.size[j])
 
 
 def test_in_phase_and_half_period():
-    W0 = cylinder(P1=0.5, Q1=0.4, nodes=200).solve(200).W_normalized
-    Wa = cylinder(P1=0.5, Q1=0.4, phi=0.5, nodes=200).solve(200).W_normalized
-    Wb = cylinder(P1=0.5, Q1=0.4, phi=0.5 + np.pi, nodes=200).solve(200).W_normalized
+    W0 = lcpfric.steady_state(cylinder(P1=0.5, Q1=0.4, nodes=200), steps_per_cycle=200).W_normalized
+    Wa = lcpfric.steady_state(cylinder(P1=0.5, Q1=0.4, phi=0.5, nodes=200), steps_per_cycle=200).W_normalized
+    Wb = lcpfric.steady_state(cylinder(P1=0.5, Q1=0.4, phi=0.5 + np.pi, nodes=200), steps_per_cycle=200).W_normalized
     assert W0 < 1e-3 * Wa and Wa > 1e-3
     assert Wb == pytest.approx(Wa, rel=1e-9)
 
 
 def test_separation_held_by_a_support_and_refusals():
     m = cylinder(P1=1.5, Q1=0.6, phi=0.3, nodes=100, k_support=1e3)
-    r = m.solve(200)
-    assert r.converged and r.W > 0 and r.size.min() == 0.0
+    r = lcpfric.steady_state(m, steps_per_cycle=200)
+    assert r.converged and r.W > 0 and r.contact.size.min() == 0.0
     with pytest.raises(InputError) as err:
-        cylinder(P1=1.5, Q1=0.6, phi=0.3, nodes=100).solve(200)
+        lcpfric.steady_state(cylinder(P1=1.5, Q1=0.6, phi=0.3, nodes=100), steps_per_cycle=200)
     assert err.value.parameter == "k_support"
     with pytest.raises(InputError) as err:
         cylinder(nodes=10 ** 5)
@@ -79,7 +80,7 @@ def test_as_an_lcpfric_system():
     for i in np.flatnonzero(np.isfinite(levels) & (levels > 0))[:4]:
         assert m.pressure(levels[i] * (1 - 1e-6))[i] == 0.0 < m.pressure(levels[i] * (1 + 1e-6))[i]
     scene = make_scene(m.system(), 150)
-    ref = m.solve(t=scene.t, tol=1e-12).W
+    ref = lcpfric.steady_state(lcpfric.make_scene(m, grid=scene.t), tol=1e-12).W
     for method in ("active-set", "clarabel"):
         r = lcpfric.steady_state(scene, method, tol=1e-12, locate_events=False)
         assert r.W == pytest.approx(ref, rel=1e-9), method
@@ -94,7 +95,7 @@ def test_gross_sliding_held_by_a_support(P1, Q1, phi, steps):
     there (a node flipping between its bounds) and ran out of iterations (SolverError after
     400); the increment then falls back to bounded-variable least squares, which ends."""
     m = cylinder(P1, Q1, phi * np.pi, nodes=400, k_support=1e4)
-    r = m.solve(steps)
+    r = lcpfric.steady_state(m, steps_per_cycle=steps)
     assert r.converged and r.W > 0
 
 
@@ -104,4 +105,4 @@ def test_bounded_least_squares_is_the_increment():
     a = cylinder(0.5, 0.4, 0.5 * np.pi, nodes=100, k_support=1e4)
     b = cylinder(0.5, 0.4, 0.5 * np.pi, nodes=100, k_support=1e4)
     b.increment = lambda state, lim, Q: b._bounded(state, lim, Q, lim > 1e-10 * b._force_scale)
-    assert b.solve(40).W == pytest.approx(a.solve(40).W, rel=1e-12)
+    assert lcpfric.steady_state(b, steps_per_cycle=40).W == pytest.approx(lcpfric.steady_state(a, steps_per_cycle=40).W, rel=1e-12)

@@ -1,16 +1,17 @@
-"""The half-space contact's figures (:mod:`lcpfric.contact.figures_halfspace`): page or column
+"""The half-space contact's figures (:mod:`lcpfric.figures.halfspace`): page or column
 wide, no text below 7 pt, TrueType fonts in the PDFs, every mark in a legend; the traction
 vectors need dims = 2; the animation refuses what it cannot write before any work."""
 
 import dataclasses
 
 import numpy as np
+import lcpfric
 import pytest
 
 pytest.importorskip("matplotlib")
 
 from lcpfric.errors import InputError  # noqa: E402
-from lcpfric.plotting import COLUMN_WIDTH, MIN_FONT_SIZE, PAGE_WIDTH  # noqa: E402
+from lcpfric.figures.style import COLUMN_WIDTH, MIN_FONT_SIZE, PAGE_WIDTH  # noqa: E402
 
 from test_figures import _renderer, _texts  # noqa: E402
 
@@ -18,12 +19,12 @@ PI = np.pi
 
 
 def _solved(dims, grid, steps):
-    from lcpfric.contact.halfspace import HalfSpace
+    from lcpfric.model.continuum.halfspace import HalfSpace
     from lcpfric.model.loads import Harmonic
 
     model = HalfSpace.sphere(1.0, 1.0, 0.3, 0.5, Harmonic(1.0, 0.5, 0.0, 2 * PI),
                              Harmonic(0.0, 0.22, 0.5, 2 * PI), grid=grid, dims=dims)
-    return model, model.solve(steps, record=True)
+    return model, lcpfric.steady_state(model, steps_per_cycle=steps)
 
 
 @pytest.fixture(scope="module")
@@ -52,7 +53,7 @@ def _check_print(fig, width):
 
 
 def test_zone_maps(plane, line):
-    from lcpfric.contact.figures_halfspace import ZONE_COLOURS, figure_zone_maps
+    from lcpfric.figures.halfspace import ZONE_COLOURS, figure_zone_maps
     from lcpfric.results import State
 
     model, result = plane
@@ -85,27 +86,27 @@ def test_zone_maps(plane, line):
 
 
 def test_zone_maps_refuse_bad_input(plane):
-    from lcpfric.contact.figures_halfspace import figure_zone_maps
+    from lcpfric.figures.halfspace import figure_zone_maps
 
     model, result = plane
     with pytest.raises(InputError) as err:
         figure_zone_maps(model, result, fractions=(0.2, 1.5))
     assert err.value.parameter == "fractions"
-    unrecorded = dataclasses.replace(result, state=None, F=None)   # as without record=True
+    ends = lcpfric.steady_state(model, steps_per_cycle=20, history=False)  # no recorded cycle
     with pytest.raises(InputError) as err:
-        figure_zone_maps(model, unrecorded)
+        figure_zone_maps(model, ends)
     assert err.value.parameter == "result"
 
 
 def test_traction_vectors(plane, line):
-    from lcpfric.contact.figures_halfspace import figure_traction_vectors
+    from lcpfric.figures.halfspace import figure_traction_vectors
 
     model, result = plane
     fig = figure_traction_vectors(model, result, 0.5, title="d = 2")
     _check_print(fig, COLUMN_WIDTH)
     ax = fig.axes[0]
     (arrows,) = [c for c in ax.collections if type(c).__name__ == "Quiver"]
-    contact = model.limits(result.t[20:21])[0] > 0
+    contact = model.normal_solution(result.t[20:21])[0][0] > 0
     assert arrows.N == np.count_nonzero(contact)           # small grid: every element
     (key,) = [a for a in ax.get_children() if type(a).__name__ == "QuiverKey"]
     assert r"\mu p_0" in key.text.get_text() and key.text.get_fontsize() >= MIN_FONT_SIZE
@@ -116,7 +117,7 @@ def test_traction_vectors(plane, line):
 
 
 def test_write_figures_truetype(tmp_path, plane, line):
-    from lcpfric.contact.figures_halfspace import write_halfspace_figures
+    from lcpfric.figures.halfspace import write_halfspace_figures
 
     paths = write_halfspace_figures(tmp_path / "d2", *plane)
     assert sorted(p.name for p in paths) == sorted(
@@ -132,7 +133,7 @@ def test_write_figures_truetype(tmp_path, plane, line):
 
 
 def test_animation_refuses_before_work(tmp_path, plane):
-    from lcpfric.contact.figures_halfspace import animate_zones
+    from lcpfric.figures.halfspace import animate_zones
 
     model, result = plane
     for bad in (tmp_path / "zones.mp4", tmp_path / "zones", tmp_path / "missing" / "z.gif"):
@@ -157,7 +158,7 @@ def test_animation_refuses_before_work(tmp_path, plane):
 def test_animation_written(tmp_path, plane):
     from PIL import Image
 
-    from lcpfric.contact.figures_halfspace import animate_zones
+    from lcpfric.figures.halfspace import animate_zones
 
     out = animate_zones(*plane, tmp_path / "zones.gif", frames=6, fps=5)
     assert out == tmp_path / "zones.gif" and out.is_file()

@@ -1,11 +1,12 @@
-"""Hertz maps (lcpfric.contact.maps): the batched MDR equals MDRSphere point by point; NaN where
+"""Hertz maps (lcpfric.analysis.contact_maps): the batched MDR equals MDRSphere point by point; NaN where
 pure load control has no equilibrium; the small-amplitude law W ∝ Q1³; sweeps with resume."""
 
 import numpy as np
+import lcpfric
 import pytest
 
-from lcpfric.contact.maps import mdr_W_normalized
-from lcpfric.contact.mdr import MDRSphere
+from lcpfric.analysis.contact_maps import mdr_W_normalized
+from lcpfric.model.continuum import MDRSphere
 from lcpfric.errors import InputError
 from lcpfric.model import Harmonic
 
@@ -22,9 +23,9 @@ def test_batch_equals_the_model_point_by_point(ks):
                       Harmonic(0.0, 50 * q1, ph), nodes=120, k_support=ks * k_t0)
         if ks == 0.0 and np.isnan(w):  # gross sliding under load control: refused there too
             with pytest.raises(InputError):
-                m.solve(120)
+                lcpfric.steady_state(m, steps_per_cycle=120)
             continue
-        assert w == pytest.approx(m.solve(120, tol=1e-10).W_normalized, rel=1e-9)
+        assert w == pytest.approx(lcpfric.steady_state(m, steps_per_cycle=120, tol=1e-10).W_normalized, rel=1e-9)
     assert np.isnan(got).sum() == (2 if ks == 0.0 else 0)
 
 

@@ -1,4 +1,4 @@
-"""The Hertz contact by dimensionality reduction (lcpfric.contact.mdr) against the classical
+"""The Hertz contact by dimensionality reduction (lcpfric.model.continuum.mdr and the mdr-bar stepper) against the classical
 closed forms: Mindlin-Deresiewicz at constant P, Cattaneo's stick radius, Mindlin and
 Deresiewicz's in-phase condition, W(φ + π) = W(φ), and the single node (one spring)."""
 
@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import lcpfric
-from lcpfric.contact import cattaneo_stick_ratio, mindlin_deresiewicz_W
-from lcpfric.contact.mdr import MDRSphere
+from lcpfric.model.continuum import cattaneo_stick_ratio, mindlin_deresiewicz_W
+from lcpfric.model.continuum import MDRSphere
 from lcpfric.errors import InputError
 from lcpfric.model import ContactSystem, Harmonic, IndependentSprings
 
@@ -22,18 +22,18 @@ def sphere(P1=0.0, Q1=0.25, phi=0.0, nu=0.0, **kw):
 @pytest.mark.parametrize("nu", [0.0, 0.3])
 @pytest.mark.parametrize("x", [0.2, 0.5, 0.9])
 def test_mindlin_deresiewicz_at_constant_load(x, nu):
-    r = sphere(Q1=x, nu=nu, nodes=2000).solve(400)
-    ref = mindlin_deresiewicz_W(P0, x * MU * P0, MU, r.k_t0)
+    r = lcpfric.steady_state(sphere(Q1=x, nu=nu, nodes=2000), steps_per_cycle=400)
+    ref = mindlin_deresiewicz_W(P0, x * MU * P0, MU, r.contact.k_t0)
     assert r.converged and r.W == pytest.approx(ref, rel=2e-4)  # the goal: 0.2 %
-    assert r.W_normalized == pytest.approx(r.W * r.k_t0 / (MU * P0) ** 2)
+    assert r.W_normalized == pytest.approx(r.W * r.contact.k_t0 / (MU * P0) ** 2)
 
 
 def test_second_order_in_the_steps():
     """At constant P the error halves twice per halving of the step (measured order 2)."""
     errs = []
     for steps in (100, 200, 400):
-        r = sphere(Q1=0.5, nodes=4000).solve(steps)
-        errs.append(abs(r.W / mindlin_deresiewicz_W(P0, 0.5 * MU * P0, MU, r.k_t0) - 1))
+        r = lcpfric.steady_state(sphere(Q1=0.5, nodes=4000), steps_per_cycle=steps)
+        errs.append(abs(r.W / mindlin_deresiewicz_W(P0, 0.5 * MU * P0, MU, r.contact.k_t0) - 1))
     orders = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
     assert np.all((orders > 1.8) & (orders < 2.2)), orders
 
@@ -41,20 +41,20 @@ def test_second_order_in_the_steps():
 def test_cattaneo_stick_radius_on_first_loading():
     """From the virgin state, Q rising at constant P: c/a = (1 - Q/(μP))^(1/3), to a cell."""
     steps, m = 400, sphere(Q1=0.9, nodes=2000)
-    r = m.solve(steps, record=True, max_cycles=1, on_nonconvergence="ignore")
+    r = lcpfric.steady_state(m, steps_per_cycle=steps, max_cycles=1, on_nonconvergence="ignore")
     c = r.stick_size()
     for j in (20, 50, 80, 100):  # Q(t_j) rises to 0.9 μ P0 at j = steps / 4
         x = 0.9 * np.sin(2 * np.pi * j / steps)
-        assert c[j] / r.size[j] == pytest.approx(cattaneo_stick_ratio(x), abs=2 * m.dx / r.size[j])
+        assert c[j] / r.contact.size[j] == pytest.approx(cattaneo_stick_ratio(x), abs=2 * m.dx / r.contact.size[j])
 
 
 def test_in_phase_dissipates_nothing_and_half_period_symmetry():
     """φ = 0, Q1 <= μ P1, P1 < P0: no dissipation in the steady state (to the discretization:
     it falls with the steps), while φ = 0.5 dissipates; W(φ + π) = W(φ)."""
-    W0 = [sphere(P1=0.5, Q1=0.4, nodes=2000).solve(s).W_normalized for s in (200, 400)]
+    W0 = [lcpfric.steady_state(sphere(P1=0.5, Q1=0.4, nodes=2000), steps_per_cycle=s).W_normalized for s in (200, 400)]
     assert W0[1] < W0[0] < 1e-5
-    Wa = sphere(P1=0.5, Q1=0.4, phi=0.5, nodes=500).solve(200).W_normalized
-    Wb = sphere(P1=0.5, Q1=0.4, phi=0.5 + np.pi, nodes=500).solve(200).W_normalized
+    Wa = lcpfric.steady_state(sphere(P1=0.5, Q1=0.4, phi=0.5, nodes=500), steps_per_cycle=200).W_normalized
+    Wb = lcpfric.steady_state(sphere(P1=0.5, Q1=0.4, phi=0.5 + np.pi, nodes=500), steps_per_cycle=200).W_normalized
     assert Wa > 1e-3 and Wb == pytest.approx(Wa, rel=1e-12)
 
 
@@ -65,7 +65,7 @@ def test_one_spring_is_the_single_node():
     ks = 3e3
     m = MDRSphere(R, E, 0.0, MU, Harmonic(P0, 0.6 * P0), Harmonic(0.0, 0.5 * MU * P0, 0.7),
                   nodes=1, k_support=ks)
-    r = m.solve(300, tol=1e-12)
+    r = lcpfric.steady_state(m, steps_per_cycle=300, tol=1e-12)
     k1 = m.k[0]
     node = ContactSystem([[k1 * ks / (k1 + ks)]], [MU],
                          (Harmonic(0.0, k1 / (k1 + ks) * 0.5 * MU * P0, 0.7 + np.pi),),
@@ -79,13 +79,13 @@ def test_normal_forces_carry_the_load_and_separation_with_support():
     t = np.linspace(0, 2 * np.pi, 50)
     np.testing.assert_allclose(m.normal_forces(t).sum(axis=1), np.maximum(m.P(t), 0),
                                rtol=1e-12, atol=1e-12 * P0)
-    r = m.solve(200)
-    assert r.converged and r.W > 0 and r.size.min() == 0.0
+    r = lcpfric.steady_state(m, steps_per_cycle=200)
+    assert r.converged and r.W > 0 and r.contact.size.min() == 0.0
 
 
 def test_refusals():
     with pytest.raises(InputError) as err:
-        sphere(P1=1.5, Q1=0.6, phi=0.3, nodes=100).solve(100)
+        lcpfric.steady_state(sphere(P1=1.5, Q1=0.6, phi=0.3, nodes=100), steps_per_cycle=100)
     assert err.value.parameter == "k_support" and "|Q(t)| > μ P(t)" in str(err.value)
     for kw, name in ((dict(nu=0.5), "nu"), (dict(nodes=0), "nodes"),
                      (dict(nodes=10 ** 7), "nodes"), (dict(k_support=-1.0), "k_support")):
@@ -101,15 +101,15 @@ def test_refusals():
 def test_any_profile_against_ciavarella_jager(x):
     """A power-law body f = r⁴ (in closed form, and through the numerical MDR transform of its
     slope): W at constant P is the Ciavarella-Jäger chord area of its approach curve C(P)."""
-    from lcpfric.contact import ciavarella_jager_W, moduli
-    from lcpfric.contact.mdr import Axisymmetric, PowerLaw
+    from lcpfric.model.continuum import ciavarella_jager_W, moduli
+    from lcpfric.model.continuum import Axisymmetric, PowerLaw
 
     eta = moduli(E, 0.3)["eta"]
     runs = []
     for profile in (PowerLaw(1.0, 4), Axisymmetric(lambda r: 4.0 * r ** 3)):
         m = MDRSphere(None, E, 0.3, MU, Harmonic(P0, 0.0), Harmonic(0.0, x * MU * P0),
                       nodes=2000, profile=profile)
-        runs.append(m.solve(400).W)
+        runs.append(lcpfric.steady_state(m, steps_per_cycle=400).W)
         ref = ciavarella_jager_W(m.approach, P0, x * MU * P0, MU, eta)
         assert runs[-1] == pytest.approx(ref, rel=2e-4)
     assert runs[1] == pytest.approx(runs[0], rel=1e-9)
@@ -118,7 +118,7 @@ def test_any_profile_against_ciavarella_jager(x):
 def test_inverse_transform_gives_hertz_pressure_and_cattaneo_traction():
     """The inverse MDR transform of the spring forces: Hertz's pressure from the normal forces,
     Cattaneo's shear traction from the tangential ones (away from the edge cells)."""
-    from lcpfric.contact import hertz_contact
+    from lcpfric.model.continuum import hertz_contact
 
     m = sphere(Q1=0.95, nodes=2000)
     h = hertz_contact(P0, R, E, 0.0)
@@ -126,7 +126,7 @@ def test_inverse_transform_gives_hertz_pressure_and_cattaneo_traction():
     inner = rr < 0.9
     p = m.tractions(m.normal_forces([0.0])[0])
     np.testing.assert_allclose(p[inner] / h["p0"], np.sqrt(1 - rr[inner] ** 2), atol=1e-3)
-    r = m.solve(400, record=True, max_cycles=1, on_nonconvergence="ignore")
+    r = lcpfric.steady_state(m, steps_per_cycle=400, max_cycles=1, on_nonconvergence="ignore")
     j = 40  # Q = 0.95 sin(2π 40/400) μ P0 on first loading
     x = 0.95 * np.sin(2 * np.pi * j / 400)
     c = cattaneo_stick_ratio(x)
@@ -148,7 +148,7 @@ def test_as_an_lcpfric_system():
     assert system.matrix_free and system.n == 60
     scene = make_scene(system, 150)
     assert scene.steps > 150  # the springs' contact instants are on the grid
-    ref = m.solve(t=scene.t, tol=1e-12).W
+    ref = lcpfric.steady_state(lcpfric.make_scene(m, grid=scene.t), tol=1e-12).W
     for method in ("active-set", "clarabel"):
         r = lcpfric.steady_state(scene, method, tol=1e-12, locate_events=False)
         assert r.W == pytest.approx(ref, rel=1e-9), method

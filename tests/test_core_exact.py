@@ -141,7 +141,8 @@ def test_exact_cycle_satisfies_coulomb_and_energy(P1, Q1, phi):
 
 
 def test_scalar_and_vectorized_event_loops_agree():
-    from lcpfric.exact import _run, _run_scalar
+    from lcpfric.exact.scalar import run_scalar
+    from lcpfric.exact.vectorized import run_vectorized
 
     rng = np.random.default_rng(7)
     n = 3000
@@ -149,8 +150,8 @@ def test_scalar_and_vectorized_event_loops_agree():
     Q1 = np.concatenate([rng.uniform(0, 3, n), rng.choice([0.5, 1.0, 2.0], 200)])  # Q̂1 > 0
     phi = np.concatenate([rng.uniform(0, 2 * np.pi, n),
                           rng.choice([0.0, np.pi / 2, np.pi], 200)])
-    W = _run(P1, Q1, phi)
-    Ws = np.array([_run_scalar(p, q, f)[0] for p, q, f in zip(P1, Q1, phi)])
+    W = run_vectorized(P1, Q1, phi)
+    Ws = np.array([run_scalar(p, q, f)[0] for p, q, f in zip(P1, Q1, phi)])
     assert np.max(np.abs(W - Ws) / np.maximum(np.abs(Ws), 1.0)) < 1e-13
     # the segments of the scalar loop integrate to its Ŵ (checked in detail below)
     assert np.all(np.isfinite(W))

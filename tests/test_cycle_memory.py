@@ -2,9 +2,10 @@
 preconditioner of the contact steady-state driver."""
 
 import numpy as np
+import lcpfric
 import pytest
 
-from lcpfric.cycle_memory import MAX_GAIN, SlipMemory
+from lcpfric.steppers.slip_memory import MAX_GAIN, SlipMemory
 from test_contact_halfspace import sphere
 
 
@@ -72,24 +73,25 @@ def test_memory_cuts_the_cycles_to_the_same_steady_state(monkeypatch):
     """d = 2, ν = 0.3, the cycles not accelerated otherwise: scaling each cycle's change by
     the memory reaches the steady state in a few cycles (14 in a run of this test), where the
     plain cycles still change by more than 1e-9 after 40, towards the same W."""
-    import lcpfric.contact.steady as steady
+    from lcpfric.periodic import acceleration
 
     class Plain:                    # no Anderson: the memory's own effect
         def __call__(self, x, g):
             return None
 
-    monkeypatch.setattr(steady, "Anderson", Plain)
-    with_memory = sphere(Q1=0.3, grid=16, nu=0.3, dims=2)
-    assert isinstance(with_memory.memory(), SlipMemory)
-    without = sphere(Q1=0.3, grid=16, nu=0.3, dims=2)
-    without.memory = None                                     # as restart, guess
-    r1 = with_memory.solve(40, max_cycles=40)
-    r0 = without.solve(40, max_cycles=40, on_nonconvergence="ignore")
+    monkeypatch.setattr(acceleration, "Anderson", Plain)
+    m = sphere(Q1=0.3, grid=16, nu=0.3, dims=2)
+    r1 = lcpfric.steady_state(m, steps_per_cycle=40, max_cycles=40)
+    r0 = lcpfric.steady_state(m, "newton-cg", 40, max_cycles=40, on_nonconvergence="ignore",
+                              slip_memory=False)
     assert r1.converged and r1.cycles <= 20
     assert r1.changes.size == r1.cycles - 1 and r1.changes[-1] == r1.change
     assert not r0.converged and r0.change > 1e-9              # still far from repeating
     assert r1.W == pytest.approx(r0.W, rel=1e-9)               # toward the same W
-    assert sphere(grid=16).memory() is None                   # d = 1 forgets by slipping
+    from lcpfric.steppers.newton_cg import NewtonCGStepper
+
+    d1 = lcpfric.make_scene(sphere(grid=16), 8)
+    assert NewtonCGStepper().memory(d1) is None               # d = 1 forgets by slipping
 
 
 def _d2_chain(n, coupling):
@@ -113,10 +115,11 @@ def test_discrete_d2_driver_uses_the_memory(monkeypatch, n, coupling, method, mo
     jumps alone, in fewer cycles (a single node: 5 against 9; a coupled 3-node chain, with
     Anderson's acceleration for the coupling: 9 against 13)."""
     import lcpfric
-    import lcpfric.periodic as periodic
+    from lcpfric.periodic import acceleration, driver
 
     fast = lcpfric.steady_state(_d2_chain(n, coupling), method, 200, tol=1e-10)
-    monkeypatch.setattr(periodic, "SlipMemory", lambda *a: None)
+    monkeypatch.setattr(driver, "choose", lambda scene, stepper, history, start:
+                        acceleration.Acceleration(aitken=True, first=start))
     slow = lcpfric.steady_state(_d2_chain(n, coupling), method, 200, tol=1e-10)
     assert fast.converged and slow.converged
     assert fast.W == pytest.approx(slow.W, rel=1e-9)

@@ -80,7 +80,7 @@ def test_anderson_reaches_the_fixed_point_of_an_affine_map():
     """A contraction with slow modes (ratios 0.99 to 0.1): the plain iteration needs thousands
     of steps for 1e-10, Anderson's acceleration a dozen (depth 5 and the default 10); a
     growing residual drops the history."""
-    from lcpfric.periodic import Anderson
+    from lcpfric.periodic.acceleration import Anderson
 
     rng = np.random.default_rng(3)
     Qm, _ = np.linalg.qr(rng.standard_normal((40, 40)))
@@ -104,7 +104,7 @@ def test_anderson_reaches_the_fixed_point_of_an_affine_map():
 def test_anderson_falls_back_to_aitken_where_it_stalls():
     """Residuals that shrink by less than a tenth three cycles running switch the accelerator to
     the plain iteration, which Aitken's jump then takes to the fixed point of one slow mode."""
-    from lcpfric.periodic import Anderson
+    from lcpfric.periodic.acceleration import Anderson
 
     acc = Anderson(5)
     x = np.array([1.0, 0.0])

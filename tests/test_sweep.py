@@ -16,7 +16,8 @@ pytest.importorskip("xarray")
 from lcpfric.analysis.analytic import jang_barber  # noqa: E402
 from lcpfric.errors import InputError  # noqa: E402
 from lcpfric.exact import exact_W_hat  # noqa: E402
-from lcpfric.analysis.sweep import parse_grid, parse_phi_list, sweep  # noqa: E402
+from lcpfric.analysis.sweep import sweep  # noqa: E402
+from lcpfric.cli._grids import parse_grid, parse_phi_list  # noqa: E402
 from lcpfric.methods import CLOSED_FORM, Method, register, unregister  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -288,7 +289,7 @@ def test_progress_bar_only_on_a_terminal(monkeypatch):
     pytest.importorskip("tqdm")
     import io
 
-    from lcpfric import sweep as module
+    from lcpfric.analysis import sweep as module
 
     class Terminal(io.StringIO):
         def isatty(self):

@@ -1,13 +1,14 @@
-"""Analyses built on the steady states: closed forms, shakedown, dissipation maps, and the
-comparison of methods.
+"""Analyses built on the steady states: closed forms, shakedown, dissipation maps, loops.
 
-``analytic``     the paper's analytical results at φ = 0 (Eqs. 11-12, corrected)
-``shakedown``    the exact shakedown test of the single node
-``sweep``        dissipation maps over (P̂1, Q̂1, φ): chunked, resumable, parallel, on Dask
-``chunkstore``   the on-disk store that makes a sweep resumable
-``runners``      where a sweep's chunks run: serially, on local processes, on Dask
-``convergence``  error against run time and convergence orders of every method
-                 (``lcpfric bench``)
+``analytic``      the paper's analytical results at φ = 0 (Eqs. 11-12, corrected)
+``shakedown``     the exact shakedown test of the single node
+``loop``          the hysteresis loop of a steady state (its area is W)
+``sweep``         dissipation maps over (P̂1, Q̂1, φ): chunked, resumable, parallel, on Dask
+``sweep_io``      a map's dataset and its NetCDF file
+``chunkstore``    the on-disk store that makes a sweep resumable
+``runners``       where a sweep's chunks run: serially, on local processes, on Dask
+``contact_maps``  the continuum contacts' maps (the MDR sphere batched, the half-space point by
+                  point on shared scenes)
 """
 
 from . import analytic

@@ -16,12 +16,15 @@ How the work is done
   work pays for it (or ``processes=N``); on Dask when ``scheduler`` is a ``dask.distributed.Client``
   or a scheduler address (``tcp://host:8786``: dask-jobqueue's SLURM/PBS clusters included).
 * **Nothing lost.** With ``out`` or ``store`` given, every finished chunk is saved at once to a
-  store directory (one file per chunk, written atomically; see :mod:`lcpfric._chunkstore`). Run
+  store directory (one file per chunk, written atomically; see :mod:`.chunkstore`). Run
   the same call again after Ctrl-C, a killed process or a lost worker and only the missing chunks
   are computed. When ``out`` is written the store is removed; calling again with an existing
   ``out`` of the same sweep just reads it.
 
-Zero amplitudes give the limit Ŵ = 0 (never NaN) for every method.
+Zero amplitudes give the limit Ŵ = 0 (never NaN) for every method. A point that reaches no
+steady state is NaN, never a value that did not converge: an error for the single node (the
+method's ``on_nonconvergence``), counted in the dataset's attribute ``unconverged_points`` for
+a contact map (whose NaN also marks loads without equilibrium: ``no_equilibrium_points``).
 """
 
 from __future__ import annotations
@@ -29,25 +32,22 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import os
 import sys
 import time
-from pathlib import Path
 from typing import Callable
 
 import numpy as np
 
 from .. import _checks, memory
-from .chunkstore import ChunkStore, fingerprint, temp_path
 from .._optional import require
-from ..methods import CLOSED_FORM, get_stepper, grid_function
-from .runners import default_workers, run_dask, run_processes, run_serial
 from ..errors import InputError, LcpfricError
+from ..methods import CLOSED_FORM, get_stepper, grid_function
+from .chunkstore import ChunkStore, fingerprint
+from .runners import default_workers, run_dask, run_processes, run_serial
+from .sweep_io import (DIMS, check_output, dataset, netcdf_engine, read_dataset, version,
+                       write_dataset, xarray_module)
 
-__all__ = ["sweep", "per_point_W_hat", "parse_grid", "parse_phi_list", "write_dataset",
-           "netcdf_engine"]
-
-DIMS = ("phi", "P1", "Q1")
+__all__ = ["sweep", "per_point_W_hat", "write_dataset", "netcdf_engine"]
 
 # Sizing of the chunks (the methods' own cost estimates are in the registry, lcpfric.methods)
 _DEFAULT_STEPS = 2000    # steady_state's default
@@ -108,32 +108,6 @@ def _axis(name: str, values, nonneg: bool) -> np.ndarray:
     return arr.astype(float)
 
 
-def parse_grid(text: str, name: str, angle: bool = False) -> np.ndarray:
-    """Parse ``START:STOP:NUM`` (NUM points, both ends included) or ``a,b,c`` (or one value).
-
-    With ``angle=True`` every number may be written as a multiple of pi (``0.6pi``, ``pi/2``).
-    """
-    parse = (lambda s: _checks.parse_angle(s, name)) if angle else (
-        lambda s: _checks.parse_number(s, name))
-    text = str(text).strip()
-    if ":" in text:
-        parts = text.split(":")
-        if len(parts) != 3:
-            raise InputError(name, f"expected START:STOP:NUM, got {text!r}")
-        start, stop = parse(parts[0]), parse(parts[1])
-        num = _checks.positive_int(f"{name} (NUM)", parts[2].strip())
-        return np.linspace(start, stop, num)
-    items = [s for s in text.split(",") if s.strip()]
-    if not items:
-        raise InputError(name, "expected START:STOP:NUM or a comma-separated list of values")
-    return np.array([parse(s) for s in items])
-
-
-def parse_phi_list(text: str) -> np.ndarray:
-    """Parse a φ list such as ``0,0.6pi,pi/2,1.2`` (radians) or ``0:pi:11``."""
-    return parse_grid(text, "phi", angle=True)
-
-
 def _options(entry, steps_per_cycle) -> dict:
     if entry.kind == CLOSED_FORM:
         if steps_per_cycle is not None:
@@ -174,149 +148,6 @@ def _chunking(n: int, chunk_size, cost: float, batched: bool) -> list[tuple[int,
     return [(a, min(a + size, n)) for a in range(0, n, size)]
 
 
-# -- output ----------------------------------------------------------------------------------------
-def _output(out) -> Path:
-    """Check the NetCDF output path before any work: a ``.nc`` file (not a directory) in an
-    existing directory."""
-    if not isinstance(out, (str, os.PathLike)) or not str(out).strip():
-        raise InputError("out", f"must be a file path ending in .nc, got {out!r}")
-    out = Path(out)
-    if out.suffix == ".zarr":
-        raise InputError("out", "Zarr output is not supported; write NetCDF (e.g. map.nc)")
-    if out.suffix != ".nc":
-        raise InputError("out", f"must end in .nc (the map is written as NetCDF-4), got "
-                                f"{str(out)!r}")
-    if out.is_dir():
-        raise InputError("out", f"{str(out)!r} is a directory; give a file path ending in .nc")
-    if not out.parent.is_dir():
-        raise InputError("out", f"the directory {str(out.parent)!r} does not exist")
-    return out
-
-
-def _xarray():
-    return require("xarray", "dist", "Sweeps (xarray datasets)")
-
-
-def netcdf_engine() -> str:
-    """``"h5netcdf"`` (the dist extra's writer) when its HDF5 layer h5py is installed, else
-    ``"netcdf4"``; both write NetCDF-4 files."""
-    import importlib.util
-
-    if importlib.util.find_spec("h5netcdf") and importlib.util.find_spec("h5py"):
-        return "h5netcdf"
-    if importlib.util.find_spec("netCDF4"):
-        return "netcdf4"
-    require("h5py", "dist", "NetCDF output")  # raises, naming the extra
-    return "h5netcdf"  # pragma: no cover
-
-
-def write_dataset(ds, out) -> Path:
-    """Write ``ds`` to the NetCDF-4 file ``out`` atomically (see :func:`netcdf_engine`): a
-    temporary file in the same directory, renamed over ``out`` once complete."""
-    out = Path(out)
-    engine = netcdf_engine()
-    tmp = temp_path(out)
-    try:
-        ds.to_netcdf(tmp, engine=engine)
-        os.replace(tmp, out)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return out
-
-
-def _read_dataset(out: Path):
-    return _xarray().load_dataset(out, engine=netcdf_engine())
-
-
-def _version() -> str:
-    try:
-        from .. import __version__
-        return str(__version__)
-    except ImportError:
-        from importlib.metadata import PackageNotFoundError, version
-        try:
-            return version("lcpfric")
-        except PackageNotFoundError:
-            return "unknown"
-
-
-#: the map's variable: single node, and a continuum contact (``contact=``)
-_VARIABLES = {
-    None: ("W_hat", {"long_name": "dimensionless dissipation per cycle",
-                     "description": "W_hat = k11 W / (f P0 Q1), Eq. (6) of the paper"}),
-    "sphere": ("W_normalized", {"long_name": "dimensionless dissipation per cycle",
-                                "description": "W k_t0 / (mu^2 P0^2), k_t0 = 2 a0 G*: the "
-                                               "Hertz contact (the attribute 'model': mdr, "
-                                               "dimensionality reduction; halfspace, "
-                                               "boundary elements)"}),
-}
-#: a continuum contact's options and defaults (``sweep(..., contact=)``), per model
-CONTACT_DEFAULTS = {"geometry": "sphere", "model": "mdr", "nodes": 200, "k_support": 0.0,
-                    "tol": 1e-8}
-HALFSPACE_DEFAULTS = {"geometry": "sphere", "model": "halfspace", "grid": 20, "dims": 1,
-                      "nu": 0.0, "k_support": 0.0, "tol": 1e-8}
-_CONTACT_STEPS = 200
-_HALFSPACE_STEPS = 100
-
-
-def _contact(contact, steps_per_cycle):
-    """``(function, options, seconds per point)`` of a contact map (``contact``: a dict of
-    :data:`CONTACT_DEFAULTS` keys, or of :data:`HALFSPACE_DEFAULTS` keys with ``"model":
-    "halfspace"``)."""
-    if not isinstance(contact, dict):
-        raise InputError("contact", f"must be a dict of {sorted(CONTACT_DEFAULTS)}, got "
-                                    f"{type(contact).__name__}")
-    model = contact.get("model", "mdr")
-    if model not in ("mdr", "halfspace"):
-        raise InputError("contact", f"model must be 'mdr' or 'halfspace', got {model!r}")
-    defaults = CONTACT_DEFAULTS if model == "mdr" else HALFSPACE_DEFAULTS
-    unknown = sorted(set(contact) - set(defaults))
-    if unknown:
-        raise InputError("contact", f"unknown key {unknown[0]!r}; keys: "
-                                    f"{', '.join(sorted(defaults))}")
-    spec = {**defaults, **contact}
-    if spec["geometry"] != "sphere":
-        raise InputError("contact", f"maps are available for the sphere, got geometry "
-                                    f"{spec['geometry']!r}")
-    if model == "halfspace":
-        from ..contact.maps import halfspace_W_normalized
-
-        steps = _checks.positive_int("steps_per_cycle", steps_per_cycle or _HALFSPACE_STEPS, 4)
-        grid = _checks.positive_int("grid", spec["grid"], 8)
-        if spec["dims"] not in (1, 2):
-            raise InputError("dims", f"must be 1 or 2, got {spec['dims']!r}")
-        options = {"grid": grid, "dims": int(spec["dims"]),
-                   "nu": _checks.nonnegative("nu", spec["nu"]),
-                   "k_support": _checks.nonnegative("k_support", spec["k_support"]),
-                   "tol": _checks.positive("tol", spec["tol"]), "steps_per_cycle": steps}
-        # measured: about 35 ns per grid node, step and cycle at d = 1 (three cycles)
-        return halfspace_W_normalized, options, 1.1e-7 * 1.8 * grid * grid * steps * \
-            (3 if options["dims"] == 2 else 1)
-    from ..contact.maps import mdr_W_normalized
-
-    steps = _checks.positive_int("steps_per_cycle", steps_per_cycle or _CONTACT_STEPS, 4)
-    options = {"nodes": _checks.positive_int("nodes", spec["nodes"]),
-               "k_support": _checks.nonnegative("k_support", spec["k_support"]),
-               "tol": _checks.positive("tol", spec["tol"]), "steps_per_cycle": steps}
-    # measured: about 60 ns per node, step and cycle, four cycles
-    return mdr_W_normalized, options, 2.4e-7 * options["nodes"] * steps
-
-
-def _dataset(values, phi, P1, Q1, attrs: dict, geometry=None):
-    xr = _xarray()
-    name, meta = _VARIABLES[geometry]
-    q_name = "Q1/(f P0)" if geometry is None else "Q1/(mu P0)"
-    return xr.Dataset(
-        {name: (DIMS, values.reshape(phi.size, P1.size, Q1.size), meta)},
-        coords={
-            "phi": ("phi", phi, {"long_name": "phase of Q relative to P", "units": "rad"}),
-            "P1": ("P1", P1, {"long_name": "normal load amplitude P1/P0"}),
-            "Q1": ("Q1", Q1, {"long_name": f"tangential load amplitude {q_name}"}),
-        },
-        attrs={k: v for k, v in attrs.items() if v is not None})
-
-
 def _progress_bar(enabled: bool, total: int, initial: int, method: str):
     enabled = bool(enabled) and sys.stderr.isatty()
     if not enabled:
@@ -339,7 +170,7 @@ def _run(tasks: dict, on_result, scheduler, processes, workers: int, seconds: fl
 
 
 # -- the sweep -------------------------------------------------------------------------------------
-def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = None,
+def sweep(P1, Q1, phi, method: str | None = None, *, steps_per_cycle: int | None = None,
           chunk_size: int | None = None, out=None, store=None, resume: bool = True,
           scheduler=None, processes: int | None = None, progress: bool = True,
           on_chunk: Callable | None = None, contact: dict | None = None):
@@ -352,10 +183,12 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
         Normalized amplitudes P̂1 = P1/P0 and Q̂1 = Q1/(f P0), >= 0 (1-D, or a scalar).
     phi : array_like
         Phases φ in radians (1-D, or a scalar).
-    method : str
-        ``"exact"`` (default: exact to round-off and the fastest), or any
-        :func:`lcpfric.steady_state` method: vectorized over the points where its registry
-        entry has a grid form (``projection``), else point by point (for checking).
+    method : str, optional
+        ``"exact"`` (the default for the single node: exact to round-off and the fastest), or
+        any :func:`lcpfric.steady_state` method: vectorized over the points where its registry
+        entry has a grid form (``projection``), else point by point (for checking). For a
+        contact map, a method that solves the contact (its default: ``mdr-bar`` or
+        ``newton-cg``).
     steps_per_cycle : int, optional
         Steps per cycle of a time-stepping method (not used by ``exact``).
     chunk_size : int, optional
@@ -383,21 +216,22 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
         Map a continuum contact instead of the single node: ``{"geometry": "sphere", "nodes":
         200, "k_support": 0.0, "tol": 1e-8}`` (the defaults) gives ``W_normalized = W k_t0 /
         (μ² P0²)`` of the Hertz contact by dimensionality reduction
-        (:func:`lcpfric.contact.maps.mdr_W_normalized`) over ``P1 = P1/P0``, ``Q1 = Q1/(μ
-        P0)`` and φ, with ``k_support`` in units of k_t0 and ``steps_per_cycle`` 200 by
-        default; ``method`` is then not used. ``{"model": "halfspace", "grid": 20, "dims": 1,
-        "nu": 0.0, "k_support": 0.0, "tol": 1e-8}`` (its defaults; ``steps_per_cycle`` 100)
-        maps the same quantity on the half-space boundary elements
-        (:func:`lcpfric.contact.maps.halfspace_W_normalized`). NaN marks loads that have no
-        equilibrium under pure load control (``k_support = 0`` and ``|Q| > μ P`` at some
-        instant).
+        (:func:`lcpfric.analysis.contact_maps.mdr_W_normalized`) over ``P1 = P1/P0``,
+        ``Q1 = Q1/(μ P0)`` and φ, with ``k_support`` in units of k_t0 and ``steps_per_cycle``
+        200 by default. ``{"model": "halfspace", "grid": 20, "dims": 1, "nu": 0.0,
+        "k_support": 0.0, "tol": 1e-8}`` (its defaults; ``steps_per_cycle`` 100) maps the same
+        quantity on the half-space boundary elements
+        (:func:`lcpfric.analysis.contact_maps.halfspace_W_normalized`). NaN marks loads that
+        have no equilibrium under pure load control (``k_support = 0`` and ``|Q| > μ P`` at
+        some instant), and points that reach no steady state (counted apart).
 
     Returns
     -------
     xarray.Dataset
-        ``W_hat(phi, P1, Q1)`` with attributes ``method``, ``steps_per_cycle``,
-        ``lcpfric_version``, ``seconds``, ``executor``, ``chunks``, ``chunks_computed``,
-        ``chunks_reused`` and ``fingerprint`` (identifies the sweep for resuming).
+        ``W_hat(phi, P1, Q1)`` (or ``W_normalized``) with attributes ``method``,
+        ``steps_per_cycle``, ``lcpfric_version``, ``seconds``, ``executor``, ``chunks``,
+        ``chunks_computed``, ``chunks_reused`` and ``fingerprint`` (identifies the sweep for
+        resuming); a contact map adds ``unconverged_points`` and ``no_equilibrium_points``.
 
     Examples
     --------
@@ -410,78 +244,42 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
     P1 = _axis("P1", P1, nonneg=True)
     Q1 = _axis("Q1", Q1, nonneg=True)
     phi = _axis("phi", phi, nonneg=False)
-    geometry = None
-    if contact is not None:
-        func, options, cost = _contact(contact, steps_per_cycle)
-        method = contact.get("model", "mdr")
-        geometry, entry, batched = "sphere", None, False
-    else:
-        method, func, entry = _check_method(method)
-        options = _options(entry, steps_per_cycle)
+    plan = _plan(P1, Q1, phi, method, steps_per_cycle, contact)
     if processes is not None:
         processes = _checks.positive_int("processes", processes)
-    out = None if out is None else _output(out)
-    _xarray()  # fail before any work if the dist extra is missing
+    out = None if out is None else check_output(out)
+    xarray_module()  # fail before any work if the dist extra is missing
     t0 = time.perf_counter()
-
     n = phi.size * P1.size * Q1.size
-    steps = options.get("steps_per_cycle", _DEFAULT_STEPS)
-    if contact is None:
-        batched = func is not None and entry.kind != CLOSED_FORM
-        cost = _cost(entry, batched, steps)
     workers = processes or default_workers()
-    chunks = _chunking(n, chunk_size, cost, batched)
-    largest = max(b - a for a, b in chunks)
-    in_flight = largest * (1 if scheduler is not None else workers)
-    need = (memory.map_bytes(n, P1.size + Q1.size + phi.size, method, steps, largest,
-                             1 if scheduler is not None else workers) if contact is None else
-            8.0 * (4 * n + P1.size + Q1.size + phi.size)
-            + (8.0 * 24 * options["nodes"] * in_flight if "nodes" in options  # MDR batch
-               else 8.0 * 40 * 1.2 * options["grid"] ** 2 * steps * workers))  # one model
-    memory.check(need, "P1", f"a map of {n} points ({phi.size} x {P1.size} x {Q1.size})")
-    digest = hashlib.sha256(b"".join(a.tobytes() for a in (phi, P1, Q1))).hexdigest()[:16]
-    description = {"dims": list(DIMS), "shape": [phi.size, P1.size, Q1.size],
-                   "coords_sha256": digest, "method": method,
-                   "options": json.loads(json.dumps(options, default=repr))}
-    if contact is not None:
-        description["contact"] = geometry
-    key = fingerprint({**description, "chunks": chunks})
-    attrs = {"title": "lcpfric dissipation map", "method": method,
-             "steps_per_cycle": options.get("steps_per_cycle", -1),
-             "lcpfric_version": _version(), "fingerprint": key, "chunks": len(chunks)}
-    if contact is not None:
-        attrs.update(geometry=geometry, model=method, k_support_over_k_t0=options["k_support"],
-                     tol=options["tol"])
-        attrs.update({k: options[k] for k in ("nodes", "grid", "dims", "nu") if k in options})
-
+    chunks = _chunking(n, chunk_size, plan["cost"], plan["batched"])
+    memory.check(_bytes(plan, n, chunks, phi, P1, Q1, scheduler, workers), "P1",
+                 f"a map of {n} points ({phi.size} x {P1.size} x {Q1.size})")
+    description, key, attrs = _describe(plan, phi, P1, Q1, chunks)
     if out is not None and resume and out.exists():
         try:
-            old = _read_dataset(out)
+            old = read_dataset(out)
         except Exception:
             old = None
         if old is not None and old.attrs.get("fingerprint") == key:
             old.attrs.update(chunks_computed=0, chunks_reused=len(chunks), executor="none",
                              seconds=time.perf_counter() - t0)
             return old
-
     if store is None and out is not None:
         store = out.with_name(out.name + ".parts")
     chunk_store = (None if store is None else
                    ChunkStore(store, {**description, "chunks": chunks},
                               [b - a for a, b in chunks], resume=resume))
-
     values = np.empty(n)
     tasks = {}
-    if func is None:
-        func, options = per_point_W_hat, {"method": method, **options}
     for index, (a, b) in enumerate(chunks):
         saved = chunk_store.load(index) if chunk_store is not None else None
         if saved is not None:
             values[a:b] = saved
         else:
-            tasks[index] = (func, options, P1, Q1, phi, a, b)
+            tasks[index] = (plan["func"], plan["options"], P1, Q1, phi, a, b)
     reused = len(chunks) - len(tasks)
-    bar = _progress_bar(progress, len(chunks), reused, method)
+    bar = _progress_bar(progress, len(chunks), reused, plan["method"])
     finished = [reused]
 
     def on_result(index, chunk_values):
@@ -497,16 +295,81 @@ def sweep(P1, Q1, phi, method: str = "exact", *, steps_per_cycle: int | None = N
 
     try:
         executor = _run(tasks, on_result, scheduler, processes, workers,
-                        sum(b - a for a, b in (chunks[i] for i in tasks)) * cost)
+                        sum(b - a for a, b in (chunks[i] for i in tasks)) * plan["cost"])
     finally:
         if bar is not None:
             bar.close()
-
     attrs.update(executor=executor, chunks_computed=len(tasks), chunks_reused=reused)
-    ds = _dataset(values, phi, P1, Q1, attrs, geometry)
+    if contact is not None:
+        attrs.update(_missing(values, phi, P1, Q1, plan["options"]))
+    ds = dataset(values, phi, P1, Q1, attrs, plan["geometry"])
     ds.attrs["seconds"] = time.perf_counter() - t0
     if out is not None:
         write_dataset(ds, out)
         if chunk_store is not None and store == out.with_name(out.name + ".parts"):
             chunk_store.remove()  # everything is in ``out`` now
     return ds
+
+
+def _plan(P1, Q1, phi, method, steps_per_cycle, contact) -> dict:
+    """What the sweep runs: the chunk function and its options, the cost per point, whether it
+    is batched, the method's name and the map's geometry (None: the single node)."""
+    if contact is not None:
+        from .contact_maps import map_spec
+
+        func, options, cost, own = map_spec(contact, steps_per_cycle, method)
+        return dict(func=func, options=options, cost=cost, batched=False, geometry="sphere",
+                    method=own if method is None else str(method).strip(),
+                    model=contact.get("model", "mdr"))
+    method, func, entry = _check_method("exact" if method is None else method)
+    options = _options(entry, steps_per_cycle)
+    steps = options.get("steps_per_cycle", _DEFAULT_STEPS)
+    batched = func is not None and entry.kind != CLOSED_FORM
+    if func is None:
+        func, options = per_point_W_hat, {"method": method, **options}
+    return dict(func=func, options=options, cost=_cost(entry, batched, steps), batched=batched,
+                geometry=None, method=method, steps=steps)
+
+
+def _bytes(plan, n, chunks, phi, P1, Q1, scheduler, workers) -> float:
+    largest = max(b - a for a, b in chunks)
+    axes = P1.size + Q1.size + phi.size
+    if plan["geometry"] is None:
+        return memory.map_bytes(n, axes, plan["method"], plan["steps"], largest,
+                                1 if scheduler is not None else workers)
+    from .contact_maps import map_bytes
+
+    return map_bytes(plan["options"], n, largest * (1 if scheduler is not None else workers),
+                     workers, axes)
+
+
+def _describe(plan, phi, P1, Q1, chunks):
+    """The sweep's description (what its chunks store keys on), fingerprint and attributes."""
+    options = {k: v for k, v in plan["options"].items() if k not in ("method",)}
+    digest = hashlib.sha256(b"".join(a.tobytes() for a in (phi, P1, Q1))).hexdigest()[:16]
+    description = {"dims": list(DIMS), "shape": [phi.size, P1.size, Q1.size],
+                   "coords_sha256": digest, "method": plan["method"],
+                   "options": json.loads(json.dumps(options, default=repr))}
+    if plan["geometry"] is not None:
+        description["contact"] = plan["geometry"]
+    key = fingerprint({**description, "chunks": chunks})
+    attrs = {"title": "lcpfric dissipation map", "method": plan["method"],
+             "steps_per_cycle": options.get("steps_per_cycle", -1),
+             "lcpfric_version": version(), "fingerprint": key, "chunks": len(chunks)}
+    if plan["geometry"] is not None:
+        attrs.update(geometry=plan["geometry"], model=plan["model"],
+                     k_support_over_k_t0=options["k_support"], tol=options["tol"])
+        attrs.update({k: options[k] for k in ("nodes", "grid", "dims", "nu") if k in options})
+    return description, key, attrs
+
+
+def _missing(values, phi, P1, Q1, options) -> dict:
+    """A contact map's NaN points: those that reached no steady state, and the loads without
+    equilibrium."""
+    from .contact_maps import unconverged_points
+
+    grid = np.meshgrid(phi, P1, Q1, indexing="ij")
+    nan = int(np.count_nonzero(np.isnan(values)))
+    bad = unconverged_points(values, grid[1].ravel(), grid[2].ravel(), grid[0].ravel(),
+                             options["k_support"], options.get("dims", 1))
+    return {"unconverged_points": bad, "no_equilibrium_points": nan - bad}

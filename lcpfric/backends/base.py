@@ -27,12 +27,13 @@ from .._checks import boolean, byte_budget, positive
 from ..errors import InputError, SolverError
 from ..results import CycleResult, State, StepState
 from ..steppers.base import Stepper
-from ..steppers.dissipation import increment_dissipation, scalar_share
-from .checks import scalar_residuals, scalar_worst, worst
+from ..steppers.dissipation import increment_dissipation
+from .checks import worst
 from .refine import accept
 from ..steppers.rates import first_event, path_is_exact
 from .problem import DEFAULT_PLAN_BUDGET, IncrementProblem, ScenePlan
 from .settings import CONIC_METHODS, settings_for
+from .scalar import ScalarCycle
 from .status import UNKNOWN, advice
 
 __all__ = ["ConvexStepper", "ConvexData", "quiet"]
@@ -61,7 +62,7 @@ class ConvexData:
     stats: dict
 
 
-class ConvexStepper(Stepper):
+class ConvexStepper(ScalarCycle, Stepper):
     """A stepper that solves problem (P) with a convex solver at every increment.
 
     A backend subclass sets ``name`` (registry name), ``can_soc`` (whether it expresses the d = 2
@@ -165,14 +166,14 @@ class ConvexStepper(Stepper):
         return self.STATUS_MAP.get(str(status), UNKNOWN)
 
     # -- the stepper contract ----------------------------------------------------------------
-    def check(self, system) -> None:
+    def check_system(self, system) -> None:
         if system.dims == 2 and not self.can_soc:
             raise InputError("method", f"{self.label!r} solves QPs only and cannot express the "
                                        f"d = 2 friction cone (a disc per node); use "
                                        f"{CONIC_METHODS}")
 
     def init(self, scene, u0=None) -> StepState:
-        self.check(scene.system)
+        self.check_system(scene.system)
         plan = ScenePlan(scene, self._build, self.handle_bytes, self.plan_budget)
         # the first step's problem now: the backend's settings are checked before any step
         first = np.flatnonzero(plan.contact[1:].any(axis=1))
@@ -187,7 +188,7 @@ class ConvexStepper(Stepper):
         """The solver object of a new problem (the plan's ``build``)."""
         return self.guarded(self.build, prob, self.settings_for(prob.dims))
 
-    def _bounds_at(self, data: ConvexData, prob: IncrementProblem, j: int):
+    def bounds_at(self, data: ConvexData, prob: IncrementProblem, j: int):
         """The bounds of grid instant j in the backend's form, made on first use."""
         bdata = data.bdata[j]
         if bdata is None:
@@ -221,7 +222,7 @@ class ConvexStepper(Stepper):
         data = state.data
         plan = data.plan
         if plan.m == 1:
-            return self._cycle_scalar(scene, state)
+            return self.cycle_scalar(scene, state)
         steps = scene.steps
         U = np.empty((steps + 1, plan.m))
         Fs = np.empty_like(U)
@@ -301,7 +302,7 @@ class ConvexStepper(Stepper):
             if prob is None:  # everything separated: F = 0, u = -C Q
                 return -plan.CQ[j], np.zeros(plan.m), None
             neg_CQ, b = plan.neg_CQ[j], plan.node_bounds[j]
-            bdata = self._bounds_at(data, prob, j)
+            bdata = self.bounds_at(data, prob, j)
             CQ = plan.CQ[j]
         else:
             prob = plan.interior_problem(k)
@@ -315,13 +316,13 @@ class ConvexStepper(Stepper):
         x, status, ok = self.guarded(self.solve, prob, q, bdata)
         stats["solves"] += 1
         if not ok:
-            self._fail(scene, k, status, None)
+            self.fail(scene, k, status, None)
         FA, stick, res, kind = accept(prob, np.array(x, dtype=float), q, b,
                                       refine=self.refine, active_tol=self.active_tol,
                                       check_tol=self.check_tol, fscale=plan.force_scale,
                                       cscale=plan.compliance_scale)
         if FA is None:
-            self._fail(scene, k, status, res)
+            self.fail(scene, k, status, res)
         stats[kind] += 1
         stats["max_residual"] = max(stats["max_residual"], worst(res))
         u1 = prob.Cf @ FA
@@ -349,7 +350,7 @@ class ConvexStepper(Stepper):
         bad = np.flatnonzero(~(eq <= self.check_tol))
         if bad.size:
             i = bad[0]
-            self._fail(scene, int(rows[i]) - 1, "solved", {"equilibrium": float(eq[i])})
+            self.fail(scene, int(rows[i]) - 1, "solved", {"equilibrium": float(eq[i])})
 
     def _states(self, plan, rows, dU):
         """Node states over the increments ending at ``rows``, from their slips ``dU``."""
@@ -362,7 +363,7 @@ class ConvexStepper(Stepper):
         S[~plan.contact[rows]] = State.SEPARATION
         return S
 
-    def _fail(self, scene, k, status, res):
+    def fail(self, scene, k, status, res):
         """Raise the SolverError of step k (status not solved, or residuals over tolerance)."""
         t0, t1 = scene.t[k], scene.t[k + 1]
         where = f"{self.label}: increment {k} (t = {t0:.6g} -> {t1:.6g})"
@@ -381,112 +382,6 @@ class ConvexStepper(Stepper):
         raise SolverError(msg, backend=self.label, status=str(status), residuals=res)
 
     # -- one node, d = 1: the same step in float arithmetic -----------------------------------
-    def _cycle_scalar(self, scene, state):
-        """The cycle of a one-unknown scene (the paper's node) in Python floats: the per-step
-        overhead around the solver call is a few float operations, not numpy calls. The same
-        algorithm as ``step`` (tested equal): refinement on the box, the residual check in its
-        scalar form, the stick node keeping its displacement exactly."""
-        data = state.data
-        plan = data.plan
-        steps = scene.steps
-        k11 = float(plan.K[0, 0])
-        c = float(plan.C[0, 0])
-        Q = plan.Q[:, 0].tolist()
-        CQ = plan.CQ[:, 0].tolist()
-        B = plan.bound[:, 0].tolist()
-        # one unknown: a single contact set besides the empty one, its problem held throughout
-        contact = plan.contact[:, 0].tolist()
-        prob = plan.problem(contact.index(True)) if True in contact else None
-        bdata = data.bdata
-        solve, guarded = self.solve, self.guarded
-        fs = plan.force_scale
-        tol = self.check_tol
-        delta = self.active_tol * fs
-        refine = self.refine
-        stats = dict(data.stats)
-        res_scale = (fs, c * fs * fs)
-        eps = tol * c * fs
-        U = [0.0] * (steps + 1)
-        Fs = [0.0] * (steps + 1)
-        S = [0] * (steps + 1)
-        u, F = float(state.u[0]), float(state.F[0])
-        U[0], Fs[0], S[0] = u, F, int(state.state[0])
-        W = 0.0
-        nsolve = nref = 0
-        worst_seen = stats["max_residual"]
-        for j in range(1, steps + 1):
-            if not contact[j]:
-                F1, u1, st = 0.0, -CQ[j], State.SEPARATION
-            else:
-                b = B[j]
-                qb = prob.q
-                qv = -(CQ[j] + u)
-                qb[0] = qv
-                bd = bdata[j]
-                if bd is None:
-                    bd = self._bounds_at(data, prob, j)
-                x, status, ok = guarded(solve, prob, qb, bd)
-                nsolve += 1
-                if not ok:
-                    self._fail(scene, j - 1, status, None)
-                Fx = float(x[0])
-                bad = math.inf
-                stuck = False
-                if refine:
-                    # identify (on the limit with the solver's sign, or stick), then correct:
-                    # a limit node whose slip has the wrong sign sticks, a stick node over
-                    # its limit goes to the limit
-                    ftr = -qv / c
-                    on_limit = abs(Fx) >= b - delta
-                    if on_limit:
-                        F1 = b if Fx >= 0.0 else -b
-                        on_limit = F1 * ftr >= b * b
-                    if not on_limit:
-                        if -b <= ftr <= b:
-                            F1, stuck = ftr, True
-                        else:
-                            F1 = b if ftr > 0 else -b
-                    bad = scalar_worst(F1, c * F1 + qv, b, c, res_scale)
-                    if bad <= tol:
-                        nref += 1
-                if not bad <= tol:
-                    stuck = False
-                    F1 = Fx
-                    bad = scalar_worst(F1, c * F1 + qv, b, c, res_scale)
-                    if not bad <= tol:
-                        g = c * F1 + qv
-                        self._fail(scene, j - 1, status, scalar_residuals(F1, g, b, c,
-                                                                          res_scale))
-                if bad > worst_seen:
-                    worst_seen = bad
-                # a refined stick node keeps its displacement exactly
-                u1 = u if stuck else c * F1 - CQ[j]
-                eq = abs(Q[j] + k11 * u1 - F1) / fs
-                if not eq <= tol:
-                    res = scalar_residuals(F1, c * F1 + qv, b, c, res_scale)
-                    res["equilibrium"] = eq
-                    self._fail(scene, j - 1, status, res)
-                du = u1 - u
-                st = (State.FORWARD if du > eps else
-                      (State.BACKWARD if du < -eps else State.STICK))
-                if b <= 0.0:
-                    st = State.SEPARATION
-            W += scalar_share(F, F1, u1 - u)
-            u, F = u1, F1
-            U[j], Fs[j], S[j] = u, F, st
-        stats["solves"] += nsolve
-        stats["refined"] += nref
-        stats["unrefined"] += nsolve - nref
-        stats["max_residual"] = worst_seen
-        stats.update(plan.problems.counts())
-        Ua = np.array(U)[:, None]
-        Fa = np.array(Fs)[:, None]
-        Sa = np.array(S, dtype=np.int8)[:, None]
-        end = StepState(Ua[-1].copy(), Fa[-1].copy(), Sa[-1].copy(), 0.0,
-                        replace(data, stats=stats))
-        return end, CycleResult(scene.t, Ua, Fa, Sa, W, self.stats(end))
-
-
 def quiet(fn, *args, **kwargs):
     """Call ``fn`` with the backend's warnings silenced (lcpfric raises its own errors)."""
     with warnings.catch_warnings():

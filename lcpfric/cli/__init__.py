@@ -14,7 +14,6 @@ subcommand         module               what it does
 ``map``            :mod:`.map`          a dissipation map over (φ, P̂1, Q̂1), to NetCDF
 ``figures``        :mod:`.figures`      the paper's figures
 ``paper-claims``   :mod:`.claims`       the paper's quantitative claims, recomputed
-``bench``          :mod:`.bench`        error against run time for every method
 =================  ===================  =======================================================
 
 What they share is in :mod:`._common`. The subcommand modules import only the standard library
@@ -47,7 +46,6 @@ COMMANDS = {
     "map": "map",
     "figures": "figures",
     "paper-claims": "claims",
-    "bench": "bench",
 }
 
 

@@ -17,11 +17,11 @@ def configure(p) -> None:
 def run(args) -> int:
     from dataclasses import asdict
 
-    from ..paper.claims import _jsonable, claims_markdown, paper_claims
+    from ..paper.claims import jsonable, claims_markdown, paper_claims
 
     claims = paper_claims(quick=args.quick)
     if args.json:
-        print(json.dumps([_jsonable(asdict(c)) for c in claims], indent=1, ensure_ascii=False))
+        print(json.dumps([jsonable(asdict(c)) for c in claims], indent=1, ensure_ascii=False))
     else:
         print(claims_markdown(claims))
     return 0

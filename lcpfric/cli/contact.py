@@ -22,10 +22,10 @@ DESCRIPTION = ("The periodic steady state of two identical elastic bodies (effec
 #: the models of each geometry (the first is the default)
 MODELS = {"sphere": ("mdr", "halfspace"), "cylinder": ("halfplane",), "punch": ("halfspace",),
           "heightmap": ("halfspace",)}
-#: the methods that solve each model's increments (the first is the default)
-METHODS = {"mdr": ("exact-increment",), "halfplane": ("active-set",),
-           "halfspace": ("newton-cg",)}
-OPTIONS = {"steps": "--steps", "k_support": "--k-support", "P": "--P0", "Q": "--Q1"}
+#: each model's class (the registry's ``models``: the methods that solve it)
+CLASSES = {"mdr": "MDRSphere", "halfplane": "HalfPlaneCylinder", "halfspace": "HalfSpace"}
+OPTIONS = {"steps": "--steps", "steps_per_cycle": "--steps", "k_support": "--k-support",
+           "P": "--P0", "Q": "--Q1"}
 #: fewest springs across the largest contact radius that resolve it
 MIN_NODES = 10
 
@@ -76,19 +76,20 @@ def configure(p) -> None:
     g.add_argument("--animation", default=None, metavar="FILE.gif",
                    help="also write an animation of the zones over the steady cycle")
     p.add_argument("--method", default=None, metavar="M",
-                   help="how each increment is solved: exact-increment (mdr: the bar's "
-                        "equation in closed form, no solver), active-set (halfplane: "
-                        "primal-dual active set on the stick set) or newton-cg (halfspace: "
-                        "semismooth Newton, conjugate gradients on FFT products); default: "
-                        "the model's")
+                   help="how each increment is solved, a method of `lcpfric methods` that "
+                        "solves the model: mdr-bar (mdr: the bar's equation in closed form, "
+                        "no solver), halfplane-pdas (halfplane: primal-dual active set on the "
+                        "stick set) or newton-cg (halfspace: semismooth Newton, conjugate "
+                        "gradients on FFT products); default: the model's")
     p.add_argument("--json", action="store_true", help="print one JSON object")
 
 
 def run(args) -> int:
     from .. import _checks
-    from ..contact import HalfPlaneCylinder, MDRSphere
     from ..errors import InputError
+    from ..model.continuum import HalfPlaneCylinder, MDRSphere
     from ..model.loads import Harmonic
+    from ..periodic import steady_state
 
     num = {k: _checks.parse_number(getattr(args, k), f"--{k}")
            for k in ("E", "nu", "mu", "P0", "P1", "Q1")}
@@ -99,10 +100,7 @@ def run(args) -> int:
     if model_name not in MODELS[geometry]:
         raise InputError("--model", f"{model_name!r} does not solve the {geometry}; use "
                                     f"--model {' or '.join(MODELS[geometry])}")
-    method = args.method or METHODS[model_name][0]
-    if method not in METHODS[model_name]:
-        raise InputError("--method", f"{method!r} does not solve the {model_name} model; "
-                                     f"use one of {', '.join(METHODS[model_name])}")
+    method = _method(args.method, model_name)
     steps = _count(args.steps, "--steps")
     if not num["P0"] > 0:
         raise InputError("--P0", f"the mean normal load must be > 0, got {num['P0']:g}")
@@ -130,17 +128,18 @@ def run(args) -> int:
         kind = MDRSphere if model_name == "mdr" else HalfPlaneCylinder
         model = kind(R, num["E"], num["nu"], num["mu"], P, Q, k_support=ks, nodes=nodes)
     record = model_name == "halfspace" and (args.figures or args.animation) is not None
-    r = model.solve(steps, record=record)
-    out = {"W": r.W, "W_normalized": r.W_normalized, "normalization": r.normalization,
-           "contact_size_max": r.contact_size_max, "nodes": r.nodes,
+    r = steady_state(model, method, steps, history=record)
+    c = r.contact
+    out = {"W": r.W, "W_normalized": c.W_normalized, "normalization": c.normalization,
+           "contact_size_max": c.contact_size_max, "nodes": c.nodes,
            "steps_per_cycle": r.steps_per_cycle, "cycles": r.cycles, "converged": r.converged,
            "seconds": r.seconds, "geometry": geometry, "model": model_name,
-           "method": method}
-    if r.k_t0 is not None:
-        out["k_t0"] = r.k_t0
+           "method": r.method}
+    if c.k_t0 is not None:
+        out["k_t0"] = c.k_t0
     if model_name == "halfspace":
-        st = model.stats
-        out.update(dims=model.dims, grid=model.N, nodes_in_contact_max=r.nodes_in_contact_max,
+        st = r.solver_stats
+        out.update(dims=model.dims, grid=model.N, nodes_in_contact_max=c.nodes_in_contact_max,
                    normal_seconds=st["normal_seconds"],
                    tangential_seconds=st["tangential_seconds"])
         out["files"] = _pictures(args, model, r)
@@ -149,9 +148,10 @@ def run(args) -> int:
         return 0
     size = "half-width" if geometry == "cylinder" else "radius"
     unit = " (per unit length)" if geometry == "cylinder" else ""
-    print(f"W = {r.W:.10g} per cycle{unit}; {r.normalization} = {r.W_normalized:.10g} "
-          f"(largest contact {size} {r.contact_size_max:.6g}; {r.nodes} nodes, "
-          f"{r.steps_per_cycle} steps per cycle, {r.cycles} cycles, {r.seconds:.2f} s)")
+    print(f"W = {r.W:.10g} per cycle{unit}; {c.normalization} = {c.W_normalized:.10g} "
+          f"(largest contact {size} {c.contact_size_max:.6g}; {c.nodes} nodes, "
+          f"{r.steps_per_cycle} steps per cycle, {r.cycles} cycles, {r.method}, "
+          f"{r.seconds:.2f} s)")
     for path in out.get("files", ()):
         print(f"wrote {path}")
     return 0
@@ -160,7 +160,7 @@ def run(args) -> int:
 def _halfspace(args, geometry, num, P, Q, ks, steps):
     """The half-space model of the options, every option checked before any work."""
     from .. import _checks
-    from ..contact.halfspace import HalfSpace
+    from ..model.continuum.halfspace import HalfSpace
     from ..errors import InputError
     from ._paths import output_dir, output_file
 
@@ -223,16 +223,14 @@ def _fractions(text) -> tuple:
 
 
 def _steps_memory(nodes, steps, dims, args) -> None:
-    """Refuse a grid and steps whose recorded cycle would not fit (before any work)."""
-    from ..contact.steady import MAX_BYTES
-    from ..errors import InputError
+    """Refuse a grid and steps whose cycle would not fit in memory (before any work: the
+    scene checks the same, after the model's normal solves)."""
+    from .. import memory
 
     record = (args.figures or args.animation) is not None
-    need = nodes * (steps + 1) * 8 * (1 + (1 + dims if record else 0))
-    if need > MAX_BYTES:
-        raise InputError("--grid" if args.heightmap is None else "--heightmap",
-                         f"{nodes} nodes x {steps} steps would take {need / 2**30:.1f} GiB "
-                         f"(at most {MAX_BYTES / 2**30:.0f}); a coarser grid or fewer steps")
+    memory.check(memory.continuum_bytes(nodes, dims, steps, record),
+                 "--grid" if args.heightmap is None else "--heightmap",
+                 f"{nodes} nodes x {steps} steps (d = {dims})")
 
 
 def _pictures(args, model, r) -> list:
@@ -240,16 +238,32 @@ def _pictures(args, model, r) -> list:
     if args.figures is not None:
         from pathlib import Path
 
-        from ..contact.figures_halfspace import write_halfspace_figures
+        from ..figures.halfspace import write_halfspace_figures
 
         Path(args.figures).mkdir(exist_ok=True)
         files += [str(f) for f in write_halfspace_figures(args.figures, model, r,
                                                           fractions=args.fractions)]
     if args.animation is not None:
-        from ..contact.figures_halfspace import animate_zones
+        from ..figures.halfspace import animate_zones
 
         files.append(str(animate_zones(model, r, args.animation)))
     return files
+
+
+def _method(text, model_name: str) -> str | None:
+    """``--method``: a registry method that solves the model (None: the model's own)."""
+    from ..errors import InputError
+    from ..methods import METHODS, get_method
+
+    if text is None:
+        return None
+    entry, _ = get_method(str(text).strip())
+    cls = CLASSES[model_name]
+    if cls not in entry.models:
+        names = [m.name for m in METHODS.values() if cls in m.models]
+        raise InputError("--method", f"{entry.name!r} does not solve the {model_name} model "
+                                     f"({cls}); use {' or '.join(names)}")
+    return entry.name
 
 
 def _count(text, option: str) -> int:

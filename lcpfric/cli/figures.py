@@ -53,7 +53,7 @@ def run(args) -> int:
                          else "--points", f"figures with --grid {grid} and --points {points}")
 
     if args.contact:
-        from ..contact.figures import write_contact_figures as write_figures
+        from ..figures.contact import write_contact_figures as write_figures
     else:
         from ..paper.figures import write_figures
     existed = out.is_dir()

@@ -29,7 +29,8 @@ def run(args) -> int:
         out = _common.output_file(args.out, "--out", FORMATS)
         _common.require_extras("loop figures", ["matplotlib"])
     model, res, seconds, assumed, _exact = dissipation.solve(args)
-    from ..analysis.loop import figure_loop, hysteresis_loop
+    from ..analysis.loop import hysteresis_loop
+    from ..figures.loop import figure_loop
     from ..results import State
 
     loop = hysteresis_loop(res)

@@ -37,12 +37,13 @@ def configure(p) -> None:
                         "negative ones too: -0.5pi,0.5pi), or START:STOP:NUM (0:pi:11)")
     p.add_argument("--out", required=True, metavar="FILE.nc",
                    help="output NetCDF file; must end in .nc, in an existing directory")
-    p.add_argument("--method", default="exact", help="method (default: exact)")
+    p.add_argument("--method", default=None,
+                   help="method (default: exact; with --contact, the contact's own: mdr-bar "
+                        "or newton-cg)")
     g = p.add_argument_group("continuum contact",
                              "map a continuum contact instead of the single node")
     g.add_argument("--contact", choices=("sphere",), default=None,
-                   help="sphere: the Hertz contact (then --Q1 is Q1/(mu P0) and --method is "
-                        "not used)")
+                   help="sphere: the Hertz contact (then --Q1 is Q1/(mu P0))")
     g.add_argument("--contact-model", choices=("mdr", "halfspace"), default="mdr",
                    help="mdr (dimensionality reduction, default) or halfspace (boundary "
                         "elements on a grid)")
@@ -163,7 +164,7 @@ def remove_store(store: Path) -> None:
 def run(args) -> int:
     from .. import _checks
 
-    method = str(args.method).strip()
+    method = None if args.method is None else str(args.method).strip()
     contact = None
     if args.contact is not None:
         contact = {"geometry": args.contact,
@@ -177,7 +178,12 @@ def run(args) -> int:
                            dims=int(args.dims), nu=nu)
         else:
             contact["nodes"] = _checks.positive_int("--nodes", args.nodes)
-        method = args.contact_model
+        from ..analysis.contact_maps import map_spec
+
+        own = map_spec(contact, None, method)[3]   # checks that the method solves it
+        method = own if method is None else method
+    elif method is None:
+        method = "exact"
     modules = ["xarray"] + ([] if _common.installed("netCDF4") else ["h5netcdf", "h5py"])
     if args.scheduler is not None:
         modules.append("distributed")
@@ -203,7 +209,7 @@ def run(args) -> int:
         _common.check_memory(need, args, "--P1, --Q1, --phi",
                              f"a map of {counts['phi']} x {counts['P1']} x {counts['Q1']} = "
                              f"{n:.4g} points")
-    from ..analysis.sweep import parse_grid
+    from ._grids import parse_grid
 
     P1 = parse_grid(args.P1, "--P1")
     Q1 = parse_grid(args.Q1, "--Q1")
@@ -220,7 +226,7 @@ def run(args) -> int:
 
     client = None if scheduler is None else connect(scheduler)
     try:
-        ds = sweep(P1, Q1, phi, method=method if contact is None else "exact",
+        ds = sweep(P1, Q1, phi, method=method,
                    steps_per_cycle=steps, chunk_size=chunk_size, out=out,
                    resume=not args.restart, scheduler=client, processes=processes,
                    progress=progress, contact=contact)
@@ -249,27 +255,43 @@ def run(args) -> int:
 
 
 def _report(ds, out: Path, as_json: bool) -> int:
+    import numpy as np
+
     name = "W_hat" if "W_hat" in ds else "W_normalized"
-    W = ds[name].fillna(-1.0)
-    where = W.argmax(...)
+    W = ds[name]
+    defined = int(W.count())
     summary = {
         "out": str(out), "method": ds.attrs["method"],
         "shape": {d: int(ds.sizes[d]) for d in DIMS}, "points": int(W.size),
         "seconds": round(float(ds.attrs["seconds"]), 4), "executor": ds.attrs["executor"],
         "chunks_computed": int(ds.attrs["chunks_computed"]),
         "chunks_reused": int(ds.attrs["chunks_reused"]),
-        f"{name}_max": float(W.max()), "undefined_points": int(ds[name].isnull().sum()),
-        "at": {d: float(ds[d][where[d]]) for d in DIMS},
+        f"{name}_max": None, "undefined_points": int(W.size) - defined, "at": None,
     }
+    for key in ("unconverged_points", "no_equilibrium_points"):
+        if key in ds.attrs:
+            summary[key] = int(ds.attrs[key])
+    if defined:                                     # NaN points are skipped (and counted)
+        where = W.fillna(-np.inf).argmax(...)
+        summary[f"{name}_max"] = float(W.max(skipna=True))
+        summary["at"] = {d: float(ds[d][where[d]]) for d in DIMS}
     if as_json:
         print(json.dumps(summary))
         return 0
-    at = ", ".join(f"{d}={v:.4g}" for d, v in summary["at"].items())
-    nan = (f"; {summary['undefined_points']} points without equilibrium (NaN)"
-           if summary["undefined_points"] else "")
+    best = (f"max {name} = {summary[name + '_max']:.6g} at "
+            f"{', '.join(f'{d}={v:.4g}' for d, v in summary['at'].items())}" if defined
+            else f"no point has a {name}")
+    nan = ""
+    if summary["undefined_points"]:
+        parts = []
+        if summary.get("no_equilibrium_points"):
+            parts.append(f"{summary['no_equilibrium_points']} without equilibrium")
+        if summary.get("unconverged_points"):
+            parts.append(f"{summary['unconverged_points']} that reached no steady state")
+        nan = f"; NaN at {summary['undefined_points']} points" + (
+            f" ({', '.join(parts)})" if parts else "")
     print(f"wrote {out}: {name} on {W.size} points (phi x P1 x Q1 = "
           f"{' x '.join(str(v) for v in summary['shape'].values())}) by {summary['method']} "
           f"in {summary['seconds']:.3g} s [{summary['executor']}; "
-          f"{summary['chunks_reused']} of {ds.attrs['chunks']} chunks reused]; "
-          f"max {name} = {summary[name + '_max']:.6g} at {at}{nan}")
+          f"{summary['chunks_reused']} of {ds.attrs['chunks']} chunks reused]; {best}{nan}")
     return 0

@@ -54,13 +54,13 @@ happens:
 
    so the slip starts at the smallest root of ``a sin s + b (1 - cos s) = c = |e|``; with
    t = tan(s/2) that is ``(2b - c) t² + 2a t - c = 0``, whose root
-   ``t = c / (a + sqrt(a² + (2b - c) c))`` has no cancellation however small c (:func:`_crossing`).
+   ``t = c / (a + sqrt(a² + (2b - c) c))`` has no cancellation however small c (:func:`crossing`).
    Its dissipation is ``∫_0^x L(s) (a cos s + b sin s) ds``, in closed form::
 
        2 J = g a S² + g b (D + S V) + a (S V - D) + b V²,
        S = sin x, V = 1 - cos x = 2 sin²(x/2), D = x - sin x (Taylor series below 0.5)
 
-   for small c every term positive and of the size of the result (:func:`_sform_W`, with x/c and
+   for small c every term positive and of the size of the result (:func:`sform_W`, with x/c and
    c/Q̂1 so that x below the smallest double still gives Ŵ). With x ≈ c/a, J ≈ g c²/(2a), hence
    for Q̂1 ≪ g the asymptote ``Ŵ ≈ 2 Q̂1 sin²φ (1 - 1/P̂1²)`` (checked in the tests). The
    earlier θ-form lost this segment entirely below Q̂1/P̂1 ≈ 1e-15 (``exact_W_hat(2, 1e-15, 1)``
@@ -73,13 +73,13 @@ happens:
    :func:`_stick_angles`). The arcsine of ``(1 - w)/R_hi`` next to -1 used before lost half the
    digits of τ ~ Q̂1^(-1/2): at Q̂1 = 1e17 Ŵ came out 2 instead of 4.
 3. *Slips next to the minimum of P̂ when P̂1 is close to 1* (L ~ Q̂1²): L and ``∫ L cos(θ + φ)``
-   are written in ``u = θ - 3π/2`` with half-angle products (:func:`_slip_integral`), and
+   are written in ``u = θ - 3π/2`` with half-angle products (:func:`slip_integral`), and
    ``R_lo - 1 = (R_lo² - 1)/(R_lo + 1)`` with ``R_lo² - 1 = (P̂1 - 1)(P̂1 + 1) + Q̂1 (2 P̂1 cos φ
    + Q̂1)`` (:func:`_extrema`).
 4. *A bound that barely moves while L and Q̂ change by O(1)* (R ≪ P̂1, e.g. Q̂1 = P̂1 with φ
    small): there ``½ (L_a² - L_b²) ± Q̂1 ∫ L cos(θ + φ)`` is the difference of terms a million
    times larger than the result, and the slip is integrated as ``R ∫ L cos(θ + α)`` instead; each
-   slip takes the form whose terms are smaller (:func:`_slip_integral`). At
+   slip takes the form whose terms are smaller (:func:`slip_integral`). At
    (P̂1, Q̂1, φ) = (1e3, 1e3, 1e-9) the split form alone was 19 % off.
 
 φ enters through sin φ and cos φ of the caller's value (exact to round-off for any φ); angles use
@@ -107,8 +107,6 @@ for inputs indistinguishable from the given ones. Results in the subnormal range
 from .api import ExactCycle, exact_cycle, exact_W_hat
 from .discrete import DiscreteCycle, exact_system_cycle
 from .formulas import BACKWARD, FORWARD, MAX_AMPLITUDE, SEPARATION, STICK
-from .scalar import _run_scalar  # noqa: F401 - the tests compare the two event loops
-from .vectorized import _run  # noqa: F401
 
-__all__ = ["exact_W_hat", "ExactCycle", "exact_cycle", "exact_system_cycle", "DiscreteCycle", "STICK", "FORWARD", "BACKWARD",
-           "SEPARATION", "MAX_AMPLITUDE"]
+__all__ = ["exact_W_hat", "ExactCycle", "exact_cycle", "exact_system_cycle", "DiscreteCycle",
+           "STICK", "FORWARD", "BACKWARD", "SEPARATION", "MAX_AMPLITUDE"]

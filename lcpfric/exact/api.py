@@ -8,8 +8,8 @@ import math
 import numpy as np
 
 from .formulas import (BACKWARD, FORWARD, MAX_AMPLITUDE, SEPARATION, STICK, TWO_PI)
-from .scalar import _run_scalar
-from .vectorized import _run
+from .scalar import run_scalar
+from .vectorized import run_vectorized
 from dataclasses import dataclass
 
 from .. import _checks
@@ -83,15 +83,15 @@ def exact_W_hat(P1, Q1, phi):
         if q == 0.0:
             return 0.0
         sf, cf = math.sin(f), math.cos(f)
-        W = _run_scalar(p, q, math.atan2(sf, cf) % TWO_PI, sf, cf, False)[0]
+        W = run_scalar(p, q, math.atan2(sf, cf) % TWO_PI, sf, cf, False)[0]
         return W if W > 0.0 else 0.0
     p, q, f, sf, cf, shape = _validated(P1, Q1, phi)
     W = np.zeros(p.shape)
     pos = q > 0.0
     if pos.all():
-        W = _run(p, q, f, sf, cf)
+        W = run_vectorized(p, q, f, sf, cf)
     elif pos.any():
-        W[pos] = _run(p[pos], q[pos], f[pos], sf[pos], cf[pos])
+        W[pos] = run_vectorized(p[pos], q[pos], f[pos], sf[pos], cf[pos])
     W = np.maximum(W, 0.0)  # Ŵ >= 0 analytically; clip round-off of exact-zero cycles
     W = W.reshape(shape)
     return W if W.ndim else float(W)
@@ -150,7 +150,7 @@ def exact_cycle(P1: float, Q1: float, phi: float) -> ExactCycle:
                                "arrays")
     p, q, f, sf, cf = float(p[0]), float(q[0]), float(f[0]), float(sf[0]), float(cf[0])
     if q > 0.0:
-        W, segments = _run_scalar(p, q, f, sf, cf)
+        W, segments = run_scalar(p, q, f, sf, cf)
     else:  # Q̂1 = 0: w stays where it is (any constant; 0 here) and nothing slips
         W, segments = 0.0, _zero_load_segments(p)
     segs = tuple((float(a), float(b), int(s), float(w0)) for a, b, s, w0 in segments

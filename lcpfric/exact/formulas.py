@@ -14,37 +14,37 @@ from ..results import State
 
 # node states as plain ints (the scalar loops compare them millions of times)
 STICK, FORWARD, BACKWARD, SEPARATION = (int(s) for s in State)
-_AFTER_FORWARD, _AFTER_BACKWARD, _RECONTACT = 0, 1, 2
+AFTER_FORWARD, AFTER_BACKWARD, RECONTACT = 0, 1, 2
 
 TWO_PI = 2.0 * math.pi
 HALF_PI = 0.5 * math.pi
-_MAX_EVENTS = 64  # a harmonic cycle has at most ~10 segments; this only guards against a bug
+MAX_EVENTS = 64  # a harmonic cycle has at most ~10 segments; this only guards against a bug
 # event angles are near 10 rad: crossings closer than this to each other are not resolved in θ
-_TIE = 8 * np.finfo(float).eps * 4 * math.pi
-_S_RANGE = HALF_PI + 1e-6  # the s-form is used for crossings within π/2 of separation
+TIE = 8 * np.finfo(float).eps * 4 * math.pi
+S_RANGE = HALF_PI + 1e-6  # the s-form is used for crossings within π/2 of separation
 MAX_AMPLITUDE = 1e300  # P̂1, Q̂1 above this could overflow intermediate products: refused
 
 
-def _mod0(x):
+def mod0(x):
     """x mod 2π in [0, 2π)."""
     return np.mod(x, TWO_PI)
 
 
-def _pmod(x):
+def pmod(x):
     """x mod 2π in (0, 2π]."""
     return TWO_PI - np.mod(-x, TWO_PI)
 
 
 # -- the last slip before separation, in the angle s = θ_s - θ --------------------------------
 
-def _delta_series(y):
+def delta_series(y):
     """(y - sin y) / y³ by its Taylor series (y < 0.5: truncation below 1e-16 relative)."""
     y2 = y * y
     return (1.0 / 6 - y2 * (1.0 / 120 - y2 * (1.0 / 5040 - y2 * (
         1.0 / 362880 - y2 * (1.0 / 39916800 - y2 / 6227020800.0)))))
 
 
-def _sform_W(g, a, b, y, xi, c, cq):
+def sform_W(g, a, b, y, xi, c, cq):
     """``(1/Q̂1) ∫_0^y L(s) (a cos s + b sin s) ds`` in the angle s before separation (scalar).
 
     ``L(s) = g sin s + (1 - cos s)``; ``xi = y / c`` and ``cq = c / Q̂1`` are passed so that an
@@ -55,21 +55,21 @@ def _sform_W(g, a, b, y, xi, c, cq):
         nu = 2.0 * (math.sin(0.5 * y) / y) ** 2
     else:  # y underflowed (Q̂1/P̂1 < 1e-308): the limits; xi still carries the size
         sig, nu = 1.0, 0.5
-    dl = _delta_series(y) if y < 0.5 else (y - math.sin(y)) / (y * y * y)
+    dl = delta_series(y) if y < 0.5 else (y - math.sin(y)) / (y * y * y)
     xa = xi * a
     inner = (g * xa * sig * sig + y * (xi * g * b * (dl + sig * nu) + xa * (sig * nu - dl))
              + y * y * xi * b * nu * nu)
     return 0.5 * (xi * inner) * c * cq
 
 
-def _sform_W_vec(g, a, b, y, xi, c, cq):
-    """Vectorized :func:`_sform_W`."""
+def sform_W_vec(g, a, b, y, xi, c, cq):
+    """Vectorized :func:`sform_W`."""
     with np.errstate(divide="ignore", invalid="ignore"):
         y = np.maximum(y, 0.0)
         ys = np.where(y > 0.0, y, 1.0)
         sig = np.where(y > 0.0, np.sin(ys) / ys, 1.0)
         nu = np.where(y > 0.0, 2.0 * (np.sin(0.5 * ys) / ys) ** 2, 0.5)
-        dl = np.where(y < 0.5, _delta_series(y), (ys - np.sin(ys)) / (ys * ys * ys))
+        dl = np.where(y < 0.5, delta_series(y), (ys - np.sin(ys)) / (ys * ys * ys))
         xa = xi * a
         inner = (g * xa * sig * sig + y * (xi * g * b * (dl + sig * nu) + xa * (sig * nu - dl))
                  + y * y * xi * b * nu * nu)
@@ -77,7 +77,7 @@ def _sform_W_vec(g, a, b, y, xi, c, cq):
     return np.where(np.isfinite(out), out, 0.0)
 
 
-def _crossing(a, b, c):
+def crossing(a, b, c):
     """The smallest s > 0 with ``a sin s + b (1 - cos s) = c`` (c > 0), and s / c; or (-1, 0)
     when that s is not in (0, π/2] (then the arcsine in θ is as accurate).
 
@@ -107,8 +107,8 @@ def _crossing(a, b, c):
     return x, (2.0 * math.atan(t) / t if t > 0.0 else 2.0) * tau
 
 
-def _crossing_vec(a, b, c):
-    """Vectorized :func:`_crossing`: (x, x / c) with x = -1 where there is no such root."""
+def crossing_vec(a, b, c):
+    """Vectorized :func:`crossing`: (x, x / c) with x = -1 where there is no such root."""
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         A = 2.0 * b - c
         sc = np.sqrt(c)
@@ -128,7 +128,7 @@ def _crossing_vec(a, b, c):
 
 # -- the other slip segments, in θ --------------------------------------------------------------
 
-def _slip_integral(a, b, P1, Q1, phi, sphi, cphi, L_a, L_b, sign, R, alpha, salpha, calpha):
+def slip_integral(a, b, P1, Q1, phi, sphi, cphi, L_a, L_b, sign, R, alpha, salpha, calpha):
     """``(1/Q̂1) ∫_a^b L |dw|`` over slip segments in θ (arrays), in the better conditioned of
     two forms (:func:`_slip_integral_scalar` is the scalar twin).
 
@@ -163,7 +163,7 @@ def _slip_integral(a, b, P1, Q1, phi, sphi, cphi, L_a, L_b, sign, R, alpha, salp
     sh, sm, cm = np.sin(h), np.sin(m), np.cos(m)
     Vh = 2.0 * np.sin(0.5 * h) ** 2
     vm = 2.0 * np.sin(0.5 * m) ** 2
-    h_sin = np.where(h < 0.5, h * h * h * _delta_series(h), h - sh)
+    h_sin = np.where(h < 0.5, h * h * h * delta_series(h), h - sh)
     I_c = sh * Vh - h_sin + sh * (2.0 * vm * cm - 2.0 * sm * sm * Vh)
     I_s = 2.0 * sm * sh * (vm + cm * Vh)  # V_a + V_b = 2 (1 - cos m cos h)
     one_m_P1 = 1.0 - P1
@@ -178,14 +178,14 @@ def _slip_integral(a, b, P1, Q1, phi, sphi, cphi, L_a, L_b, sign, R, alpha, salp
     return np.where(use_direct, direct, split)
 
 
-def _L(P1, theta):
+def L_of(P1, theta):
     """L = max(P̂, 0) at θ, as ``(1 - P̂1) + 2 P̂1 sin²((θ - 3π/2)/2)`` (exact next to the minimum
     of P̂ when P̂1 is close to 1)."""
     return np.maximum(0.0, (1.0 - P1) + 2.0 * P1 * np.sin(0.5 * (theta - 1.5 * math.pi)) ** 2)
 
 
 @dataclass
-class _Coefficients:
+class Coefficients:
     P1: np.ndarray
     Q1: np.ndarray
     phi: np.ndarray

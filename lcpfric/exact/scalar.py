@@ -5,14 +5,14 @@ from __future__ import annotations
 
 import math
 
-from .formulas import (_AFTER_BACKWARD, _AFTER_FORWARD, BACKWARD, _crossing, _delta_series,
-                       FORWARD, HALF_PI, _MAX_EVENTS, _RECONTACT, _S_RANGE, SEPARATION, _sform_W,
-                       STICK, _TIE, TWO_PI)
+from .formulas import (AFTER_BACKWARD, AFTER_FORWARD, BACKWARD, crossing, delta_series,
+                       FORWARD, HALF_PI, MAX_EVENTS, RECONTACT, S_RANGE, SEPARATION, sform_W,
+                       STICK, TIE, TWO_PI)
 
 
 def _slip_integral_scalar(a, b, P1, Q1, phi, sphi, cphi, L_a, L_b, sign, R, alpha, salpha,
                           calpha):
-    """Scalar :func:`_slip_integral`, computing only the form it uses."""
+    """Scalar :func:`slip_integral`, computing only the form it uses."""
     h = 0.5 * (b - a)
     one_m_P1 = 1.0 - P1
     T = abs(one_m_P1) + 4.0 * P1
@@ -23,7 +23,7 @@ def _slip_integral_scalar(a, b, P1, Q1, phi, sphi, cphi, L_a, L_b, sign, R, alph
     sh, sm, cm = math.sin(h), math.sin(m), math.cos(m)
     Vh = 2.0 * math.sin(0.5 * h) ** 2
     vm = 2.0 * math.sin(0.5 * m) ** 2
-    h_sin = h * h * h * _delta_series(h) if h < 0.5 else h - sh
+    h_sin = h * h * h * delta_series(h) if h < 0.5 else h - sh
     I_c = sh * Vh - h_sin + sh * (2.0 * vm * cm - 2.0 * sm * sm * Vh)
     I_s = 2.0 * sm * sh * (vm + cm * Vh)
     K = one_m_P1 * 2.0 * (sm * cphi + cm * sphi) * sh + P1 * (cphi * I_s + sphi * I_c)
@@ -32,9 +32,9 @@ def _slip_integral_scalar(a, b, P1, Q1, phi, sphi, cphi, L_a, L_b, sign, R, alph
     return 0.5 * (L_a - L_b) * ((L_a + L_b) / Q1) + sign * K
 
 
-def _run_scalar(P1: float, Q1: float, phi: float, sphi: float | None = None,
+def run_scalar(P1: float, Q1: float, phi: float, sphi: float | None = None,
                 cphi: float | None = None, record: bool = True):
-    """The same event loop as :func:`_run` for one point, in scalar arithmetic (about 10x faster
+    """The same event loop as :func:`run_vectorized` for one point, in scalar arithmetic (about 10x faster
     than numpy on one-element arrays). Needs Q̂1 > 0. Returns (Ŵ, segments); segments are
     collected only if ``record``."""
     if sphi is None:
@@ -74,7 +74,7 @@ def _run_scalar(P1: float, Q1: float, phi: float, sphi: float | None = None,
         eq_c = -2.0 * sphi * (g / math.hypot(1.0, g))
         w = -Q1 * math.sin(theta_c + phi)
         pl, ph = (theta_c + a_lo) % TWO_PI, (theta_c + a_hi) % TWO_PI
-        kind = _RECONTACT
+        kind = RECONTACT
         if HALF_PI <= pl < 1.5 * math.pi:
             state, psi = FORWARD, pl
         elif ph >= 1.5 * math.pi or ph < HALF_PI:
@@ -84,16 +84,16 @@ def _run_scalar(P1: float, Q1: float, phi: float, sphi: float | None = None,
     else:
         th = 1.5 * math.pi - a_lo
         stop = th + TWO_PI
-        w, state, kind, psi = lo_max, STICK, _AFTER_FORWARD, 0.0
+        w, state, kind, psi = lo_max, STICK, AFTER_FORWARD, 0.0
     W = 0.0
     x_f = -1.0  # s = θ_s - θ at the start of a slip found in s (else -1)
-    for _ in range(_MAX_EVENTS):
+    for _ in range(MAX_EVENTS):
         if state == STICK:
             d_lo = d_hi = math.inf
-            if kind == _RECONTACT:
+            if kind == RECONTACT:
                 d_lo, up_lo = TWO_PI - (-(math.pi - 2.0 * pl)) % TWO_PI, (math.pi - pl) % TWO_PI
                 d_hi, dn_hi = TWO_PI - (-(math.pi - 2.0 * ph)) % TWO_PI, math.pi - ph
-            elif kind == _AFTER_FORWARD:
+            elif kind == AFTER_FORWARD:
                 if X_f == X_f:  # not NaN
                     d_hi, dn_hi = TWO_PI - (delta - X_f) % TWO_PI, X_f - HALF_PI
             elif X_b == X_b:
@@ -102,24 +102,24 @@ def _run_scalar(P1: float, Q1: float, phi: float, sphi: float | None = None,
             fin = 0
             # the last crossing before separation, found in s = θ_s - θ (used only within π/2
             # of separation: an earlier event needs no s)
-            if sep and (t_lo if t_lo < t_hi else t_hi) > stop - _S_RANGE:
-                eq = eq_c if kind == _RECONTACT else (w + q_s) / Q1
+            if sep and (t_lo if t_lo < t_hi else t_hi) > stop - S_RANGE:
+                eq = eq_c if kind == RECONTACT else (w + q_s) / Q1
                 e = eq * Q1
-                if e == 0.0 and kind == _RECONTACT and g > 0.0:
+                if e == 0.0 and kind == RECONTACT and g > 0.0:
                     # θ_c and θ_s are both roots of lo = w and of hi = w (a bound crosses a
                     # level twice a period): w sticks to separation
                     t_lo = t_hi = math.inf
-                elif e < 0.0 and kind != _AFTER_FORWARD:
-                    x, xi = _crossing(g - dq_s, 1.0 - q_s, -e)
+                elif e < 0.0 and kind != AFTER_FORWARD:
+                    x, xi = crossing(g - dq_s, 1.0 - q_s, -e)
                     if 0.0 <= x <= stop - th:
                         t_lo, fin = stop - x, FORWARD
-                        if t_hi > t_lo - _TIE:  # not resolved before it: w is above hi's path
+                        if t_hi > t_lo - TIE:  # not resolved before it: w is above hi's path
                             t_hi = math.inf
-                elif e > 0.0 and kind != _AFTER_BACKWARD:
-                    x, xi = _crossing(g + dq_s, 1.0 + q_s, e)
+                elif e > 0.0 and kind != AFTER_BACKWARD:
+                    x, xi = crossing(g + dq_s, 1.0 + q_s, e)
                     if 0.0 <= x <= stop - th:
                         t_hi, fin = stop - x, BACKWARD
-                        if t_lo > t_hi - _TIE:
+                        if t_lo > t_hi - TIE:
                             t_lo = math.inf
             if t_lo <= t_hi and (t_lo < stop or fin == FORWARD):
                 state, psi, t_end = FORWARD, up_lo, t_lo
@@ -137,15 +137,15 @@ def _run_scalar(P1: float, Q1: float, phi: float, sphi: float | None = None,
             w_end = lo_max if fwd else hi_min
             if x_f >= 0.0:  # found in s: reaches separation unless its bound turns first
                 a_s, b_s = (g - dq_s, 1.0 - q_s) if fwd else (g + dq_s, 1.0 + q_s)
-                W += _sform_W(g, a_s, b_s, x_f, xi, c_f, cq_f)
+                W += sform_W(g, a_s, b_s, x_f, xi, c_f, cq_f)
                 if a_s >= 0.0:
                     record and segments.append((th, stop, state, w))
                     break
                 s_m = min(math.atan2(-a_s, b_s), x_f)  # the bound's extremum
-                W -= _sform_W(g, a_s, b_s, s_m, s_m / c_f, c_f, cq_f)
+                W -= sform_W(g, a_s, b_s, s_m, s_m / c_f, c_f, cq_f)
                 record and segments.append((th, stop - s_m, state, w))
                 th, w, x_f = stop - s_m, w_end, -1.0
-                kind = _AFTER_FORWARD if fwd else _AFTER_BACKWARD
+                kind = AFTER_FORWARD if fwd else AFTER_BACKWARD
                 state = STICK
                 continue
             end_phase = 1.5 * math.pi if fwd else HALF_PI
@@ -170,7 +170,7 @@ def _run_scalar(P1: float, Q1: float, phi: float, sphi: float | None = None,
             w = w_end
             if done:
                 break
-            kind = _AFTER_FORWARD if fwd else _AFTER_BACKWARD
+            kind = AFTER_FORWARD if fwd else AFTER_BACKWARD
             state = STICK
     else:  # pragma: no cover - would be a bug in the event logic
         raise RuntimeError("exact solver: event loop did not terminate; please report this case")

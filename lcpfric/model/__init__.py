@@ -6,6 +6,8 @@ node, and builders of common systems.
 ``system``       :class:`ContactSystem`: ``F = Q + K u``, ``|F_i| <= f_i N_i`` (Eqs. 2-3)
 ``single_node``  :class:`SingleNode` (Fig. 2) and the normalization of Eq. (6)
 ``builders``     :func:`chain`, :func:`block_diagonal`
+``continuum``    continuum contacts: :class:`MDRSphere`, :class:`HalfPlaneCylinder`,
+                 :class:`HalfSpace` (imported on first use)
 """
 
 from .builders import block_diagonal, chain, chain_stiffness
@@ -16,4 +18,16 @@ from .system import ContactSystem
 
 __all__ = ["Load", "Harmonic", "Fourier", "Periodic", "NormalModel", "IndependentSprings",
            "ContactSystem", "SingleNode", "W_hat_from_W", "W_from_W_hat", "chain",
-           "chain_stiffness", "block_diagonal"]
+           "chain_stiffness", "block_diagonal", "MDRSphere", "HalfPlaneCylinder", "HalfSpace",
+           "ContactModel"]
+
+_CONTINUUM = ("MDRSphere", "HalfPlaneCylinder", "HalfSpace", "ContactModel")
+
+
+def __getattr__(name: str):
+    # the continuum models import scipy's FFT and sparse modules: on first use only
+    if name in _CONTINUUM:
+        from . import continuum
+
+        return getattr(continuum, name)
+    raise AttributeError(f"module 'lcpfric.model' has no attribute {name!r}")

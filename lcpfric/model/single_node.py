@@ -72,6 +72,12 @@ class SingleNode:
     (0.5, 2.0)
     """
 
+    #: the driver's defaults (:func:`lcpfric.steady_state`)
+    default_method = "exact"
+    default_steps = 2000
+    default_max_cycles = 100
+    default_placement = "contact"
+
     def __init__(self, k11: float = 1.0, f: float = 1.0, P0: float = 1.0, P1: float = 0.0,
                  Q1: float = 0.0, omega: float = 1.0, phi: float = 0.0, Q0: float = 0.0,
                  k22: float = 1.0, *, normal_load: Load | None = None,

@@ -70,6 +70,12 @@ class ContactSystem:
         symmetric and positive (checked on two random vectors).
     """
 
+    #: the driver's defaults (:func:`lcpfric.steady_state`)
+    default_method = "exact"
+    default_steps = 2000
+    default_max_cycles = 100
+    default_placement = "contact"
+
     stiffness: object
     friction: np.ndarray
     tangential_loads: tuple

@@ -18,7 +18,7 @@ import numpy as np
 from .. import _checks
 from ..exact import SEPARATION, exact_cycle, exact_W_hat
 
-__all__ = ["Claim", "paper_claims", "claims_markdown", "peak_phase", "separation_fraction",
+__all__ = ["Claim", "paper_claims", "claims_markdown", "jsonable", "peak_phase", "separation_fraction",
            "sqrt_law"]
 
 PI = math.pi
@@ -277,11 +277,11 @@ def claims_markdown(claims: list[Claim]) -> str:
     return "\n".join(rows)
 
 
-def _jsonable(x):
+def jsonable(x):
     if isinstance(x, dict):
-        return {str(k): _jsonable(v) for k, v in x.items()}
+        return {str(k): jsonable(v) for k, v in x.items()}
     if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
+        return [jsonable(v) for v in x]
     if isinstance(x, (np.floating, np.integer)):
         return x.item()
     return x

@@ -8,15 +8,15 @@ import math
 import numpy as np
 
 from .. import _checks
-from ..plotting import COLUMN_WIDTH, PI
-from ..plotting import NORMAL as _NORMAL
-from ..plotting import SMALL as _SMALL
-from ..plotting import curve_style as _curve_style
-from ..plotting import figure as _figure
-from ..plotting import finish as _finish
-from ..plotting import ramp as _ramp
-from ..plotting import sci as _sci
-from ..plotting import style as _style
+from ..figures.style import COLUMN_WIDTH, PI
+from ..figures.style import NORMAL as _NORMAL
+from ..figures.style import SMALL as _SMALL
+from ..figures.style import curve_style as _curve_style
+from ..figures.style import figure as _figure
+from ..figures.style import finish as _finish
+from ..figures.style import ramp as _ramp
+from ..figures.style import sci as _sci
+from ..figures.style import style as _style
 
 __all__ = ["FIG5_Q1", "FIG7_Q1", "MOTOR", "MOTOR_FRICTION", "figure_phase", "figure_motor"]
 

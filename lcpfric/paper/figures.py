@@ -28,9 +28,9 @@ import time
 from pathlib import Path
 
 from ..errors import InputError
-from ..plotting import COLUMN_WIDTH, DPI, MIN_FONT_SIZE, PAGE_WIDTH  # noqa: F401
-from ..plotting import figure as _figure  # noqa: F401
-from ..plotting import save as _save
+from ..figures.style import COLUMN_WIDTH, DPI, MIN_FONT_SIZE, PAGE_WIDTH  # noqa: F401
+from ..figures.style import figure as _figure  # noqa: F401
+from ..figures.style import save as _save
 from .curves import FIG5_Q1, FIG7_Q1, MOTOR, MOTOR_FRICTION, figure_motor, figure_phase
 from .maps import FIG4_PHASES, figure_maps, map_data
 

@@ -9,14 +9,14 @@ import math
 import numpy as np
 
 from .. import _checks
-from ..plotting import (COLUMN_WIDTH, PAGE_WIDTH, PI)
-from ..plotting import CMAP as _CMAP
-from ..plotting import NORMAL as _NORMAL
-from ..plotting import SMALL as _SMALL
-from ..plotting import figure as _figure
-from ..plotting import finish as _finish
-from ..plotting import phi_label as _phi_label
-from ..plotting import style as _style
+from ..figures.style import (COLUMN_WIDTH, PAGE_WIDTH, PI)
+from ..figures.style import CMAP as _CMAP
+from ..figures.style import NORMAL as _NORMAL
+from ..figures.style import SMALL as _SMALL
+from ..figures.style import figure as _figure
+from ..figures.style import finish as _finish
+from ..figures.style import phi_label as _phi_label
+from ..figures.style import style as _style
 
 __all__ = ["FIG4_PHASES", "map_data", "figure_maps"]
 

@@ -73,18 +73,20 @@ and no constraint.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 
 from .._checks import boolean, positive, positive_int
+from ..backends.checks import residuals, worst
 from ..errors import InputError, SolverError
+from ..linalg import PatternUpdate
 from ..results import State, StepState
+from .active_set_discs import DiscPatterns
+from .active_set_patterns import BoxPatterns
+from .active_set_plan import ActiveSetData, Plan
 from .base import Recorder, Stepper
 from .dissipation import increment_dissipation
-from ..scene import column_reduce
-from ..linalg import OperatorBlock, PatternUpdate, make_block
-from ..backends.checks import residuals, worst
 from .rates import first_event, path_is_exact
 
 __all__ = ["ActiveSetStepper", "ActiveSetData", "PatternUpdate"]
@@ -96,85 +98,7 @@ _EPS = np.finfo(float).eps
 _CHECK_ROWS = 64  # increments checked together for equilibrium
 
 
-class _Plan:
-    """What every step of a scene needs: K and its block, the loads, the limits, the scales.
-
-    The loads are read one instant at a time (:meth:`row`), so that a scene whose Q and N are
-    :class:`~lcpfric.scene.Rows` (1e5 nodes) is never built whole."""
-
-    def __init__(self, scene, block: str, cg_max_iter: int):
-        system = scene.system
-        self.n, self.m, self.dims = system.n, system.m, system.dims
-        K = system.stiffness
-        self.K = K
-        self.matrix_free = system.matrix_free
-        if self.matrix_free:  # the compliance form: C by its products
-            self.block = OperatorBlock(system.compliance, cg_max_iter)
-            cdiag = system.compliance_diagonal()
-            self.kdiag = 1.0 / cdiag
-        else:
-            self.block = make_block(K, block)
-            self.kdiag = np.asarray(K.diagonal(), dtype=float).copy()
-        self.Q, self.N = scene.Q, scene.N
-        self.friction = np.asarray(system.friction, dtype=float)
-        f = self.friction
-        sizes = column_reduce(self.Q, lambda x: float(np.max(np.abs(x), initial=0.0)))
-        sizes += column_reduce(self.N, lambda x: float(np.max(x * f, initial=0.0)))
-        if not all(np.isfinite(sizes)):
-            raise InputError("scene", "the tangential loads and normal reactions on the grid "
-                                      "must be finite; found NaN or inf")
-        scale = max(sizes, default=0.0)
-        self.force_scale = scale if scale > 0 else 1.0
-        # the compliance scale of the residuals: 1/min k_ii (max C_ii for a diagonal K; C is
-        # never formed), or max C_ii of a matrix-free system
-        self.compliance_scale = float(1.0 / np.min(self.kdiag))
-        self.diagonal = system.is_diagonal()
-        self.row_norm = 0.0 if K is None else float(abs(K).sum(axis=1).max())  # ||K||_inf
-        self._rows: dict[int, tuple] = {}
-
-    def row(self, k: int) -> tuple:
-        """``(Q, N, b = f N, in contact)`` at grid instant k (the last few are kept)."""
-        out = self._rows.get(k)
-        if out is None:
-            if len(self._rows) >= 4:
-                self._rows.clear()
-            N = self.N[k]
-            out = self._rows[k] = (self.Q[k], N, N * self.friction, N > 0.0)
-        return out
-
-@dataclass(frozen=True)
-class ActiveSetData:
-    """What the active-set backend carries in ``StepState.data``.
-
-    Attributes
-    ----------
-    plan : _Plan
-        K, its block (updated in place: a cache whose content never changes an answer beyond
-        round-off, which the checks bound), the loads and limits on the grid.
-    stats : dict
-        ``solves``, ``iterations``, ``refinements``, ``single_changes``, ``max_residual``.
-    u_lo : (m,) ndarray
-        What the float64 displacements could not hold of the slips added to them (compensated
-        summation): on a weakly grounded system u is 1e12 times the slips, and adding them
-        step after step would otherwise random-walk u away from the forces.
-    Fc, u_of_Fc : (m,) ndarray
-        The forces as computed (``Q + K u`` before the slipping ones are put on their limits),
-        and the displacement array they belong to.
-    """
-
-    plan: _Plan
-    stats: dict
-    u_lo: np.ndarray
-    Fc: np.ndarray
-    u_of_Fc: np.ndarray
-
-    def computed_forces(self, state) -> np.ndarray:
-        """``Fc`` if it belongs to ``state.u``, else ``state.F`` (a state whose displacement
-        was replaced, by the driver's extrapolation for instance)."""
-        return self.Fc if state.u is self.u_of_Fc else state.F
-
-
-class ActiveSetStepper(Stepper):
+class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
     """Problem (P) by a primal-dual active-set method on K (see the module docstring).
 
     Parameters
@@ -208,7 +132,7 @@ class ActiveSetStepper(Stepper):
         self.locate_events = boolean("locate_events", locate_events)
         self.cg_max_iter = positive_int("cg_max_iter", cg_max_iter)
 
-    def check(self, system) -> None:
+    def check_system(self, system) -> None:
         if system.matrix_free and system.dims != 1:
             raise InputError("method", "'active-set' solves a matrix-free system (a compliance "
                                        "operator) with d = 1 only; for d = 2 give the stiffness "
@@ -220,8 +144,8 @@ class ActiveSetStepper(Stepper):
 
     # -- the stepper contract ----------------------------------------------------------------
     def init(self, scene, u0=None) -> StepState:
-        self.check(scene.system)
-        plan = _Plan(scene, self.block, self.cg_max_iter)
+        self.check_system(scene.system)
+        plan = Plan(scene, self.block, self.cg_max_iter)
         state = super().init(scene, u0)
         stats = {"solves": 0, "iterations": 0, "refinements": 0, "single_changes": 0,
                  "max_residual": 0.0, "events": 0}
@@ -341,7 +265,7 @@ class ActiveSetStepper(Stepper):
             db = plan.friction * dN
             hi = np.where(on_hi, db, inf)
             lo = np.where(on_lo, -db, -inf)
-            pattern = self._pattern_operator if plan.matrix_free else self._pattern
+            pattern = self.operator_pattern if plan.matrix_free else self.box_pattern
             du, dF, (up, dn) = pattern(plan, dQ, lo, hi, sep, stats, k)
             state = np.where(sep, SEPARATION, STICK).astype(np.int8)
             state[up] = BACKWARD
@@ -362,225 +286,11 @@ class ActiveSetStepper(Stepper):
         the last digits of Δu (the dissipation is computed from Δu)."""
         stats["solves"] += 1
         if plan.dims == 2:
-            delta, Fc, slip = self._discs(plan, F_tr, b, contact, stats, k)
+            delta, Fc, slip = self.disc_pattern(plan, F_tr, b, contact, stats, k)
             return delta, Fc, slip
-        pattern = self._pattern_operator if plan.matrix_free else self._pattern
+        pattern = self.operator_pattern if plan.matrix_free else self.box_pattern
         delta, Fc, (up, dn) = pattern(plan, F_tr, -b, b, ~contact, stats, k, warm)
         return delta, Fc, up | dn
-
-    def _discs(self, plan, F_tr, b, contact, stats, k):
-        """The increment for d = 2 (see the module docstring): Newton's method on the
-        objective restricted to the free unknowns of a pattern, with a backtracking line
-        search, then the pattern updated; returns ``(δ, F, slipping nodes)``.
-
-        A slipping node that Newton's step would carry through ``Δu_i = 0`` (its slip reversed)
-        sticks; a sticking node whose force leaves its disc slips, starting from the slip it
-        would make alone."""
-        K, n = plan.K, plan.n
-        kn = plan.kdiag.reshape(n, 2).max(axis=1)
-        sep = ~contact
-        delta = np.zeros(plan.m)
-        F = F_tr.copy()
-        slip = np.zeros(n, dtype=bool)
-        seen = set()
-        for _ in range(self.max_iter):
-            F2 = F.reshape(n, 2)
-            norm = np.hypot(F2[:, 0], F2[:, 1])
-            start = contact & ~slip & (norm > b * (1.0 + 4 * _EPS))
-            if start.any():  # the slip each would make alone, against its force
-                d2 = delta.reshape(n, 2)
-                d2[start] = -((norm[start] - b[start]) / (kn[start] * norm[start]))[:, None] \
-                    * F2[start]
-                F = F_tr + K @ delta
-            elif self._settled(plan, delta, F, b, slip, sep):
-                return delta, F, slip
-            slip = slip | start
-            key = np.packbits(slip).tobytes()
-            if key in seen and not start.any():
-                break
-            seen.add(key)
-            delta, F, slip = self._newton(plan, F_tr, delta, b, slip, sep, stats)
-            stats["iterations"] += 1
-        raise self._unsettled(k, "the d = 2 pattern")
-
-    @staticmethod
-    def _settled(plan, delta, F, b, slip, sep):
-        """Whether the forces of the pattern's free nodes are at their targets."""
-        n = plan.n
-        F2, d2 = F.reshape(n, 2), delta.reshape(n, 2)
-        g = F2.copy()
-        nd = np.hypot(d2[:, 0], d2[:, 1])
-        g[slip] += (b[slip] / np.where(nd[slip] > 0, nd[slip], 1.0))[:, None] * d2[slip]
-        free = slip | sep
-        floor = 64 * _EPS * (plan.force_scale + np.abs(F2[free]).max(initial=0.0))
-        return float(np.abs(g[free]).max(initial=0.0)) <= floor
-
-    @staticmethod
-    def _newton(plan, F_tr, delta, b, slip, sep, stats):
-        """Newton's method on ``Φ(δ) = ½ δᵀKδ + F^trᵀδ + Σ_slip b_i ||δ_i||`` over the
-        unknowns of the slipping and separated nodes (the sticking ones fixed at 0)."""
-        import scipy.sparse as sp
-        from scipy.linalg import cho_factor, cho_solve
-        from scipy.sparse.linalg import splu
-
-        K, n = plan.K, plan.n
-        sparse = hasattr(K, "tocsc")
-        for _ in range(100):
-            free = slip | sep
-            dofs = np.flatnonzero(np.repeat(free, 2))
-            if dofs.size == 0:
-                return delta, F_tr + K @ delta, slip
-            d2 = delta.reshape(n, 2)
-            nd = np.hypot(d2[:, 0], d2[:, 1])
-            F = F_tr + K @ delta
-            g = F.reshape(n, 2).copy()
-            w = np.zeros(n)
-            w[slip] = b[slip] / nd[slip]
-            nu = d2 / np.where(nd > 0, nd, 1.0)[:, None]
-            g += w[:, None] * d2
-            gf = g.reshape(-1)[dofs]
-            floor = 64 * _EPS * (plan.force_scale + float(np.abs(F[dofs]).max(initial=0.0)))
-            if float(np.abs(gf).max(initial=0.0)) <= floor:
-                return delta, F, slip
-            # the curvature of b ||δ_i|| across the slip direction
-            blocks = w[:, None, None] * (np.eye(2)[None] - nu[:, :, None] * nu[:, None, :])
-            fn = np.flatnonzero(free)
-            Dff = sp.block_diag(list(blocks[fn]), format="csc") if sparse else None
-            if sparse:
-                H = K[dofs][:, dofs] + Dff
-                step = -splu(H.tocsc()).solve(gf)
-            else:
-                H = K[np.ix_(dofs, dofs)]
-                for i, node in enumerate(fn):
-                    H[2 * i:2 * i + 2, 2 * i:2 * i + 2] += blocks[node]
-                step = -cho_solve(cho_factor(H), gf)
-            full = np.zeros(plan.m)
-            full[dofs] = step
-            s2 = full.reshape(n, 2)
-            # the step stops where a slipping node's slip would vanish (its radial part
-            # reaches zero): that node sticks from there
-            radial = np.einsum("ij,ij->i", s2, nu)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                reach = np.where(slip & (radial < 0.0), nd / -radial, np.inf)
-            tmax = min(1.0, float(reach.min(initial=np.inf)))
-            phi0 = _objective(plan, F_tr, delta, b, slip)
-            slope = float(gf @ step)
-            t = tmax
-            # below round-off of Φ the decrease cannot be seen: Newton's full step is taken
-            # (it converges quadratically there)
-            noise = 64 * _EPS * (abs(phi0) + float(np.abs(full) @ np.abs(F)))
-            for _ in range(60):
-                trial = delta + t * full
-                if (-slope * t <= noise or _objective(plan, F_tr, trial, b, slip)
-                        <= phi0 + 1e-4 * t * slope):
-                    break
-                t *= 0.5
-            delta = trial
-            if t == tmax and tmax < 1.0:
-                stop = slip & (reach <= tmax * (1.0 + 1e-12))
-                delta.reshape(n, 2)[stop] = 0.0
-                slip = slip & ~stop
-            stats["refinements"] += 1
-        return delta, F_tr + K @ delta, slip
-
-    def _pattern(self, plan, F_tr, lo, hi, free_always, stats, k, warm=None):
-        """The pattern iteration (d = 1): ``δ`` (zero on the sticking unknowns) and
-        ``F = F^tr + K δ`` with every node either sticking (``δ_i = 0``, ``lo_i <= F_i <=
-        hi_i``), on its upper bound with ``δ_i <= 0``, on its lower bound with ``δ_i >= 0``, or,
-        in ``free_always``, at ``F_i = 0``; also the final ``(upper, lower)`` masks.
-
-        Each iteration corrects the previous one rather than solving afresh: the nodes that
-        stop are put back (``δ_i = 0``), and ``K_FF Δ = (r - F)_F`` is solved for the nodes
-        whose force is off its target by more than round-off, so that a block that can solve
-        locally (:class:`~lcpfric.linalg.blocks.BandedBlock`) touches only the parts of the
-        free set that changed. The first iteration starts from everything stuck (``δ = 0``,
-        ``F = F^tr``) and the pattern of the nodes whose trial force is out of its limits,
-        with, if ``warm`` is given, the nodes on their limits at the start of the increment
-        (the previous increment's pattern: between two increments few nodes change, so the
-        first guess is then nearly the answer and the block changes little)."""
-        kd = plan.kdiag
-        bounded = ~free_always
-        delta = np.zeros(plan.m)
-        F = F_tr.copy()
-        free = np.zeros(plan.m, dtype=bool)
-        up = dn = free
-        updates = PatternUpdate(bounded, stats)
-        nup, ndn = updates.first(F_tr, lo, hi, warm)
-        for _ in range(self.max_iter):
-            nfree = nup | ndn | free_always
-            stop = np.flatnonzero(free & ~nfree)
-            if stop.size:  # nodes that stick again keep their start displacement
-                F += plan.block.product(stop, -delta[stop])
-                delta[stop] = 0.0
-            up, dn, free = nup, ndn, nfree
-            r = np.where(up, hi, np.where(dn, lo, 0.0))
-            self._correct(plan, F_tr, r, free, delta, F, stats)
-            nxt = updates.next(F - delta * kd, lo, hi, up, dn)
-            if nxt is None:
-                return delta, F, (up, dn)
-            nup, ndn = nxt
-        raise self._unsettled(k, "the pattern")
-
-    def _pattern_operator(self, plan, F_tr, lo, hi, free_always, stats, k, warm=None):
-        """The pattern iteration of :meth:`_pattern` in the compliance form, for a matrix-free
-        system: the same answer ``(δ, F, (upper, lower))``, with ``δ = C (F - F^tr)``.
-
-        With the pattern fixed, the forces of the nodes on a limit (and of the separated ones,
-        0) are known; those of the sticking nodes S solve ``C_SS (F - F^tr)_S = -C_SA (F -
-        F^tr)_A`` (``δ_S = 0``), corrected from the previous iteration's forces by conjugate
-        gradients (:class:`~lcpfric.linalg.blocks.OperatorBlock`) to ``max |δ_S| <=
-        1e-13 s_C s_F`` (the compliance and force scales: 1e7 below the residual check).
-        The pattern update, the warm start and the least-index fallback are :meth:`_pattern`'s:
-        ``z_i = F_i - δ_i / C_ii``."""
-        block, kd = plan.block, plan.kdiag
-        bounded = ~free_always
-        tol = 1e-13 * plan.compliance_scale * plan.force_scale
-        F = F_tr.copy()
-        updates = PatternUpdate(bounded, stats)
-        nup, ndn = updates.first(F_tr, lo, hi, warm)
-        for _ in range(self.max_iter):
-            up, dn = nup, ndn
-            F[up], F[dn], F[free_always] = hi[up], lo[dn], 0.0
-            delta = block.apply(F - F_tr)
-            S = np.flatnonzero(~(up | dn | free_always))
-            if S.size:
-                x, Cx = block.solve(S, -delta[S], tol)
-                F[S] += x
-                delta += Cx
-            nxt = updates.next(F - delta * kd, lo, hi, up, dn)
-            if nxt is None:
-                return delta, F, (up, dn)
-            nup, ndn = nxt
-        raise self._unsettled(k, "the pattern")
-
-    @staticmethod
-    def _correct(plan, F_tr, r, free, delta, F, stats):
-        """Correct ``δ`` and ``F = F^tr + K δ`` (in place) so that ``F_F = r_F`` on the free
-        set, solving ``K_FF Δ_F = (r - F)_F`` where the forces are off by more than round-off,
-        then refining on K (iterative refinement) until they are at round-off. After a solve
-        only the unknowns it changed are checked again (the others were at round-off)."""
-        block = plan.block
-        sel = np.flatnonzero(free)
-        block.set(sel)
-        best = math.inf
-        for it in range(6):
-            e = r[sel] - F[sel]
-            # round-off of the forces: a few ulps of the largest of the terms summed
-            floor = 8 * _EPS * (np.abs(F_tr[sel]) + np.abs(r[sel]) + plan.force_scale)
-            off = np.abs(e) > floor
-            if not off.any():
-                return
-            if it:
-                size = float(np.max(np.abs(e) / floor))
-                if size >= 0.5 * best:
-                    return  # refinement no longer gains: at the attainable accuracy
-                best = size
-                stats["refinements"] += 1
-            rhs = np.zeros(plan.m)
-            rhs[sel] = e
-            sel, y = block.solve(rhs, sel[off])
-            delta[sel] += y
-            F += block.product(sel, y)
 
     def _finish(self, plan, du, Fc, b, contact, stats, k):
         """Put the slipping and separated forces exactly where they belong, check the answer,
@@ -648,7 +358,7 @@ class ActiveSetStepper(Stepper):
         if bad.size:
             self._fail(int(rows[bad[0]]) - 1, {"equilibrium": float(eq[bad[0]])})
 
-    def _unsettled(self, k, what):
+    def unsettled(self, k, what):
         return SolverError(f"active-set: increment {k}: {what} did not settle in "
                            f"{self.max_iter} iterations; raise max_iter",
                            backend=self.name, status="max_iter")
@@ -672,11 +382,3 @@ def _on_limits(F, b):
     ``-b`` with ``b > 0``."""
     pos = b > 0.0
     return pos & (F >= b), pos & (F <= -b)
-
-
-def _objective(plan, F_tr, delta, b, slip) -> float:
-    """``½ δᵀKδ + F^trᵀδ + Σ_slip b_i ||δ_i||`` (d = 2), the function Newton descends."""
-    d2 = delta.reshape(-1, 2)
-    Kd = plan.K @ delta
-    return float(0.5 * delta @ Kd + F_tr @ delta
-                 + b[slip] @ np.hypot(d2[slip, 0], d2[slip, 1]))

@@ -4,9 +4,10 @@ Whoever adds a time-stepping method implements a subclass of :class:`Stepper`:
 
 1. ``name``: the registry name users type (``"explicit"``, ``"clarabel"``, ...), and
    ``kind = "time-stepper"``.
-2. ``check(system)``: raise :class:`~lcpfric.errors.InputError` when the method cannot treat the
-   system (a cone it cannot express, a stiffness it has no closed form for), naming the methods
-   that can. Never approximate silently.
+2. ``check(scene)``: raise :class:`~lcpfric.errors.InputError` when the method cannot treat the
+   scene's model (a cone it cannot express, a stiffness it has no closed form for, a model it
+   does not solve), naming the methods that can. Never approximate silently. A stepper of
+   discrete systems implements ``check_system(system)``; the base refuses continuum contacts.
 3. ``init(scene, u0)``: build everything that depends on the scene (solver problems,
    factorizations) and return the initial :class:`~lcpfric.results.StepState` at
    ``scene.t[0]``, with all of it in ``state.data``. The stepper object itself keeps nothing
@@ -21,38 +22,34 @@ Whoever adds a time-stepping method implements a subclass of :class:`Stepper`:
    override it with a faster loop of the same meaning (tested equal to the step-by-step loop);
    one that cannot run without the history omits the parameter, and the driver says so.
 6. ``stats(state)``: the statistics to report (solves, events), from the state.
+7. ``restart(scene, state, u)`` (optional): the state at the cycle's start with the
+   displacements (slips) u, where the driver's acceleration moves a cycle's start
+   (:mod:`lcpfric.periodic.acceleration`). The default puts the forces back inside the friction
+   cone (``F = Π(Q + K u)``, ``u = K⁻¹ (F - Q)``).
+8. ``cycle_measure``: ``"cycles"`` (the default: a cycle's recorded instants against the
+   previous cycle's) or ``"map"`` (the cycle's end against its start, on the scene's ``held``
+   unknowns: the continuum contacts, :mod:`.continuum`): how the driver measures a cycle's
+   change (:mod:`lcpfric.periodic.measure`).
 
-The periodic driver (:mod:`lcpfric.periodic`) owns the loop over cycles. Options a stepper
+A stepper's state may hold caches (factorizations, blocks of K) reused from cycle to cycle;
+they change the answers by round-off only. The periodic driver (:mod:`lcpfric.periodic`) owns
+the loop over cycles. Options a stepper
 accepts are the keyword arguments of its constructor; an unknown one raises
-:class:`~lcpfric.errors.InputError` naming the valid ones (:func:`check_options`).
+:class:`~lcpfric.errors.InputError` naming the valid ones
+(:func:`lcpfric.methods.check_options`).
 """
 
 from __future__ import annotations
 
-import inspect
-
 import numpy as np
 
 from ..errors import InputError
+from ..methods import methods_for
 from ..results import CycleResult, State, StepState
 
-__all__ = ["Stepper", "StepState", "TIME_STEPPER", "check_options", "Recorder"]
+__all__ = ["Stepper", "StepState", "TIME_STEPPER", "Recorder", "inside"]
 
 TIME_STEPPER = "time-stepper"
-
-
-def check_options(cls, options: dict, what: str) -> None:
-    """Raise InputError for keyword options that ``cls``'s constructor does not take (unless it
-    takes ``**settings``, passed on to a solver that checks them itself)."""
-    params = inspect.signature(cls.__init__).parameters
-    if any(p.kind is p.VAR_KEYWORD for p in params.values()):
-        return
-    valid = sorted(n for n, p in params.items()
-                   if n != "self" and p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD))
-    unknown = sorted(set(options) - set(valid))
-    if unknown:
-        raise InputError(unknown[0], f"is not an option of {what}; valid options: "
-                                     f"{', '.join(valid) if valid else 'none'}")
 
 
 class Stepper:
@@ -60,6 +57,9 @@ class Stepper:
 
     name: str = ""
     kind: str = TIME_STEPPER
+    cycle_measure = "cycles"
+    #: whether :meth:`restart` can move a cycle's start (the driver then accelerates)
+    can_restart = True
 
     def __init__(self):
         pass
@@ -69,8 +69,27 @@ class Stepper:
         """The name to report (``"qpsolvers:proxqp"``, where a solver is chosen)."""
         return self.name
 
-    def check(self, system) -> None:
+    def check(self, scene) -> None:
+        """Raise InputError if this stepper cannot treat the scene's model."""
+        if scene.system is None:
+            what = type(scene.model).__name__
+            raise InputError("method", f"{self.label!r} solves discrete systems (SingleNode, "
+                                       f"ContactSystem), not {what}; methods for {what}: "
+                                       f"{', '.join(methods_for(scene.model))}, or solve its "
+                                       f"ContactSystem, steady_state(model.system(), "
+                                       f"{self.label!r}) (k_support > 0)")
+        self.check_system(scene.system)
+
+    def check_system(self, system) -> None:
         """Raise InputError if this stepper cannot treat ``system``."""
+
+    def restart(self, scene, state: StepState, u) -> StepState:
+        """The state with the displacements u at the cycle's start, its forces put back inside
+        the friction cone (:func:`inside`)."""
+        from dataclasses import replace
+
+        u, F = inside(u, scene)
+        return replace(state, u=u, F=F)
 
     def init(self, scene, u0=None) -> StepState:
         system = scene.system
@@ -106,7 +125,7 @@ class Recorder:
     number of steps)."""
 
     def __init__(self, scene, state: StepState, history: bool = True):
-        steps, m, n = scene.steps, scene.system.m, scene.system.n
+        steps, m, n = scene.steps, scene.m, scene.n
         self.history = history
         rows = steps + 1 if history else 2
         self.t = scene.t if history else scene.t[[0, -1]]
@@ -128,3 +147,21 @@ class Recorder:
     def result(self, W: float, stats: dict) -> CycleResult:
         span = None if self.history else self.hi - self.lo
         return CycleResult(self.t, self.U, self.F, self.S, W, stats, span)
+
+
+def inside(u, scene):
+    """``(u, F)`` at the cycle's start with the force put back inside the friction cone
+    (``F = Π(Q + K u)``, ``u = K⁻¹ (F - Q)``)."""
+    system = scene.system
+    Q0, bound = scene.Q[0], scene.N[0] * system.friction
+    F = Q0 + system.stiffness_times(u)
+    if system.dims == 1:
+        Fp = np.clip(F, -bound, bound)
+    else:
+        F2 = F.reshape(-1, 2)
+        norm = np.hypot(F2[:, 0], F2[:, 1])
+        shrink = np.where(norm > bound, bound / np.where(norm > 0, norm, 1.0), 1.0)
+        Fp = (F2 * shrink[:, None]).ravel()
+    if np.any(Fp != F):
+        u = u + system.solve(Fp - F)
+    return u, Fp

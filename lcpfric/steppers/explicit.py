@@ -34,7 +34,6 @@ from ..errors import InputError, SolverError
 from ..results import CycleResult, State, StepState
 from .base import Stepper
 from .dissipation import increment_dissipation, scalar_share
-from .lcp import solve_lcp
 from .rates import EPS8, REL, limit_crossings, slip_rates
 
 __all__ = ["ExplicitStepper"]
@@ -48,14 +47,14 @@ class ExplicitStepper(Stepper):
 
     name = "explicit"
 
-    def check(self, system) -> None:
+    def check_system(self, system) -> None:
         if system.dims != 1:
             raise InputError("method", "'explicit' handles d = 1 (one tangential direction per "
                                        "node); for d = 2 use 'clarabel', 'cvxpy:CLARABEL' or "
                                        "'projection' (diagonal K)")
 
     def init(self, scene, u0=None) -> StepState:
-        self.check(scene.system)
+        self.check_system(scene.system)
         state = super().init(scene, u0)
         data = {"K": scene.system.dense_stiffness(), "substeps": 0, "events": 0}
         return replace(state, data=data)

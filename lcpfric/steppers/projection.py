@@ -30,7 +30,7 @@ class ProjectionStepper(Stepper):
 
     name = "projection"
 
-    def check(self, system) -> None:
+    def check_system(self, system) -> None:
         if not system.is_diagonal():
             raise InputError("method", "'projection' needs a diagonal tangential stiffness "
                                        "(uncoupled nodes); for a coupled K use 'clarabel', 'osqp', "
@@ -43,7 +43,7 @@ class ProjectionStepper(Stepper):
                                            "'cvxpy:CLARABEL'")
 
     def init(self, scene, u0=None) -> StepState:
-        self.check(scene.system)
+        self.check_system(scene.system)
         state = super().init(scene, u0)
         return replace(state, data=np.diag(scene.system.dense_stiffness()).copy())
 

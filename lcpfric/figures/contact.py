@@ -1,4 +1,4 @@
-"""Figures of the continuum contacts, sized and styled like the paper's (:mod:`lcpfric.plotting`).
+"""Figures of the continuum contacts, sized and styled like the paper's (:mod:`lcpfric.figures.style`).
 
 * :func:`figure_hertz_maps`: ``W k_t0/(μ² P0²)`` of the Hertz contact (MDR) over (P1/P0,
   Q1/(μ P0)) for several phases (the continuum Fig. 4), one colour scale (logarithmic: the
@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..plotting import COLUMN_WIDTH, PAGE_WIDTH, SMALL, figure, finish, phi_label, save, style
+from .style import COLUMN_WIDTH, PAGE_WIDTH, SMALL, figure, finish, phi_label, save, style
 
 __all__ = ["figure_hertz_maps", "figure_phase", "figure_zones", "figure_tractions",
            "write_contact_figures", "MAP_PHASES", "PHASE_CASES", "K_SUPPORT"]
@@ -103,7 +103,7 @@ def figure_hertz_maps(ds, phases=MAP_PHASES, ncols: int = 4):
 
 def phase_data(cases=PHASE_CASES, points: int = 61, k_support: float = K_SUPPORT, **options):
     """W_normalized against φ in [0, π] for each (P1/P0, Q1/(μ P0)) of ``cases``."""
-    from .maps import mdr_W_normalized
+    from ..analysis.contact_maps import mdr_W_normalized
 
     phi = np.linspace(0.0, PI, points)
     out = []
@@ -119,7 +119,7 @@ def figure_phase(phi, curves, cases, ds=None):
     with style():
         from matplotlib.lines import Line2D
 
-        from ..plotting import curve_style, ramp
+        from .style import curve_style, ramp
 
         two = ds is not None
         fig = figure(figsize=(PAGE_WIDTH if two else COLUMN_WIDTH, 2.9), layout="constrained")
@@ -179,16 +179,17 @@ def figure_zones(result, title: str = ""):
         code = np.full(result.state.shape, 3, dtype=float)
         for i, s in enumerate(order):
             code[result.state == s] = i
-        x = result.x
+        x = result.contact.x
         keep = x >= 0
-        xs = x[keep] / result.contact_size_max
+        xs = x[keep] / result.contact.contact_size_max
         t = result.t / result.t[-1]
         fig = figure(figsize=(COLUMN_WIDTH, 2.9), layout="constrained")
         ax = fig.add_subplot()
         cmap = ListedColormap(list(ZONE_COLOURS.values()))
         ax.pcolormesh(t, xs, code[:, keep].T, cmap=cmap, vmin=-0.5, vmax=3.5,
                       shading="nearest", rasterized=True)
-        ax.plot(t, result.size / result.contact_size_max, color="black", lw=0.9)
+        ax.plot(t, result.contact.size / result.contact.contact_size_max, color="black",
+                lw=0.9)
         ax.set_xlabel("time over the period, t/T")
         ax.set_ylabel("position over the largest contact size")
         ax.set_xlim(0, 1)
@@ -207,15 +208,15 @@ def figure_tractions(result, model, fractions=(0.3, 0.6, 0.9)):
     """Shear tractions at the instants of the first loading where Q = x μ P, beside Cattaneo's
     ``q/(μ p0) = √(1 - ξ²) - (c/a) √(1 - ξ² a²/c²)`` with ``c/a = √(1 - x)`` (cylinder, the
     element tractions) or ``(1 - x)^(1/3)`` (sphere, the inverse MDR transform of the spring
-    forces, :meth:`~lcpfric.contact.mdr.MDRSphere.tractions`); ``result`` is the first cycle of
+    forces, :meth:`~lcpfric.model.continuum.mdr.MDRSphere.tractions`); ``result`` is the first cycle of
     a constant-P, sinusoidal-Q run with ``record=True``."""
-    from .closed_forms import cattaneo_stick_ratio, cylinder_contact, hertz_contact
+    from ..model.continuum.closed_forms import cattaneo_stick_ratio, cylinder_contact, hertz_contact
 
     plane = hasattr(model, "pressure")
     with style():
         from matplotlib.lines import Line2D
 
-        from ..plotting import ramp
+        from .style import ramp
 
         ref = (cylinder_contact if plane else hertz_contact)(model.P0, model.R, model.E,
                                                              model.nu)
@@ -260,8 +261,9 @@ def write_contact_figures(out_dir, grid: int = 41, formats=("png", "pdf"), nodes
     """Compute and write every figure of this module into ``out_dir``."""
     from ..analysis.sweep import sweep
     from ..model import Harmonic
-    from .halfplane import HalfPlaneCylinder
-    from .mdr import MDRSphere
+    from ..model.continuum.halfplane import HalfPlaneCylinder
+    from ..model.continuum.mdr import MDRSphere
+    from ..periodic import steady_state
 
     say = progress or (lambda line: None)
     out_dir = Path(out_dir)
@@ -279,15 +281,15 @@ def write_contact_figures(out_dir, grid: int = 41, formats=("png", "pdf"), nodes
     k_t0 = MDRSphere(1.0, 1.0, 0.0, 1.0, 1.0, 0.0, nodes=1).k_t0
     sphere = MDRSphere(1.0, 1.0, 0.0, 1.0, Harmonic(1.0, 1.5), Harmonic(0.0, 0.6, 0.3 * PI),
                        nodes=nodes, k_support=K_SUPPORT * k_t0)
-    r = sphere.solve(steps, record=True)
+    r = steady_state(sphere, steps_per_cycle=steps)
     paths += save(figure_zones(r, "sphere (MDR): P1/P0 = 1.5, Q1/(μP0) = 0.6, φ = 0.3π"),
                   out_dir, "hertz-zones", formats)
     plane = HalfPlaneCylinder(1.0, 1.0, 0.0, 1.0, Harmonic(1.0, 0.0), Harmonic(0.0, 0.95),
                               nodes=200)
-    first = plane.solve(400, record=True, max_cycles=1, on_nonconvergence="ignore")
+    first = steady_state(plane, steps_per_cycle=400, max_cycles=1, on_nonconvergence="ignore")
     paths += save(figure_tractions(first, plane), out_dir, "cylinder-tractions", formats)
     ball = MDRSphere(1.0, 1.0, 0.0, 1.0, Harmonic(1.0, 0.0), Harmonic(0.0, 0.95), nodes=1000)
-    first = ball.solve(400, record=True, max_cycles=1, on_nonconvergence="ignore")
+    first = steady_state(ball, steps_per_cycle=400, max_cycles=1, on_nonconvergence="ignore")
     paths += save(figure_tractions(first, ball), out_dir, "sphere-tractions", formats)
     say(f"all contact figures: {time.perf_counter() - t0:.1f} s")
     return paths

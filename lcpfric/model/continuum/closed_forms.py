@@ -24,8 +24,8 @@ from __future__ import annotations
 
 import math
 
-from .._checks import positive
-from ..errors import InputError
+from ..._checks import positive
+from ...errors import InputError
 
 __all__ = ["moduli", "hertz_contact", "cylinder_contact", "cattaneo_stick_ratio",
            "mindlin_deresiewicz_W", "cylinder_W", "ciavarella_jager_W"]

@@ -1,5 +1,5 @@
 """Figures of the three-dimensional half-space contact (:class:`~.halfspace.HalfSpace`), sized
-and styled like the paper's (:mod:`lcpfric.plotting`).
+and styled like the paper's (:mod:`lcpfric.figures.style`).
 
 * :func:`figure_zone_maps`: the grid's elements coloured by their state (stick, slip towards +x
   or -x, separated) at a few instants of the cycle, with the contact edge, each panel titled
@@ -22,14 +22,15 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..plotting import COLUMN_WIDTH, PAGE_WIDTH, SMALL, figure, finish, save, style
+from . import halfspace_panels as panels
+from .style import COLUMN_WIDTH, PAGE_WIDTH, SMALL, figure, finish, save, style
 
 __all__ = ["figure_zone_maps", "figure_traction_vectors", "animate_zones",
            "write_halfspace_figures"]
 
 #: state colours, in the order of the codes shown (stick, +x, -x, separated); the same as the
-#: other contact figures' (:mod:`.figures`), distinct in lightness too (greyscale prints)
-ZONE_COLOURS = ("#23395d", "#d9531e", "#f4a259", "#ececec")
+#: other contact figures' (:mod:`.contact`), distinct in lightness too (greyscale prints)
+ZONE_COLOURS = panels.ZONE_COLOURS
 #: colour map of |F|/(μ p h²), cut before its darkest end so that black arrows stay visible
 RATIO_CMAP = "YlGnBu"
 RATIO_CMAP_TOP = 0.72
@@ -41,200 +42,37 @@ ANIMATION_FRAMES = 60
 ANIMATION_DPI = 110
 
 
-# -- helpers --------------------------------------------------------------------------------------
-def _check_result(model, result):
-    if getattr(result, "state", None) is None or getattr(result, "F", None) is None:
-        raise InputError("result", "has no recorded states and forces: solve the model with "
-                                   "record=True")
-    if result.state.shape[1] != model.nodes:
-        raise InputError("result", f"has {result.state.shape[1]} nodes, the model "
-                                   f"{model.nodes}: not this model's result")
-
-
-def _index(result, fraction: float, name: str = "fractions") -> int:
-    """The recorded instant nearest to ``fraction`` of the period. The first instant (t = 0)
-    is taken at the end of the cycle instead (t = T, the same instant of the periodic
-    state)."""
-    t = np.asarray(result.t, dtype=float)
-    f = float(fraction)
-    if not math.isfinite(f) or not 0.0 <= f <= 1.0:
-        raise InputError(name, f"must be fractions of the period in [0, 1], got {f!r}")
-    j = int(np.argmin(np.abs(t / t[-1] - f)))
-    return t.size - 1 if j == 0 else j
-
-
-def _codes(state: np.ndarray) -> np.ndarray:
-    """State codes (:class:`~lcpfric.results.State`) as indices into :data:`ZONE_COLOURS`."""
-    from ..results import State
-
-    order = (State.STICK, State.FORWARD, State.BACKWARD, State.SEPARATION)
-    out = np.full(state.shape, 3.0)
-    for i, s in enumerate(order):
-        out[state == int(s)] = i
-    return out
-
-
-def _grid(model):
-    """Element-centre coordinates along x and y over a0, and the element side over a0."""
-    N = model.N
-    x = model.xy[:, 0].reshape(N, N)[:, 0] / model.a0
-    y = model.xy[:, 1].reshape(N, N)[0, :] / model.a0
-    return x, y, model.h / model.a0
-
-
-def _outline(mask: np.ndarray, x, y, w):
-    """The element edges between the elements in ``mask`` ((N, N), ``[i, j]`` at
-    ``(x_i, y_j)``) and the others: line segments ``(k, 2, 2)``."""
-    m = np.pad(mask.astype(bool), 1)
-    half = w / 2.0
-    xs = np.concatenate([[x[0] - w], x, [x[-1] + w]])
-    ys = np.concatenate([[y[0] - w], y, [y[-1] + w]])
-    segs = []
-    i, j = np.nonzero(m[1:, :] != m[:-1, :])          # edges normal to x, between i and i+1
-    for a, b in zip(i, j):
-        xe = xs[a] + half
-        segs.append(((xe, ys[b] - half), (xe, ys[b] + half)))
-    i, j = np.nonzero(m[:, 1:] != m[:, :-1])          # edges normal to y
-    for a, b in zip(i, j):
-        ye = ys[b] + half
-        segs.append(((xs[a] - half, ye), (xs[a] + half, ye)))
-    return np.asarray(segs, dtype=float).reshape(-1, 2, 2)
-
-
-def _crop(model, result, margin: float = 0.15):
-    """Half the side of the square (over a0, centred on the grid's centre) that holds every
-    element ever in contact over the cycle, plus ``margin`` a0 (and one element)."""
-    from ..results import State
-
-    ever = np.any(result.state != int(State.SEPARATION), axis=0)
-    if not ever.any():
-        ever = np.ones(model.nodes, dtype=bool)
-    x, y, w = _grid(model)
-    X, Y = np.meshgrid(x, y, indexing="ij")
-    reach = float(np.max(np.maximum(np.abs(X.ravel()[ever]), np.abs(Y.ravel()[ever]))))
-    half = reach + w / 2.0 + max(margin, w)
-    edge = float(max(np.abs(x).max(), np.abs(y).max())) + w / 2.0
-    return min(half, edge)
-
-
-def _loads_label(model, t: float, period: float) -> str:
-    P = float(np.asarray(model.P(t))) / model.P0 + 0.0
-    Q = float(np.asarray(model.Q(t))) / (model.mu * model.P0)
-    Q = 0.0 if abs(Q) < 5e-3 else Q                     # no "-0.00"
-    f = t / period
-    f = 0.0 if abs(f - 1.0) < 1e-9 else f               # t = T is t = 0 of the periodic state
-    return (f"t/T = {f:.3g}\n"
-            rf"$P/P_0$ = {P:.2f}, $Q/(\mu P_0)$ = {Q:+.2f}")
-
-
-def _zone_legend(model, extra=()):
-    from matplotlib.patches import Patch
-
-    labels = ("stick", "slip towards +x", "slip towards −x", "separated")
-    handles = [Patch(facecolor=c, edgecolor="0.3", lw=0.4, label=k)
-               for k, c in zip(labels, ZONE_COLOURS)]
-    return handles + list(extra)
-
-
-def _halo():
-    from matplotlib import patheffects
-
-    return [patheffects.withStroke(linewidth=1.8, foreground="white")]
-
-
-def _hertz_style():
-    """Black dashes on a white halo: visible on every zone colour."""
-    return {"ec": "black", "lw": 0.8, "ls": (0, (2.5, 1.5)), "path_effects": _halo()}
-
-
-def _hertz_radius(model, P: float):
-    """The sphere's Hertz contact radius at P over a0 (None for the other surfaces)."""
-    if getattr(model, "geometry", None) != "sphere" or P <= 0.0:
-        return None
-    return (P / model.P0) ** (1.0 / 3.0)
-
-
-def _draw_zones(ax, model, result, j, x, y, w, half):
-    """One zone map on ``ax`` at the recorded instant j: (mesh, contact-edge lines, Hertz
-    circle or None)."""
-    from matplotlib.collections import LineCollection
-    from matplotlib.colors import ListedColormap
-    from matplotlib.patches import Circle
-
-    from ..results import State
-
-    N = model.N
-    state = result.state[j].reshape(N, N)
-    mesh = ax.pcolormesh(x, y, _codes(state).T, cmap=ListedColormap(ZONE_COLOURS), vmin=-0.5,
-                         vmax=3.5, shading="nearest", rasterized=True)
-    edge = LineCollection(_outline(state != int(State.SEPARATION), x, y, w), colors="black",
-                          linewidths=0.8, capstyle="projecting")
-    ax.add_collection(edge)
-    circle = None
-    rho = _hertz_radius(model, float(np.asarray(model.P(result.t[j]))))
-    if rho is not None:
-        circle = Circle((0.0, 0.0), rho, fill=False, **_hertz_style())
-        ax.add_patch(circle)
-    ax.set_xlim(-half, half)
-    ax.set_ylim(-half, half)
-    ax.set_aspect("equal")
-    return mesh, edge, circle
-
-
-def _edge_handles(model, stick_edge: bool = False):
-    from matplotlib.lines import Line2D
-
-    out = [Line2D([], [], color="black", lw=0.8, label="contact edge (elements)")]
-    if stick_edge:
-        out.append(Line2D([], [], color="black", lw=0.8, ls=(0, (1.2, 1.2)),
-                          label="edge of the stick zone"))
-    if getattr(model, "geometry", None) == "sphere":
-        hs = _hertz_style()
-        out.append(Line2D([], [], color=hs["ec"], lw=hs["lw"], ls=hs["ls"],
-                          path_effects=hs["path_effects"],
-                          label="Hertz contact radius at P(t)"))
-    return out
-
-
-def _ticks(ax):
-    from matplotlib.ticker import MaxNLocator
-
-    for axis in (ax.xaxis, ax.yaxis):
-        axis.set_major_locator(MaxNLocator(nbins=4, steps=[1, 2, 2.5, 5, 10], symmetric=True))
-
-
-# -- figures --------------------------------------------------------------------------------------
 def figure_zone_maps(model, result, fractions=(0.0, 0.25, 0.5, 0.75), title: str = ""):
     """The elements' states (stick, slipping towards +x or -x, separated) over the grid at the
     recorded instants nearest to ``fractions`` of the period, one panel each (up to four in a
     row, page wide), cropped to the region ever in contact, with the contact edge (and, for
     the sphere, Hertz's contact radius at P(t)); needs ``record=True``."""
-    _check_result(model, result)
+    panels.check_result(model, result)
     fractions = [float(f) for f in np.atleast_1d(fractions)]
     if not fractions:
         raise InputError("fractions", "must name at least one instant")
-    steps = [_index(result, f) for f in fractions]
+    steps = [panels.index(result, f) for f in fractions]
     with style():
         ncols = min(4, len(steps))
         nrows = math.ceil(len(steps) / ncols)
         width = PAGE_WIDTH if ncols > 1 else COLUMN_WIDTH
         panel = (width - 0.55) / ncols                  # square panels; 0.55 in: y labels
-        handles = _zone_legend(model, _edge_handles(model))
+        handles = panels.zone_legend(model, panels.edge_handles(model))
         legend_cols = 3 if ncols > 1 else 2
-        caption = _caption(model)
+        caption = panels.caption(model)
         lines = caption.count("\n") + 1 + math.ceil(len(handles) / legend_cols)
         # per row: the panel, its two-line title and the x tick labels and label; then the
         # legend (about 0.15 in a line) and the title
         height = nrows * (panel + 0.62) + 0.14 * lines + 0.1 + (0.2 if title else 0.0)
         fig = figure(figsize=(width, height), layout="constrained")
         axes = fig.subplots(nrows, ncols, squeeze=False, sharex=True, sharey=True)
-        x, y, w = _grid(model)
-        half = _crop(model, result)
+        x, y, w = panels.grid(model)
+        half = panels.crop(model, result)
         period = float(result.t[-1])
         for ax, j in zip(axes.flat, steps):
-            _draw_zones(ax, model, result, j, x, y, w, half)
-            _ticks(ax)
-            ax.set_title(_loads_label(model, float(result.t[j]), period), fontsize=SMALL,
+            panels.draw_zones(ax, model, result, j, x, y, w, half)
+            panels.ticks(ax)
+            ax.set_title(panels.loads_label(model, float(result.t[j]), period), fontsize=SMALL,
                          pad=3, linespacing=1.3)
         for ax in axes.flat[len(steps):]:
             ax.set_visible(False)
@@ -251,37 +89,6 @@ def figure_zone_maps(model, result, fractions=(0.0, 0.25, 0.5, 0.75), title: str
         return finish(fig)
 
 
-def _caption(model, sides: bool = True) -> str:
-    """The legend's title: the surface, the grid, the tangential directions, a0."""
-    head = f"{model.geometry}, {model.N} x {model.N} elements, "
-    if model.dims == 1:
-        head += "tractions along x"
-    elif sides:
-        head += "tractions in the plane\n(slip towards ±x: the sign of the slip's x-component)"
-    else:
-        head += "tractions in the plane"
-    return head + "\n" + r"$a_0$: contact radius at the mean load $P_0$"
-
-
-def _peak_pressure(model):
-    """The pressure scale p0 and its description: Hertz's at P0 for the sphere, else the
-    largest pressure of the discrete contact at P0."""
-    if getattr(model, "geometry", None) == "sphere":
-        return 3.0 * model.P0 / (2.0 * math.pi * model.a0 ** 2), r"$p_0$: Hertz's peak pressure"
-    return float(np.max(model.pressure(model.P0))), r"$p_0$: peak pressure at $P_0$"
-
-
-def _nice(x: float) -> float:
-    """A round number (1, 2, 2.5 or 5 times a power of ten) at most ``x``."""
-    if x <= 0:
-        return 1.0
-    e = math.floor(math.log10(x))
-    for m in (5.0, 2.5, 2.0, 1.0):
-        if m * 10 ** e <= x:
-            return m * 10 ** e
-    return 10 ** e
-
-
 def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = ""):
     """The shear tractions ``q = -F/h²`` at the recorded instant nearest to ``fraction`` of the
     period, as arrows (one per element in contact, every k-th element on large grids) in units
@@ -291,8 +98,8 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
         raise InputError("dims", f"the traction vectors need the tractions in the plane "
                                  f"(dims=2); this model has dims={model.dims} (tractions "
                                  f"along x only): build it with dims=2")
-    _check_result(model, result)
-    j = _index(result, fraction, "fraction")
+    panels.check_result(model, result)
+    j = panels.index(result, fraction, "fraction")
     from ..results import State
 
     with style():
@@ -301,14 +108,14 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
         from matplotlib.colors import ListedColormap
 
         N = model.N
-        x, y, w = _grid(model)
-        half = _crop(model, result)
-        b = model.limits(result.t[j:j + 1])[0]
+        x, y, w = panels.grid(model)
+        half = panels.crop(model, result)
+        b = model.normal_solution(result.t[j:j + 1])[0][0]
         F = np.asarray(result.F[j], dtype=float).reshape(N * N, 2)
         contact = b > 0.0
         ratio = np.full(N * N, np.nan)
         ratio[contact] = np.hypot(F[contact, 0], F[contact, 1]) / b[contact]
-        p0, p0_text = _peak_pressure(model)
+        p0, p0_text = panels.peak_pressure(model)
         q = -F / model.h ** 2 / (model.mu * p0)              # in units of μ p0
         fig = figure(figsize=(COLUMN_WIDTH, 4.1 + (0.25 if title else 0.0)),
                      layout="constrained")
@@ -318,18 +125,18 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
         mesh = ax.pcolormesh(x, y, np.ma.masked_invalid(ratio.reshape(N, N)).T, cmap=cmap,
                              vmin=0.0, vmax=1.0, shading="nearest", rasterized=True)
         state = result.state[j].reshape(N, N)
-        ax.add_collection(LineCollection(_outline(contact.reshape(N, N), x, y, w),
+        ax.add_collection(LineCollection(panels.outline(contact.reshape(N, N), x, y, w),
                                          colors="black", linewidths=0.8))
         stick = (state == int(State.STICK)) & contact.reshape(N, N)
         stick_edge = bool(stick.any()) and bool(np.any(stick != contact.reshape(N, N)))
         if stick_edge:
-            ax.add_collection(LineCollection(_outline(stick, x, y, w), colors="black",
+            ax.add_collection(LineCollection(panels.outline(stick, x, y, w), colors="black",
                                              linewidths=0.8, linestyles=[(0, (1.2, 1.2))]))
-        rho = _hertz_radius(model, float(np.asarray(model.P(result.t[j]))))
+        rho = panels.hertz_radius(model, float(np.asarray(model.P(result.t[j]))))
         if rho is not None:
             from matplotlib.patches import Circle
 
-            ax.add_patch(Circle((0.0, 0.0), rho, fill=False, **_hertz_style()))
+            ax.add_patch(Circle((0.0, 0.0), rho, fill=False, **panels.hertz_style()))
         # arrows: every k-th element (centred on the grid's centre), at most
         # MAX_ARROWS_ACROSS across the contact
         across = max(1, int(np.ptp(np.flatnonzero(contact.reshape(N, N).any(axis=1))))) + 1 \
@@ -349,17 +156,17 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
                            angles="xy", scale_units="xy", scale=scale, pivot="middle",
                            color="black", width=0.006, headwidth=3.5, headlength=4.0,
                            headaxislength=3.5, zorder=3)
-        ref = _nice(top)
+        ref = panels.nice(top)
         # the key in the upper right corner, outside the (round) contact
         ax.quiverkey(arrows, 0.9, 0.94, ref, rf"{ref:g} $\mu p_0$", labelpos="N",
                      coordinates="axes", fontproperties={"size": SMALL}, labelsep=0.04)
         ax.set_xlim(-half, half)
         ax.set_ylim(-half, half)
         ax.set_aspect("equal")
-        _ticks(ax)
+        panels.ticks(ax)
         ax.set_xlabel(r"$x/a_0$", labelpad=1)
         ax.set_ylabel(r"$y/a_0$", labelpad=1)
-        ax.set_title(_loads_label(model, float(result.t[j]), float(result.t[-1])).replace(
+        ax.set_title(panels.loads_label(model, float(result.t[j]), float(result.t[-1])).replace(
             "\n", ": "), fontsize=SMALL, pad=3)
         bar = fig.colorbar(mesh, ax=ax, shrink=0.85, aspect=25, pad=0.02)
         bar.set_label(r"$|q|/(\mu p)$ (1: slipping; white: separated)")
@@ -369,9 +176,9 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
                           label=r"shear traction $q = -F/h^2$ on the element"
                                 + (f",\none arrow per {k} x {k} elements; " if k > 1 else "\n")
                                 + p0_text)]
-        handles += _edge_handles(model, stick_edge=stick_edge)
+        handles += panels.edge_handles(model, stick_edge=stick_edge)
         fig.legend(handles=handles, loc="outside lower center", ncols=1, frameon=False,
-                   fontsize=SMALL, title=_caption(model, sides=False), title_fontsize=SMALL)
+                   fontsize=SMALL, title=panels.caption(model, sides=False), title_fontsize=SMALL)
         if title:
             fig.suptitle(title, fontsize=SMALL + 1)
         return finish(fig)
@@ -396,7 +203,7 @@ def animate_zones(model, result, path, frames=None, fps: int = 10):
     fps = float(fps)
     if not math.isfinite(fps) or fps <= 0:
         raise InputError("fps", f"must be > 0, got {fps!r}")
-    _check_result(model, result)
+    panels.check_result(model, result)
     recorded = result.t.size - 1                        # instants 1..steps (t = T for t = 0)
     if frames is None:
         count = min(recorded, ANIMATION_FRAMES)
@@ -413,18 +220,18 @@ def animate_zones(model, result, path, frames=None, fps: int = 10):
 
         fig = figure(figsize=(COLUMN_WIDTH, 4.6), layout="constrained")
         ax = fig.add_subplot()
-        x, y, w = _grid(model)
-        half = _crop(model, result)
+        x, y, w = panels.grid(model)
+        half = panels.crop(model, result)
         period = float(result.t[-1])
-        mesh, edge, circle = _draw_zones(ax, model, result, int(index[0]), x, y, w, half)
-        _ticks(ax)
+        mesh, edge, circle = panels.draw_zones(ax, model, result, int(index[0]), x, y, w, half)
+        panels.ticks(ax)
         ax.set_xlabel(r"$x/a_0$", labelpad=1)
         ax.set_ylabel(r"$y/a_0$", labelpad=1)
-        head = ax.set_title(_loads_label(model, float(result.t[index[0]]), period),
+        head = ax.set_title(panels.loads_label(model, float(result.t[index[0]]), period),
                             fontsize=SMALL, pad=3, linespacing=1.3)
-        handles = _zone_legend(model, _edge_handles(model))
+        handles = panels.zone_legend(model, panels.edge_handles(model))
         fig.legend(handles=handles, loc="outside lower center", ncols=2, frameon=False,
-                   fontsize=SMALL, title=_caption(model), title_fontsize=SMALL)
+                   fontsize=SMALL, title=panels.caption(model), title_fontsize=SMALL)
         finish(fig)
         fig.draw_without_rendering()                    # the layout, at the first frame
         fig.set_layout_engine("none")                   # laid out once: the frames keep it
@@ -434,12 +241,12 @@ def animate_zones(model, result, path, frames=None, fps: int = 10):
         def update(j):
             j = int(j)
             state = result.state[j].reshape(N, N)
-            mesh.set_array(_codes(state).T.ravel())
-            edge.set_segments(_outline(state != int(State.SEPARATION), x, y, w))
+            mesh.set_array(panels.codes(state).T.ravel())
+            edge.set_segments(panels.outline(state != int(State.SEPARATION), x, y, w))
             if circle is not None:
-                rho = _hertz_radius(model, float(np.asarray(model.P(result.t[j]))))
+                rho = panels.hertz_radius(model, float(np.asarray(model.P(result.t[j]))))
                 circle.set_radius(rho if rho is not None else 0.0)
-            head.set_text(_loads_label(model, float(result.t[j]), period))
+            head.set_text(panels.loads_label(model, float(result.t[j]), period))
             return mesh, edge, head
 
         anim = FuncAnimation(fig, update, frames=[int(i) for i in index], blit=False)
@@ -453,7 +260,7 @@ def write_halfspace_figures(out_dir, model, result, formats=("png", "pdf"),
     ``dims = 2``, the traction vectors at the first of them with a tangential load (``halfspace-
     tractions``, at the largest |Q| if none has one) of a solved half-space contact into
     ``out_dir``: the paths."""
-    _check_result(model, result)
+    panels.check_result(model, result)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = save(figure_zone_maps(model, result, fractions), out_dir, "halfspace-zones",

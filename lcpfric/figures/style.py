@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._optional import require
+from .._optional import require
 
 __all__ = ["COLUMN_WIDTH", "PAGE_WIDTH", "MIN_FONT_SIZE", "DPI", "SMALL", "NORMAL", "CMAP",
            "style", "figure", "finish", "phi_label", "sci", "ramp", "curve_style", "save"]

@@ -13,11 +13,11 @@ import time
 
 import numpy as np
 
-from . import _checks
-from .errors import InputError
-from .methods import CLOSED_FORM
-from .model import ContactSystem, SingleNode
-from .results import SteadyState
+from .. import _checks
+from ..errors import InputError
+from ..methods import CLOSED_FORM, methods_for
+from ..model import ContactSystem, SingleNode
+from ..results import SteadyState
 
 __all__ = ["ExactSolver"]
 
@@ -36,15 +36,17 @@ class ExactSolver:
     def check(self, model):
         """Return the single node or system to solve, or raise InputError naming the methods
         that can."""
-        from .scene import Scene
+        from ..scene import Scene
 
         if isinstance(model, Scene):
             model = model.model if model.model is not None else model.system
         if not isinstance(model, (SingleNode, ContactSystem)):
-            raise InputError("model", "expected a SingleNode, ContactSystem or Scene, got "
-                                      f"{type(model).__name__}")
+            what = type(model).__name__
+            raise InputError("method", f"'exact' solves a SingleNode or a ContactSystem, not "
+                                       f"{what}; methods for {what}: "
+                                       f"{', '.join(methods_for(model)) or 'none'}")
         if not isinstance(model, SingleNode):
-            from .exact.discrete import check_system
+            from .discrete import check_system
 
             check_system(model)
             return model
@@ -61,7 +63,7 @@ class ExactSolver:
         ``max_cycles`` caps the cycles of a discrete system (its steady state is found by
         Newton's method on the cycle map, periodic to 1e-12: see :mod:`lcpfric.exact.discrete`);
         the single node's orbit is entered directly, in one cycle."""
-        from .exact import exact_cycle
+        from . import exact_cycle
 
         start = time.perf_counter()
         model = self.check(model)
@@ -86,7 +88,7 @@ class ExactSolver:
             normalization=model.normalization(), W_hat_cycles=W_hat)
 
     def _system_steady_state(self, system, samples, start, max_cycles) -> SteadyState:
-        from .exact.discrete import exact_system_cycle
+        from .discrete import exact_system_cycle
 
         cyc = exact_system_cycle(system, samples, max_cycles=max_cycles)
         t = cyc.theta / cyc.omega

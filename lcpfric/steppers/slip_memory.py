@@ -1,6 +1,6 @@
 r"""What a cycle remembers of its starting slips, node by node: the preconditioner of the d = 2
-cycle map, shared by the steady-state drivers of discrete systems (:mod:`lcpfric.periodic`)
-and of continuum contacts (:mod:`lcpfric.contact.steady`).
+cycle map (:mod:`lcpfric.periodic.acceleration`), tracked during a cycle by the steppers that
+can (``newton-cg``) and taken from a recorded cycle for the discrete systems.
 
 With circular friction cones (d = 2) the periodic steady state is reached slowly: the slips
 transverse to a node's slip direction are forgotten only in part when the node slips, and the
@@ -24,7 +24,8 @@ for a node that sticks the whole cycle (its slip stays where it started), zero f
 slips across (d = 1's case) or separates. The driver then steps each node by the Newton step of
 that block, ``x_i + (I - R_i)⁺ (G(x)_i - x_i)``, its singular values floored at 1/MAX_GAIN.
 For one node, or nodes that are not coupled, R_i is the cycle map's Jacobian and that step is
-Newton's; for coupled nodes the driver accelerates the map (:class:`~lcpfric.periodic.Anderson`)
+Newton's; for coupled nodes the driver accelerates the map
+(:class:`~lcpfric.periodic.acceleration.Anderson`)
 for the coupling that the blocks leave out. Convergence is still judged on a whole cycle that
 repeats.
 """

@@ -1,4 +1,5 @@
-"""Error against run time for every method (``lcpfric bench``, ``benchmarks/compare_backends.py``).
+"""Error against run time for every method: the cases, the runs and their reports
+(``python benchmarks/compare_backends.py``).
 
 Every method is run on a set of cases at steps per cycle from 50 to 1e5 and judged against the
 exact solution: the single node's closed form, and for the multi-node case a block-diagonal
@@ -6,7 +7,7 @@ system whose exact dissipation is the sum of its nodes' exact answers. Wall time
 of repeats, measured in the same run for all methods. Writes ``compare.csv``, ``compare.md`` and
 ``compare.png`` (log-log error against time, one panel per case, one line per method).
 
-The coupled cases (:data:`COUPLED_CASES`, ``lcpfric bench --coupled``) are d = 1 systems with a
+The coupled cases (:data:`COUPLED_CASES`, ``compare_backends.py --coupled``) are d = 1 systems with a
 coupled stiffness (chains with k_coupling = 10, a dense random SPD K), judged against
 ``steady_state(model, method="exact").W`` computed once per case; that reference is checked
 independently by Richardson extrapolation of the explicit stepper (:func:`richardson`). They
@@ -44,8 +45,8 @@ class Case:
         return bool(self.nodes)
 
     def model(self):
-        from ..model.loads import Harmonic
-        from ..model import ContactSystem, IndependentSprings, SingleNode
+        from lcpfric.model.loads import Harmonic
+        from lcpfric.model import ContactSystem, IndependentSprings, SingleNode
 
         if not self.multi:
             return SingleNode.normalized(self.P1, self.Q1, self.phi)
@@ -57,7 +58,7 @@ class Case:
 
     def exact(self) -> float:
         """Exact Ŵ (single node) or exact W = Σ Q̂1_i Ŵ_i (block-diagonal normalized nodes)."""
-        from ..exact import exact_W_hat
+        from lcpfric.exact import exact_W_hat
 
         if not self.multi:
             return float(exact_W_hat(self.P1, self.Q1, self.phi))
@@ -112,7 +113,7 @@ class CoupledCase:
     def reference(self) -> tuple:
         """(W, seconds, solver_stats) of the exact steady state (cached)."""
         if self.name not in _REFERENCES:
-            from ..periodic import steady_state
+            from lcpfric.periodic import steady_state
 
             t0 = time.perf_counter()
             res = steady_state(self.model(), method="exact")
@@ -137,21 +138,21 @@ _Q3, _PHI3 = (1.5, 2.0, 2.5), (0.0, 0.6 * PI, 0.38 * PI)
 
 
 def _chain3_contact():
-    from ..model import chain
+    from lcpfric.model import chain
 
     return chain(3, k_coupling=10.0, P1=(0.3, 0.6, 0.8), Q1=_Q3, phi=_PHI3)
 
 
 def _chain3_separation():
-    from ..model import chain
+    from lcpfric.model import chain
 
     return chain(3, k_coupling=10.0, P1=(1.5, 0.6, 2.5), Q1=_Q3, phi=_PHI3)
 
 
 def _dense_spd():
     """K = A Aᵀ/n + I with A standard normal (seed 1), 5 nodes, 2 of them separating."""
-    from ..model import ContactSystem, IndependentSprings
-    from ..model.loads import Harmonic
+    from lcpfric.model import ContactSystem, IndependentSprings
+    from lcpfric.model.loads import Harmonic
 
     n = 5
     rng = np.random.default_rng(1)
@@ -168,7 +169,7 @@ def _dense_spd():
 def _chain100():
     """100 nodes, k_coupling = 10; per-node P1 ~ U(0.2, 1.5), Q1 ~ U(1, 3), φ ~ U(0, π),
     seed 100 (about a quarter of the nodes separate)."""
-    from ..model import chain
+    from lcpfric.model import chain
 
     n = 100
     rng = np.random.default_rng(100)
@@ -194,13 +195,13 @@ COUPLED_METHODS = ("exact", "explicit", "clarabel", "osqp", "qpsolvers:proxqp",
 
 def _closed_form(method: str) -> bool:
     """Whether the registry lists ``method`` as a closed form (timed once, no step counts)."""
-    from ..methods import CLOSED_FORM, get_method
+    from lcpfric.methods import CLOSED_FORM, get_method
 
     return get_method(method)[0].kind == CLOSED_FORM
 
 
 def default_methods() -> list[str]:
-    from ..methods import available_methods
+    from lcpfric.methods import available_methods
 
     return available_methods()
 
@@ -221,8 +222,8 @@ def run_comparison(cases=CASES, methods=None, steps=FULL_STEPS, *, budget: float
     A method stops refining a case once one run takes longer than ``budget`` seconds, or the
     next is predicted to. A method that cannot treat a case (or fails) gets one row saying why.
     """
-    from ..errors import LcpfricError
-    from ..periodic import steady_state
+    from lcpfric.errors import LcpfricError
+    from lcpfric.periodic import steady_state
 
     methods = list(methods or default_methods())
     rows = []
@@ -552,14 +553,14 @@ def write_coupled_outputs(rows, out_dir: str, cases=COUPLED_CASES, command: str 
 
 
 def _plot_coupled(rows, cases, steppers, closed, path) -> bool:
-    """compare-coupled.png in the house print style (lcpfric.plotting): page width, 7 pt text,
+    """compare-coupled.png in the house print style (lcpfric.figures.style): page width, 7 pt text,
     one panel per case, every method a labelled line, the exact reference's cost a labelled
     vertical line. False (nothing written) without matplotlib."""
     try:
         import matplotlib  # noqa: F401
     except ImportError:
         return False
-    from .. import plotting as pl
+    from lcpfric.figures import style as pl
 
     ncol = 2
     nrow = math.ceil(len(cases) / ncol)

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import SolverError
+from ...errors import SolverError
 
 __all__ = ["normal_contact", "NormalSolution"]
 

@@ -33,7 +33,7 @@ import math
 import numpy as np
 import scipy.fft as sfft
 
-__all__ = ["element_integrals", "kernels", "Convolution"]
+__all__ = ["Counted", "element_integrals", "kernels", "Convolution"]
 
 
 def _asinh_ratio(a, b):
@@ -78,7 +78,8 @@ class Convolution:
     ``normal(p)`` maps pressures ``(N, N)`` to normal displacements; ``tangential(q)`` maps
     shears ``(N, N)`` (d = 1, along x) or ``(2, N, N)`` (d = 2) to tangential displacements of
     the same shape. ``dense(name)`` forms one influence matrix (small grids only: tests and the
-    cross-checks with the convex backends). ``products`` counts the FFT pairs done."""
+    cross-checks with the convex backends). The operator holds no count of its products: a
+    solve counts its own through :class:`Counted`."""
 
     def __init__(self, N: int, h: float, E: float, nu: float, dims: int = 1):
         self.N, self.h, self.dims = int(N), float(h), int(dims)
@@ -86,7 +87,6 @@ class Convolution:
         self.kernel = kernels(self.N, self.h, E, nu, self.dims)
         self.spectra = {name: self._spectrum(k) for name, k in self.kernel.items()}
         self.coupled = "xy" in self.spectra
-        self.products = 0
 
     @staticmethod
     def padded_size(N: int) -> int:
@@ -109,7 +109,6 @@ class Convolution:
         return sfft.irfft2(X, s=(self.M, self.M))[..., : self.N, : self.N]
 
     def normal(self, p):
-        self.products += 1
         return self._back(self._forward(p) * self.spectra["n"])
 
     def tangential(self, q):
@@ -151,7 +150,6 @@ class Convolution:
         the circular convolution's wrap-around). One FFT pair, real (d = 1) or complex
         (d = 2); the solvers' inner loops keep their vectors in this layout (no padding or
         cropping copies)."""
-        self.products += 1
         K = self._scaled(kind, factor)
         if self.dims == 1:
             X = sfft.rfft2(buf)
@@ -243,7 +241,6 @@ class Convolution:
 
     def precondition_normal(self, p):
         """The (floored) inverse of the padded circulant normal operator applied to ``p``."""
-        self.products += 1
         return self._back(self._forward(p) * self._inverse["n"])
 
     def precondition(self, q):
@@ -262,3 +259,34 @@ class Convolution:
         i, j = np.divmod(np.arange(N * N), N)
         return self.kernel[name][(i[:, None] - i[None, :]) + N - 1,
                                  (j[:, None] - j[None, :]) + N - 1]
+
+
+class Counted:
+    """A :class:`Convolution` whose FFT pairs are counted (``products``): what one solve (a
+    normal problem, a stepper's cycles) holds, so that the operator, part of the model, holds
+    no count. Every other attribute is the operator's."""
+
+    def __init__(self, op: Convolution, products: int = 0):
+        self.op = op
+        self.products = int(products)
+
+    def __getattr__(self, name):
+        return getattr(self.op, name)
+
+    def normal(self, p):
+        self.products += 1
+        return self.op.normal(p)
+
+    def precondition_normal(self, p):
+        self.products += 1
+        return self.op.precondition_normal(p)
+
+    def padded(self, kind: str, buf, factor: float = 1.0):
+        self.products += 1
+        return self.op.padded(kind, buf, factor)
+
+    def tangential(self, q):
+        return self.op.unpad(self.padded("tangential", self.op.pad(q)), q.ndim)
+
+    def precondition(self, q):
+        return self.op.unpad(self.padded("precondition", self.op.pad(q)), q.ndim)

@@ -1,0 +1,81 @@
+"""A continuum contact as a discrete :class:`~lcpfric.model.ContactSystem` (matrix-free), so that
+the discrete methods (``active-set``, ``clarabel``, ...) can solve it and be compared with the
+contact's own stepper.
+
+With the nodes' own compliance ``C_s`` (the body held fixed), the rigid displacement
+eliminated gives ``F = K v - C_s⁻¹ 1 Q / (1ᵀ C_s⁻¹ 1 + k_s)`` with ``K⁻¹ = C_s + 1 1ᵀ / k_s``
+(Sherman-Morrison): products only, no matrix formed. With ``dims = 2`` (the half-space) 1
+becomes ``B = [1_x 1_y]`` and the load's coefficients ``-C_s⁻¹ B (k_s I + Bᵀ C_s⁻¹ B)⁻¹ e_x``
+(Woodbury); the model's ``springs()`` then gives ``C_s⁻¹ B`` as an ``(n·2, 2)`` array. It needs
+``k_support > 0``: under pure load control K is singular (a common slip of every node is a rigid
+shift of the body).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.sparse.linalg import LinearOperator
+
+from ...errors import InputError
+from ..loads import Harmonic, Periodic
+from ..system import ContactSystem
+
+__all__ = ["contact_system", "SupportedCompliance"]
+
+
+class SupportedCompliance(LinearOperator):
+    """``C = C_s + B Bᵀ / k_s``: the nodes' compliance with the body on its support (module
+    docstring); ``diagonal()`` is known without a product."""
+
+    def __init__(self, springs, cdiag, k_support: float, dims: int):
+        m = np.asarray(cdiag).size
+        super().__init__(dtype=float, shape=(m, m))
+        self.springs, self.cdiag, self.ks, self.d = springs, cdiag, float(k_support), dims
+
+    def _matvec(self, x):
+        x = np.asarray(x, dtype=float).reshape(-1)
+        out = np.asarray(self.springs.matvec(x), dtype=float).reshape(-1)
+        if self.d == 1:
+            return out + x.sum() / self.ks
+        return (out.reshape(-1, 2) + x.reshape(-1, 2).sum(axis=0) / self.ks).reshape(-1)
+
+    def _rmatvec(self, x):
+        return self._matvec(x)
+
+    def diagonal(self):
+        return self.cdiag + 1.0 / self.ks
+
+
+def contact_system(model) -> ContactSystem:
+    """The model as a matrix-free :class:`~lcpfric.model.ContactSystem` (module docstring); its
+    normal reactions are the model's (:class:`~lcpfric.model.continuum.base.LevelNormal`)."""
+    ks = model.k_support
+    if ks <= 0.0:
+        raise InputError("k_support", "is 0: under pure load control the contact's "
+                                      "stiffness is singular (a rigid shift of the body), "
+                                      "so it is no ContactSystem; solve the model itself "
+                                      "(lcpfric.steady_state(model)), or give k_support > 0")
+    Cs, w, cdiag = model.springs()
+    d = model.dims
+    m = np.asarray(cdiag).size
+    n = m // d
+    # the loads: F = K v + c Q(t), c = -W (k_s I + Bᵀ W)⁻¹ e_x, W = C_s⁻¹ B (Woodbury)
+    if d == 1:
+        w = np.asarray(w, dtype=float).reshape(-1)
+        coef = -w / (float(w.sum()) + ks)
+    else:
+        W = np.asarray(w, dtype=float).reshape(m, 2)
+        BW = np.stack([W[0::2].sum(axis=0), W[1::2].sum(axis=0)])
+        coef = -W @ np.linalg.solve(ks * np.eye(2) + BW, np.array([1.0, 0.0]))
+    Q = model.Q
+    loads = []
+    for c in coef:
+        if isinstance(Q, Harmonic):
+            loads.append(Harmonic(c * Q.mean, abs(c) * Q.amplitude,
+                                  Q.phase + (math.pi if c < 0 else 0.0), Q.omega))
+        else:
+            loads.append(Periodic(lambda t, c=c: c * Q(t), model.period, c * Q.mean))
+    return ContactSystem(None, np.full(n, model.mu), tuple(loads), model.normal_model(),
+                         dims=d, compliance=SupportedCompliance(Cs, cdiag, ks, d))

@@ -1,0 +1,332 @@
+r"""The three-dimensional contact of two identical elastic bodies by boundary elements on the
+half-space: any surface on a square grid, tangential tractions along the load (d = 1) or in the
+plane (d = 2, the full Cerruti coupling).
+
+The bodies (each E, ν) touch over a square grid of N x N square elements of side h carrying
+uniform tractions; the nodes are the elements' centres. The surface is the gap at zero approach
+``g0`` (``(N, N)``): a sphere (:meth:`HalfSpace.sphere`), a flat punch with rounded edges
+(:meth:`HalfSpace.punch`) or a user height map (:class:`HalfSpace` itself). The loads are the
+total normal force P(t) and the tangential force Q(t) along x.
+
+Influence coefficients and products: :mod:`.influence` (Love's rectangle solutions, products by
+zero-padded FFT; no matrix is formed).
+
+The normal problem
+------------------
+At each instant, frictionless contact under P(t) (uncoupled from the shear: identical bodies),
+by constrained conjugate gradients (:mod:`.normal3d`), each instant started from the previous
+one's pressures. The friction limits are ``b_i = μ p_i h²``.
+
+The tangential problem, each increment's problem (P), is the ``newton-cg`` stepper's
+(:mod:`lcpfric.steppers.newton_cg`).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ... import _checks, memory
+from ...errors import InputError
+from ...linalg.cg import cg
+from .base import ContactModel
+from .closed_forms import hertz_contact, moduli
+from .influence import Convolution, Counted
+from .normal3d import normal_contact
+
+__all__ = ["HalfSpace", "NormalProblem", "MAX_GRID", "MIN_ACROSS", "MEMORY_PER_POINT",
+           "compliance"]
+
+#: largest grid side (the FFT works on a grid about twice as large)
+MAX_GRID = 2048
+#: fewest elements across the contact at the mean load
+MIN_ACROSS = 8
+#: bytes per point of the FFT's padded grid at the peak, by d (:meth:`HalfSpace.memory_estimate`)
+MEMORY_PER_POINT = {1: 240, 2: 500}
+#: most elements for the exact entry loads (dense influence matrix) of ``system()``
+DENSE_MAX = 2000
+
+
+class HalfSpace(ContactModel):
+    """Two identical elastic bodies touching over a surface on a square grid (module docstring).
+
+    Parameters
+    ----------
+    E, nu, mu : float
+        Each body's modulus and Poisson's ratio (``0 <= ν < 0.5``), friction coefficient.
+    P, Q : Load or float
+        Total normal and tangential (along x) loads.
+    heights : (N, N) array_like
+        The gap at zero approach (the sum of the two surfaces' heights), on the grid; index
+        ``[i, j]`` is the element at ``(x_i, y_j)``.
+    spacing : float
+        The element side h.
+    dims : {1, 2}
+        Tangential directions: 1 (tractions along the load) or 2 (in the plane).
+    k_support : float
+        Tangential support stiffness in parallel with the contact (0: pure load control).
+
+    Attributes
+    ----------
+    N, h : int, float
+        Grid side and element side; ``nodes = N²``.
+    g0 : ndarray
+        The surface.
+    op : Convolution
+        The influence operators.
+    a0, k_t0 : float
+        The contact radius at P0 (Hertz's for the sphere, else the radius of the discrete
+        contact's area) and ``k_t0 = 2 a0 G*``, the normalization.
+    c : float
+        Each element's self-compliance (per unit force).
+    pos, cpos : ndarray
+        Each node's first component in the FFT's padded layout (flat), and (d = 2) its complex
+        entry.
+    force_scale : float
+        The largest friction limit of an element, ``μ max p h²`` at P_max.
+    normal_seed : (dict, ndarray)
+        The pressures at P_max and P0, solved at construction: every normal solve
+        (:class:`NormalProblem`) starts from them.
+    """
+
+    max_nodes = MAX_GRID * MAX_GRID
+    default_method = "newton-cg"
+    #: what to do where no element slips (``steady_state``'s ResolutionWarning)
+    refine_hint = "refine the grid or use the MDR model for a sphere"
+
+
+    def __init__(self, E, nu, mu, P, Q, *, heights, spacing, dims: int = 1,
+                 k_support: float = 0.0, _a0=None, geometry="heightmap"):
+        g0 = _checks.finite_array("heights", heights)
+        if g0.ndim != 2 or g0.shape[0] != g0.shape[1] or g0.shape[0] < 4:
+            raise InputError("heights", f"must be a square 2-D array (N x N, N >= 4), got "
+                                        f"shape {g0.shape}")
+        N = g0.shape[0]
+        if N > MAX_GRID:
+            raise InputError("heights", f"grid {N} x {N} exceeds {MAX_GRID} x {MAX_GRID}")
+        if dims not in (1, 2):
+            raise InputError("dims", f"must be 1 or 2, got {dims!r}")
+        super().__init__(E, nu, mu, P, Q, k_support, N * N)
+        self.h = _checks.positive("spacing", spacing)
+        self.N, self.dims, self.geometry = N, int(dims), geometry
+        self.g0 = g0 - g0.min()
+        self._check_memory()
+        self.op = Convolution(N, self.h, self.E, self.nu, self.dims)
+        self.c = self.op.diagonal("xx") / self.h ** 2
+        M = self.op.M
+        # each node's first component in the FFT's padded layout (Convolution.view, flat)
+        self.pos = self.dims * (np.arange(N)[:, None] * M + np.arange(N)[None, :]).ravel()
+        self.cpos = self.pos // self.dims            # d = 2: each node's complex entry
+        coords = (np.arange(N) - (N - 1) / 2.0) * self.h
+        X, Y = np.meshgrid(coords, coords, indexing="ij")
+        self.xy = np.stack([X.ravel(), Y.ravel()], axis=1)
+        self.x = np.hypot(X, Y).ravel()            # distance from the grid's centre
+        self.normal_seed = ({}, None)
+        normal = NormalProblem(self)
+        top = normal.pressure(self.P_max)
+        self.contact_max = int(np.count_nonzero(top))
+        self.force_scale = self.mu * float(top.max()) * self.h ** 2
+        p0 = normal.pressure(self.P0)
+        self.normal_seed = (dict(normal.cache), normal.last)
+        self.a_eq0 = math.sqrt(np.count_nonzero(p0) * self.h ** 2 / math.pi)
+        across = 2.0 * self.a_eq0 / self.h
+        if across < MIN_ACROSS:
+            raise InputError("grid" if geometry in ("sphere", "punch") else "spacing",
+                             f"the contact at the mean load spans about {across:.1f} "
+                             f"elements across, fewer than {MIN_ACROSS}: the grid is too "
+                             f"coarse to resolve it; refine the grid")
+        edge = top.reshape(N, N)
+        if np.any(edge[0]) or np.any(edge[-1]) or np.any(edge[:, 0]) or np.any(edge[:, -1]):
+            raise InputError("heights", "the contact at the largest load reaches the grid's "
+                                        "edge: the grid does not hold the contact; a larger "
+                                        "grid (or surface) is needed")
+        self.a0 = float(_a0) if _a0 is not None else self.a_eq0
+        self.k_t0 = 2.0 * self.a0 * self.moduli["G*"]
+
+
+    # -- constructors ---------------------------------------------------------------------------
+    @classmethod
+    def sphere(cls, R, E, nu, mu, P, Q, *, grid: int = 40, dims: int = 1,
+               k_support: float = 0.0):
+        """Two spheres (effective radius R): ``g0 = r²/(2R)`` on a grid of ``grid`` elements
+        across the largest Hertz contact diameter, plus 3 % (at least two elements) on each
+        side. ``a0`` and ``k_t0`` are Hertz's (the normalization of the other models)."""
+        R = _checks.positive("R", R)
+        probe = ContactModel(E, nu, mu, P, Q, k_support, 1)
+        a_max = hertz_contact(probe.P_max, R, E, nu)["a"]
+        a0 = hertz_contact(probe.P0, R, E, nu)["a"]
+        g, N, h = cls._grid(grid, a_max)
+        r2 = g[:, None] ** 2 + g[None, :] ** 2
+        model = cls(E, nu, mu, P, Q, heights=r2 / (2.0 * R), spacing=h, dims=dims,
+                    k_support=k_support, _a0=a0, geometry="sphere")
+        model.R, model.a_max, model.grid_across = R, a_max, grid
+        return model
+
+    @classmethod
+    def punch(cls, R, radius, E, nu, mu, P, Q, *, grid: int = 40, dims: int = 1,
+              k_support: float = 0.0):
+        """A flat punch of radius ``radius`` with edges rounded to the radius R:
+        ``g0 = max(0, r − radius)²/(2R)``; the grid spans the largest contact (its radius by
+        the method of dimensionality reduction, exact for axisymmetric bodies) as for
+        :meth:`sphere`."""
+        from .profiles import Axisymmetric
+
+        R, b = _checks.positive("R", R), _checks.positive("radius", radius)
+        probe = ContactModel(E, nu, mu, P, Q, k_support, 1)
+        shape = Axisymmetric(lambda r: np.maximum(r - b, 0.0) / R)
+        a_max = float(np.max(shape.radius(probe.P_max, moduli(E, nu)["E*"])))
+        g, N, h = cls._grid(grid, a_max)
+        r = np.hypot(g[:, None], g[None, :])
+        model = cls(E, nu, mu, P, Q, heights=np.maximum(r - b, 0.0) ** 2 / (2.0 * R),
+                    spacing=h, dims=dims, k_support=k_support, geometry="punch")
+        model.R, model.flat_radius, model.a_max, model.grid_across = R, b, a_max, grid
+        return model
+
+    @staticmethod
+    def _grid(grid, a_max):
+        grid = _checks.positive_int("grid", grid, MIN_ACROSS)
+        extra = max(2, math.ceil(0.03 * grid))
+        N = grid + 2 * extra
+        if N > MAX_GRID:
+            raise InputError("grid", f"{grid} elements across (+{2 * extra}) exceed {MAX_GRID}")
+        h = 2.0 * a_max / grid
+        return (np.arange(N) - (N - 1) / 2.0) * h, N, h
+
+    def memory_estimate(self) -> int:
+        """Bytes the model's arrays take at their peak (kernels, spectra, the solvers' work
+        arrays, on the FFT's padded grid of M x M): ``MEMORY_PER_POINT[d] × M²``, measured
+        (``tracemalloc``'s peak over a short solve, grids 40 to 120: at most 211 and 447 bytes
+        per point for d = 1 and 2, checked by a test). The cycle's records are the driver's,
+        which checks them itself."""
+        M = Convolution.padded_size(self.N)
+        return MEMORY_PER_POINT[self.dims] * M * M
+
+    def _check_memory(self):
+        """Refuse a grid whose arrays (:meth:`memory_estimate`) exceed the memory limit
+        (:mod:`lcpfric.memory`)."""
+        memory.check(self.memory_estimate(), "heights",
+                     f"a {self.N} x {self.N} grid with d = {self.dims} (its arrays)")
+
+
+    # -- the normal problem ---------------------------------------------------------------------
+    def normal_problem(self) -> "NormalProblem":
+        """A solver of the frictionless normal problem, started from the pressures solved at
+        construction (:attr:`normal_seed`)."""
+        return NormalProblem(self, self.normal_seed)
+
+    def pressure(self, P: float) -> np.ndarray:
+        """The frictionless contact pressures ``(N²,)`` under the load P."""
+        return self.normal_problem().pressure(P)
+
+    # -- as an lcpfric system (ContactModel.system) ---------------------------------------------
+    def springs(self):
+        """``(compliance operator, C⁻¹ B, diag C)`` with the body held fixed, for
+        :meth:`ContactModel.system`: the operator is the FFT product (matrix-free: the
+        ``active-set`` backend solves d = 1 with products only, the other methods form C from
+        products on small grids), ``C⁻¹ B`` by preconditioned conjugate gradients to 1e-13."""
+        from scipy.sparse.linalg import LinearOperator
+
+        n, d = self.nodes, self.dims
+        m = n * d
+
+        def product(x):
+            return compliance(self, self.op, x).reshape(-1)
+
+        op = LinearOperator((m, m), matvec=product, rmatvec=product, dtype=float)
+        h2 = self.h ** 2
+        stats = {"cg": 0}
+        W = np.empty((m, d))
+        for j in range(d):
+            e = np.zeros((n, d))
+            e[:, j] = 1.0
+            x, _ = cg(op.matvec, e.ravel(), np.zeros(m), None,
+                      lambda r: apply(self, self.op, "precondition", r, h2).reshape(-1),
+                      1e-13 * float(np.max(np.abs(e))) * self.c, stats)
+            W[:, j] = x
+        return op, (W[:, 0] if d == 1 else W), np.full(m, self.c)
+
+    def entry_loads(self) -> np.ndarray:
+        """Per element, the normal load at which it enters the contact (dense: small grids):
+        :func:`~lcpfric.model.continuum.halfplane.entry_loads`, exact for the discrete problem."""
+        from .halfplane import entry_loads
+
+        if self.nodes > DENSE_MAX:
+            raise InputError("grid", f"exact entry loads need the dense influence matrix of "
+                                     f"{self.nodes} elements (at most {DENSE_MAX})")
+        return entry_loads(self.op.dense("n"), self.g0, self.h ** 2, self.P_max)
+
+
+class NormalProblem:
+    """The frictionless normal problem of a :class:`HalfSpace` under a sequence of loads, by
+    constrained conjugate gradients (:func:`~.normal3d.normal_contact`), each load started from
+    the previous one's pressures; loads equal to 12 digits share one solve (a harmonic P repeats
+    its values twice a cycle, up to round-off: their pressures differ by less than that).
+    ``stats``: the solves' time, FFT products and count."""
+
+    def __init__(self, model, seed=({}, None)):
+        self.model = model
+        self.op = Counted(model.op)
+        self.cache: dict[float, np.ndarray] = dict(seed[0])
+        self.last = seed[1]
+        self.stats = {"normal_seconds": 0.0, "normal_products": 0, "normal_solves": 0}
+
+    def pressure(self, P: float) -> np.ndarray:
+        """The pressures ``(N²,)`` under the load P."""
+        P = float(P)
+        if P <= 0.0:
+            return np.zeros(self.model.nodes)
+        key = float(f"{P:.11e}")
+        got = self.cache.get(key)
+        if got is not None:
+            return got
+        start, count = time.perf_counter(), self.op.products
+        sol = normal_contact(self.op, self.model.g0, P, p0=self.last)
+        self.stats["normal_seconds"] += time.perf_counter() - start
+        self.stats["normal_products"] += self.op.products - count
+        self.stats["normal_solves"] += 1
+        self.last = sol.p
+        p = sol.p.ravel()
+        if len(self.cache) < 20_000:
+            self.cache[key] = p
+        return p
+
+    def solution(self, t):
+        """``(limits, sizes, stats)`` at the instants t (:meth:`HalfSpace.normal_solution`)."""
+        model = self.model
+        P = np.atleast_1d(np.asarray(model.P(np.asarray(t, dtype=float)), dtype=float))
+        out = np.empty((P.size, model.nodes))
+        for j, x in enumerate(P):
+            out[j] = self.pressure(x)
+        out *= model.mu * model.h ** 2
+        sizes = np.array([math.sqrt(np.count_nonzero(self.pressure(x)) * model.h ** 2 / math.pi)
+                          for x in P])
+        return out, sizes, dict(self.stats)
+
+
+def pad(model, F):
+    """Node-major forces ``(n, d)`` or flat in the FFT's padded layout
+    (:meth:`~.influence.Convolution.view`)."""
+    N, d = model.N, model.dims
+    buf = model.op.empty()
+    model.op.view(buf)[:N, :N] = np.asarray(F, dtype=float).reshape(N, N, d)
+    return buf
+
+
+def nodes(model, buf):
+    """A padded array's nodes, node-major ``(n, d)`` (a view)."""
+    N, d = model.N, model.dims
+    return model.op.view(buf)[:N, :N].reshape(N * N, d)
+
+
+def apply(model, op, kind, F, factor):
+    """The product ``kind`` (:meth:`~.influence.Convolution.padded`) of node-major forces
+    ``(n, d)`` or flat, times ``factor``, by ``op`` (the model's operator, or a
+    :class:`~.influence.Counted` one): ``(n, d)``."""
+    return nodes(model, op.padded(kind, pad(model, F), factor))
+
+
+def compliance(model, op, F) -> np.ndarray:
+    """``C F``: relative tangential displacements ``(n, d)`` from forces ``(n, d)`` or flat."""
+    return apply(model, op, "tangential", F, 1.0 / model.h ** 2)

@@ -1,0 +1,186 @@
+r"""The Hertz contact (sphere) by the method of dimensionality reduction (Popov and Heß), d = 1.
+
+Two identical elastic spheres (effective radius R, each of modulus E and ratio ν; composite
+moduli E*, G* of :func:`~lcpfric.contact.closed_forms.moduli`) under a normal load P(t) and a
+tangential load Q(t) along one direction. The method of dimensionality reduction maps the 3-D
+contact onto a row of independent springs on a rigid bar, the 1-D profile ``g(x) = x²/R``:
+
+* **normal** (known before any tangential computation: the problems are uncoupled): at each
+  instant the approach ``d = a²/R`` with the Hertz radius ``a = (3PR/(4E*))^(1/3)``; spring i
+  on the cell ``[x_i - Δx/2, x_i + Δx/2]`` of ``[0, a_max]`` carries the normal force
+  ``N_i = 2 E* ∫_cell max(0, d - x²/R) dx`` (the cell's exact share: ``Σ N_i = P`` exactly;
+  the factor 2 counts the springs at ``±x``, which behave alike). ``P <= 0`` is complete
+  separation;
+* **tangential**: spring stiffness ``k_i = 2 G* Δx`` (so ``Σ k_i = 2 a G* = k_t0`` in full
+  stick), spring force ``k_i (u - v_i)`` with ``v_i`` the slip of spring i and ``u`` the bar's
+  displacement, ``|k_i (u - v_i)| <= μ N_i``; the bar is held by Q(t) and, in parallel with the
+  contact, by a support of stiffness ``k_support`` (the structure that holds the body; 0 is
+  pure load control): ``Σ_i k_i (u - v_i) + k_support u = Q``.
+
+Within Mindlin's approximation this reproduces the 3-D contact (exactly when ν = 0): the 1-D
+stick zone ``|x| < c`` is the 3-D stick radius, and the dissipation is the 3-D one.
+
+The increment (no solver: a closed form serves)
+-----------------------------------------------
+The increment to ``t_{j+1}`` is problem (P) of the other backends, the maximum-dissipation
+projection of the trial state, for this system: given the bar's displacement u the springs are
+independent, and each one's answer is its return mapping ``F_i(u) = clip(k_i (v_i - u), -b_i,
+b_i)``, ``b_i = μ N_i(t_{j+1})`` (lcpfric's sign: ``F_i = k_i (v_i - u)`` is the friction
+force, and the slip opposes it). The bar's equilibrium ``h(u) = Σ F_i(u) - k_support u + Q = 0``
+is one monotone piecewise-linear equation in u, solved exactly (:func:`bar_root`: a safeguarded
+Newton iteration from the previous u, exact once a step keeps every spring on its side of its
+breakpoints ``v_i ∓ b_i/k_i``; usually two or three O(n) passes); the rank-one coupling of the springs through
+the bar is never formed as a matrix. With ``k_support = 0`` the equation has a root only when
+``|Q| <= μ P`` (else the whole contact slides): such loads are refused before any work, naming
+the instants and the fix (a support stiffness).
+
+The increments are the ``mdr-bar`` stepper's (:mod:`lcpfric.steppers.mdr_bar`); the cycles are
+run by :func:`lcpfric.steady_state`.
+
+Other axisymmetric profiles
+---------------------------
+``profile=`` replaces the sphere by any axisymmetric body ``z = f(r)``: :class:`PowerLaw`
+(``f = c r^n``, in closed form: ``g = κ_n c |x|^n``, ``κ_n = √π Γ(n/2 + 1) / Γ(n/2 + 1/2)``) or
+:class:`Axisymmetric` (any ``f'``, the MDR transform ``g(x) = |x| ∫_0^{π/2} f'(|x| sin θ) dθ``
+by Gauss-Legendre quadrature). The contact radius at a load solves ``P = 2 E* (a g(a) -
+∫_0^a g)``, the approach is ``d = g(a)``, the spring forces are the cells' exact shares of
+``2 E* (d - g)`` as for the sphere.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ... import _checks
+from ...errors import InputError
+from .base import ContactModel
+from .profiles import Sphere
+
+__all__ = ["MDRSphere", "MAX_NODES"]
+
+#: largest number of springs (the arrays are nodes x steps)
+MAX_NODES = 200_000
+
+
+class MDRSphere(ContactModel):
+    """The Hertz contact of two identical spheres, by dimensionality reduction (see the module
+    docstring).
+
+    Parameters
+    ----------
+    R, E, nu, mu : float
+        Effective radius, each body's Young's modulus and Poisson's ratio (``0 <= ν < 0.5``),
+        friction coefficient.
+    P, Q : Load or float
+        Normal and tangential loads (total forces); floats are constant loads. P(t) <= 0 is
+        complete separation.
+    k_support : float
+        Tangential stiffness of the support in parallel with the contact (0: pure load
+        control, where ``|Q| > μP`` at any instant is refused).
+    nodes : int
+        Springs on ``[0, a_max]``, a_max the largest contact radius over the cycle.
+    """
+
+    max_nodes = MAX_NODES
+    default_method = "mdr-bar"
+
+    def __init__(self, R, E, nu, mu, P, Q, *, k_support: float = 0.0, nodes: int = 2000,
+                 profile=None):
+        super().__init__(E, nu, mu, P, Q, k_support, nodes)
+        self.R = None if R is None else _checks.positive("R", R)
+        if profile is None:
+            if self.R is None:
+                raise InputError("R", "give the effective radius R, or a profile")
+            profile = Sphere(self.R)
+        for name in ("g", "G", "radius"):
+            if not callable(getattr(profile, name, None)):
+                raise InputError("profile", f"needs a method {name}() (see Sphere, PowerLaw, "
+                                            f"Axisymmetric)")
+        self.profile = profile
+        Es = self.moduli["E*"]
+        self.a_max = float(np.max(profile.radius(self.P_max, Es)))
+        self.a0 = float(np.max(profile.radius(self.P0, Es)))
+        self.k_t0 = 2.0 * self.a0 * self.moduli["G*"]
+        self.dx = self.a_max / self.nodes
+        self.x = (np.arange(self.nodes) + 0.5) * self.dx
+        self.k = np.full(self.nodes, 2.0 * self.moduli["G*"] * self.dx)
+
+    # -- the normal problem ---------------------------------------------------------------------
+    def radius(self, t) -> np.ndarray:
+        """Contact radius a(t) (0 in separation): Hertz's for the sphere."""
+        P = np.maximum(np.asarray(self.P(np.asarray(t, dtype=float)), dtype=float), 0.0)
+        return np.asarray(self.profile.radius(P, self.moduli["E*"]), dtype=float).reshape(P.shape)
+
+    def approach(self, P) -> np.ndarray:
+        """The normal approach d = g(a(P)) (the C(P) of the Ciavarella-Jäger form)."""
+        P = np.asarray(P, dtype=float)
+        d = np.asarray(self.profile.g(self.profile.radius(P, self.moduli["E*"])), dtype=float)
+        return float(d.ravel()[0]) if P.ndim == 0 else d.reshape(P.shape)
+
+    def normal_forces(self, t) -> np.ndarray:
+        """``(len(t), nodes)`` spring normal forces: each cell's exact share of the pressure of
+        the 1-D profile (their sum is P(t))."""
+        a = self.radius(np.atleast_1d(t))[:, None]
+        lo = self.x[None, :] - 0.5 * self.dx
+        hi = np.minimum(self.x[None, :] + 0.5 * self.dx, a)
+        d, G = self.profile.g(a), self.profile.G
+        share = d * (hi - lo) - (G(np.maximum(hi, lo)) - G(lo))   # ∫_cell (d - g) dx
+        return np.where(hi > lo, 2.0 * self.moduli["E*"] * share, 0.0)
+
+    def tractions(self, F) -> np.ndarray:
+        """The 3-D shear traction at the spring positions (as radii) from spring forces F: the
+        inverse MDR transform ``τ(r) = -(1/π) ∫_r^a q'(x) / √(x² - r²) dx`` of the line load
+        ``q = F / (2 Δx)``, taken piecewise linear between the spring positions (flat at the
+        centre, zero half a cell beyond the last spring), so that each piece integrates in
+        closed form: ``∫ dx / √(x² - r²) = ln(x + √(x² - r²))``. lcpfric's force sign: the
+        traction transmitted is ``-τ``; from the normal forces it gives the pressure."""
+        q = np.append(np.asarray(F, dtype=float) / (2.0 * self.dx), 0.0)
+        X = np.append(self.x, self.x[-1] + 0.5 * self.dx)
+        slope = np.diff(q) / np.diff(X)                          # on [X_k, X_k+1]
+        r = self.x[:, None]
+
+        def L(x):
+            return np.log(x + np.sqrt(np.maximum(x * x - r * r, 0.0)))
+
+        lo = np.maximum(X[None, :-1], r)
+        hi = X[None, 1:]
+        piece = np.where(hi > r, L(hi) - L(np.minimum(lo, hi)), 0.0)
+        return -(piece @ slope) / math.pi
+
+    # -- as an lcpfric system ---------------------------------------------------------------
+    def load_at_radius(self, a) -> np.ndarray:
+        """The normal load whose contact radius is a: ``2 E* (a g(a) - ∫_0^a g)``."""
+        a = np.asarray(a, dtype=float)
+        return 2.0 * self.moduli["E*"] * (a * self.profile.g(a) - self.profile.G(a))
+
+    def entry_loads(self) -> np.ndarray:
+        """Per spring, the normal load at which it comes into contact (the contact radius
+        reaches its cell's inner edge)."""
+        return np.asarray(self.load_at_radius(self.x - 0.5 * self.dx), dtype=float)
+
+    def springs(self):
+        """``(compliance operator, C⁻¹ 1)`` of the springs alone (the bar held fixed):
+        ``diag(1/k)`` and ``k``, for :meth:`ContactModel.system`."""
+        from scipy.sparse.linalg import aslinearoperator
+        import scipy.sparse as sp
+
+        return aslinearoperator(sp.diags(1.0 / self.k)), self.k.copy(), 1.0 / self.k
+
+    # -- the continuum model protocol (lcpfric.model.continuum.base) ---------------------------
+    def normal_problem(self) -> "ClosedFormNormal":
+        """The normal problem in closed form (:class:`ClosedFormNormal`)."""
+        return ClosedFormNormal(self)
+
+
+class ClosedFormNormal:
+    """The MDR sphere's normal problem: ``solution(t)`` is the friction limits ``μ N_i(t)``
+    ``(len(t), nodes)``, the contact radius, and no statistics (closed form)."""
+
+    def __init__(self, model):
+        self.model = model
+
+    def solution(self, t):
+        m = self.model
+        return m.mu * m.normal_forces(t), m.radius(t), {}

@@ -1,0 +1,330 @@
+"""The periodic steady-state driver: cycles until the cycle repeats, for every model and method.
+
+:func:`steady_state` asks the registry (:mod:`lcpfric.methods`) for the method. A closed-form
+method returns the steady state directly. A time stepper is run whole cycles at a time on the
+model's scene (:mod:`lcpfric.scene`) until a cycle repeats the previous one within ``tol``
+(:mod:`.measure`: the one convergence measure), or until ``max_cycles``; between cycles the
+start may be moved towards the fixed point of the cycle map (:mod:`.acceleration`). A stepper
+that settles over many cycles (the half-space with d = 2) has its early cycles' increments
+solved loosely (:func:`loose_tolerance`). Non-convergence is reported (``converged=False``, and
+an error or a warning by ``on_nonconvergence``), never returned as converged.
+"""
+
+from __future__ import annotations
+
+import difflib
+import inspect
+import math
+import time
+import warnings
+from dataclasses import replace
+
+import numpy as np
+
+from .. import _checks, memory
+from ..errors import ConvergenceError, ConvergenceWarning, InputError, ResolutionWarning
+from ..methods import CLOSED_FORM, get_stepper
+from ..model import ContactSystem, SingleNode
+from ..results import ContactExtras, CycleResult, State, SteadyState
+from ..scene import Scene, make_scene
+from .acceleration import FrictionLimits, choose
+from .measure import cycle_change, displacement_change, largest_limit, load_scales
+
+__all__ = ["steady_state", "loose_tolerance", "DRIVER_OPTIONS"]
+
+#: The driver's own keyword options (everything else goes to the method).
+DRIVER_OPTIONS = ("steps_per_cycle", "tol", "max_cycles", "on_nonconvergence", "placement", "u0",
+                  "history")
+#: steppers with loose early cycles: the increments' tolerance, this times the last cycle's
+#: change, at most ``_LOOSE_MAX`` (and at least the final one)
+_LOOSE, _LOOSE_MAX = 1e-2, 1e-6
+#: their last cycles' increments, this times the cycle tolerance (at most the stepper's own
+#: ``increment_tol``, at least ``_LOOSE`` times the cycle tolerance)
+_FINAL = 0.1
+#: their smallest cycle tolerance (its increments, a tenth of it, near the 1e-13 that they
+#: hold at best)
+_TOL_MIN = 1e-12
+
+
+def steady_state(model, method: str | None = None, steps_per_cycle: int | None = None, *,
+                 tol: float = 1e-10, max_cycles: int | None = None,
+                 on_nonconvergence: str = "raise", placement: str | None = None, u0=None,
+                 history: bool = True, **options) -> SteadyState:
+    """The periodic steady state and its dissipation per cycle.
+
+    Parameters
+    ----------
+    model : SingleNode, ContactSystem, MDRSphere, HalfPlaneCylinder, HalfSpace or Scene
+        What to solve. A Scene fixes the grid (then ``steps_per_cycle`` and ``placement`` are
+        ignored).
+    method : str or method instance, optional
+        A registry name (:func:`lcpfric.methods.methods_for` lists a model's): ``"exact"``,
+        ``"explicit"``, ``"projection"``, ``"clarabel"``, ``"osqp"``, ``"active-set"``,
+        ``"qpsolvers:<solver>"``, ``"cvxpy:<SOLVER>"`` for discrete systems; ``"mdr-bar"``,
+        ``"halfplane-pdas"``, ``"newton-cg"`` for the continuum contacts. Default: the
+        model's (``exact`` for a discrete system, the contact's own stepper).
+    steps_per_cycle : int, optional
+        Increments per cycle requested (the known separation instants are added: see
+        ``steps_used`` of the result); for a closed-form method the number of samples of the
+        returned time series. Default: 2000 for a discrete system, 400 for a contact.
+    tol : float
+        Convergence test (:mod:`lcpfric.periodic.measure`): the change of the displacements
+        over the cycle, relative to the larger of their range and the loads' displacement
+        scale, and the change of W relative to the larger of W and the loads' energy scale,
+        both at most ``tol``. A shakedown (nothing slips over the steady cycle, W = 0) is
+        confirmed like any other steady state, and the message says so.
+    max_cycles : int, optional
+        Cap on the cycles run (default: 100 for a discrete system, 200 for a contact).
+    on_nonconvergence : {"raise", "warn", "ignore"}
+        What to do when ``max_cycles`` is reached first: raise :class:`ConvergenceError`, warn
+        with :class:`ConvergenceWarning`, or only set ``converged=False``.
+    placement : {"contact", "uniform"}, optional
+        Step placement (see :mod:`lcpfric.scene`); "contact" (a discrete system's default)
+        spends no steps where every node is separated; a contact's steps are uniform.
+    u0 : array_like, optional
+        A discrete system's initial tangential displacement (default zero).
+    history : bool
+        Keep every instant of the last cycle in the result (default). ``False`` keeps its
+        first and last instants only (``t``, ``v``, ``F``, ``N``, ``state`` then have two rows),
+        so that memory does not grow with steps x unknowns; convergence is then judged on the
+        state at the cycle's start, which determines the whole cycle, and on each unknown's
+        range over the cycle. Time steppers whose ``cycle`` takes ``history`` support it; the
+        others raise InputError.
+    **options
+        The method's own options (solver tolerances and settings). An option that neither the
+        driver nor the method takes raises :class:`InputError` naming the valid ones.
+
+    Returns
+    -------
+    SteadyState
+    """
+    start = time.perf_counter()
+    base = _base(model)
+    method = base.default_method if method is None else method
+    max_cycles = base.default_max_cycles if max_cycles is None else max_cycles
+    tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
+                                                                on_nonconvergence)
+    solver = _method(method, options)
+    history = _checks.boolean("history", history)
+    if not history and (solver.kind == CLOSED_FORM
+                        or "history" not in inspect.signature(solver.cycle).parameters):
+        raise InputError("history", f"history=False is not supported by {solver.label!r} (it "
+                                    f"keeps the whole cycle); use 'active-set', 'explicit' or "
+                                    f"'projection', or history=True")
+    steps = _requested(model, steps_per_cycle, base)
+    if isinstance(model, (SingleNode, ContactSystem)):
+        memory.check(memory.steady_state_bytes(steps if history else 1,
+                                               getattr(solver, "label", ""),
+                                               model.m if isinstance(model, ContactSystem)
+                                               else 1),
+                     "steps_per_cycle", f"a steady state with {steps} steps per cycle")
+    if solver.kind == CLOSED_FORM:
+        return solver.steady_state(model, steps, max_cycles=max_cycles)
+    scene = model if isinstance(model, Scene) else make_scene(model, steps, placement=placement,
+                                                               history=history)
+    solver.check(scene)
+    loose = scene.system is None and solver.loose(scene)
+    if loose and tol < _TOL_MIN:
+        raise InputError("tol", f"= {tol:g} is below what the increments can hold: the last "
+                                f"cycles' increments are solved to a tenth of it, and they hold "
+                                f"about 1e-13 at best; give tol >= {_TOL_MIN:g}")
+    if u0 is not None and scene.system is not None:
+        u0 = _checks.finite_array("u0", u0)
+        if u0.size != scene.system.m:
+            raise InputError("u0", f"needs {scene.system.m} displacements (n·d), got {u0.size}")
+    work, scale = _unit_scaled(scene)
+    state = solver.init(work, None if u0 is None else u0 / scale)
+    scales = work.scales if work.system is None else load_scales(work, _compliance_scale(work))
+    accelerate = choose(work, solver, history, state.u)
+    held = work.held if solver.cycle_measure == "map" else None
+    W_cycles, changes = [], []
+    prev, change, smallest = None, math.inf, math.inf
+    extrapolations = 0
+    accurate = True
+    for _ in range(max_cycles):
+        options = {}
+        if loose:
+            # a slowly settling stepper solves its early cycles' increments loosely, each to a
+            # hundredth of the last cycle's change (at most 1e-6), and to a tenth of the cycle
+            # tolerance (or its own, if tighter) once the cycles nearly repeat; only a cycle at
+            # that accuracy can end the iteration
+            final = max(_LOOSE * tol, min(solver.increment_tol, _FINAL * tol))
+            options["tol"] = max(final, loose_tolerance(change))
+            accurate = options["tol"] == final
+        state, cyc = (solver.cycle(work, state, **options) if history
+                      else solver.cycle(work, state, history=False, **options))
+        W_cycles.append(cyc.W * scale * scale)
+        if prev is not None:
+            change = cycle_change(displacement_change(solver.cycle_measure, cyc, prev, held),
+                                  np.max(cyc.u_span), cyc.W - prev.W, cyc.W, scales)
+            changes.append(change)
+            if accurate:
+                smallest = min(smallest, change)
+            if change <= tol and accurate:
+                break
+        prev = cyc
+        jump = (accelerate(cyc, FrictionLimits(work) if work.system is not None else None)
+                if accelerate is not None else None)
+        if jump is not None:
+            state = solver.restart(work, state, jump)
+            accelerate.restarted(state.u)
+            extrapolations += 1
+    if scale != 1.0:
+        cyc = replace(cyc, u=cyc.u * scale, F=cyc.F * scale, W=cyc.W * scale * scale,
+                      span=None if cyc.span is None else cyc.span * scale)
+    converged = bool(change <= tol and accurate)
+    result = _assemble(scene, solver, cyc, np.asarray(W_cycles), converged, change, steps,
+                       time.perf_counter() - start, np.asarray(changes), extrapolations)
+    if converged and _shakedown(cyc):
+        result = replace(result, message="converged: shakedown (no node slips over the steady "
+                                         "cycle)")
+    if not converged:
+        at = (f"; the smallest at full accuracy {smallest:.3g}"
+              if loose and smallest < math.inf else "")
+        msg = (f"{_name(scene)}: no periodic steady state after {len(W_cycles)} cycles "
+               f"(relative change of the cycle {change:.3g} > tol {tol:g}{at}); raise "
+               f"max_cycles or loosen tol")
+        result = replace(result, message=msg)
+        if on_nonconvergence == "raise":
+            raise ConvergenceError(msg, result)
+        if on_nonconvergence == "warn":
+            warnings.warn(msg, ConvergenceWarning, stacklevel=2)
+    if scene.system is None:
+        _unresolved(scene, result.W)
+    return result
+
+
+def loose_tolerance(change: float) -> float:
+    """Steppers with loose early cycles: the increments' tolerance after a cycle whose change
+    was ``change`` (a hundredth of it, at most ``_LOOSE_MAX``; the final tolerance is the
+    floor). ``benchmarks/late_cycles.py`` measures other schedules against it."""
+    return min(_LOOSE_MAX, _LOOSE * change)
+
+
+def _base(model):
+    """The model whose defaults apply (a scene's model, or its system)."""
+    if isinstance(model, Scene):
+        return model.model if model.model is not None else model.system
+    if not hasattr(type(model), "default_method"):
+        raise InputError("model", "expected a SingleNode, ContactSystem, continuum contact "
+                                  f"(MDRSphere, HalfPlaneCylinder, HalfSpace) or Scene, got "
+                                  f"{type(model).__name__}")
+    return model
+
+
+def _name(scene) -> str:
+    return type(scene.model if scene.model is not None else scene.system).__name__
+
+
+def _unresolved(scene, W: float) -> None:
+    """A continuum contact's steady cycle in which no element slips while the loads change:
+    a smooth contact slips at its edge (where p -> 0) under almost any change of the loads, in
+    a zone the grid may not resolve: warn."""
+    P, Q = scene.loads
+    if W == 0.0 and not (P.is_constant and Q.is_constant) and np.any(scene.Q != 0.0):
+        model = scene.model
+        warnings.warn(f"{type(model).__name__}: no element slipped over the steady cycle "
+                      f"(W = 0 on {model.nodes} nodes): a slip zone thinner than an element is "
+                      f"not resolved (unless the loads change in proportion, |dQ/dP| < mu, "
+                      f"where W = 0 is exact); {model.refine_hint}", ResolutionWarning,
+                      stacklevel=3)
+
+
+def _compliance_scale(scene) -> float:
+    """The largest diagonal compliance, max C_ii (C = K⁻¹; 1/k for a diagonal K). Beyond
+    :data:`~lcpfric.model.system.COMPLIANCE_DENSE` unknowns C is not formed and the estimate
+    from below 1/min K_ii is used (a scale for the convergence test only; see
+    :meth:`~lcpfric.model.ContactSystem.compliance_diagonal`)."""
+    return float(np.max(scene.system.compliance_diagonal()))
+
+
+def _shakedown(cyc: CycleResult) -> bool:
+    """A shakedown: no node recorded slipping over the cycle and no dissipation at all."""
+    return cyc.W == 0.0 and not np.any((cyc.state == State.FORWARD)
+                                       | (cyc.state == State.BACKWARD))
+
+
+def _method(method, options: dict):
+    """The registry's instance for ``method``; an unknown option names the driver's and the
+    method's valid ones."""
+    try:
+        return get_stepper(method, **options)
+    except InputError as exc:
+        if exc.parameter not in options:
+            raise
+        close = difflib.get_close_matches(exc.parameter, DRIVER_OPTIONS, n=1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise InputError(exc.parameter, f"{exc.detail}{hint}; the driver's options: "
+                                        f"{', '.join(DRIVER_OPTIONS)}") from None
+
+
+def _requested(model, steps_per_cycle, base) -> int:
+    if isinstance(model, Scene):
+        return model.steps_requested
+    steps = base.default_steps if steps_per_cycle is None else steps_per_cycle
+    return _checks.positive_int("steps_per_cycle", steps, 4)
+
+
+def _unit_scaled(scene: Scene) -> tuple[Scene, float]:
+    """A discrete system's scene with forces divided by s, a power of two near the largest
+    friction limit (a continuum contact's steppers scale their own tolerances: unchanged).
+
+    Steppers then see forces of order one whatever the units (loads of 1e6, or 1e-6): the
+    convex solvers' tolerances are absolute, and at P̂1 = Q̂1 = 1e6 Clarabel otherwise stops
+    "DualInfeasible". Q, f N and so u and F scale by 1/s and W by 1/s². Dividing by a power of
+    two is exact in floating point, so the closed-form steppers give the same bits either way.
+    """
+    if scene.system is None:
+        return scene, 1.0
+    # the answer F lies within ±f N: its size is the largest friction limit
+    size = largest_limit(scene)
+    if not np.isfinite(size) or size == 0.0:
+        return scene, 1.0
+    scale = float(2.0 ** np.round(np.log2(size)))
+    if scale == 1.0:
+        return scene, 1.0
+    return replace(scene, Q=scene.Q / scale, N=scene.N / scale,
+                   _cache={"contact": scene.contact}), scale  # contact is scale-free
+
+
+def _assemble(scene, solver, cyc, W_cycles, converged, change, requested, seconds, changes,
+              extrapolations) -> SteadyState:
+    model = scene.model
+    stats = dict(cyc.stats)
+    if extrapolations:
+        stats["extrapolations"] = extrapolations
+    common = dict(cycles=len(W_cycles), converged=converged, method=solver.label,
+                  steps_requested=requested, steps_used=scene.steps, t=cyc.t,
+                  seconds=seconds, change=change, message="converged" if converged else "",
+                  changes=changes)
+    rows = [0, -1] if cyc.t.size != scene.t.size else slice(None)
+    if scene.system is None:
+        return _continuum(scene, cyc, W_cycles, rows, {**scene.stats, **stats}, common)
+    if model is None:
+        N = scene.N if cyc.t.size == scene.t.size else scene.N[[0, -1]]
+        return SteadyState(W=float(W_cycles[-1]), W_cycles=W_cycles, v=cyc.u, F=cyc.F,
+                           N=np.asarray(N), state=cyc.state, solver_stats=stats, **common)
+    # a single node is advanced in the units f P0 (force), f P0/k11 (displacement): J = Q̂1 Ŵ
+    q1 = model.Q1_hat
+    W_hat_cycles = W_cycles / q1 if q1 > 0 else np.zeros_like(W_cycles)
+    v, F, N = model.series(cyc.u[:, 0], cyc.F[:, 0], scene.N[:, 0])
+    return SteadyState(W=float(model.W(W_hat_cycles[-1])),
+                       W_cycles=np.atleast_1d(model.W(W_hat_cycles)), v=v, F=F, N=N,
+                       state=cyc.state[:, 0], normalization=model.normalization(),
+                       W_hat_cycles=W_hat_cycles, solver_stats=stats, **common)
+
+
+def _continuum(scene, cyc, W_cycles, rows, stats, common) -> SteadyState:
+    """A continuum contact's steady state, with its geometry (:class:`ContactExtras`)."""
+    model = scene.model
+    name, factor = model.normalization()
+    W = W_cycles[-1]
+    size = scene.sizes
+    extras = ContactExtras(W_normalized=W * factor, normalization=name,
+                           contact_size_max=float(size.max()), k_t0=model.k_t0,
+                           nodes=model.nodes,
+                           nodes_in_contact_max=int(np.max(np.count_nonzero(scene.limits > 0,
+                                                                            axis=1))),
+                           x=model.x, size=size)
+    return SteadyState(W=W, W_cycles=W_cycles, v=cyc.u, F=cyc.F, N=scene.N[rows],
+                       state=cyc.state, solver_stats=stats, contact=extras, **common)
