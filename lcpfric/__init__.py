@@ -2,12 +2,12 @@
 
 The data flow is the layout (``docs/architecture.md``):
 
-    model/  ->  scene  ->  steppers/, backends/  ->  periodic  ->  analysis/, paper/, cli/
-    (what the   (one cycle   (one increment:        (cycles to     (maps, shakedown, figures,
-    system is)  on a grid)   explicit, projection,   steady state)  the paper's claims)
-                             convex solvers)
-                 exact, closed_form: the single node's steady state in closed form
-                 methods: the registry of every method name
+    model/  ->  scene  ->  steppers/, backends/, exact/  ->  periodic/  ->  analysis/, figures/,
+    (what the   (one cycle   (one increment: the paper's       (the one       paper/, cli/
+    system or   on a grid,   stepper, projections, convex      driver:        (maps, loops,
+    contact is) any model)   solvers, the contacts' own;       cycles to      figures, the
+                             the exact steady states)          steady state)  paper's claims)
+                 methods: the registry of every method name, for every model
 
 Quick use::
 
@@ -17,7 +17,7 @@ Quick use::
     1.866666666667
 
 The public names below are imported on first use, so that ``import lcpfric`` (and the command
-line) stays fast.
+line) stays fast; :data:`__all__` lists them all.
 """
 
 from __future__ import annotations
@@ -37,6 +37,8 @@ _LAZY = {
     "Fourier": "lcpfric.model", "Harmonic": "lcpfric.model", "Periodic": "lcpfric.model",
     "ContactSystem": "lcpfric.model", "IndependentSprings": "lcpfric.model",
     "NormalModel": "lcpfric.model", "SingleNode": "lcpfric.model",
+    "MDRSphere": "lcpfric.model.continuum", "HalfPlaneCylinder": "lcpfric.model.continuum",
+    "HalfSpace": "lcpfric.model.continuum",
     "W_from_W_hat": "lcpfric.model", "W_hat_from_W": "lcpfric.model",
     "chain": "lcpfric.model", "block_diagonal": "lcpfric.model",
     "available_methods": "lcpfric.methods", "get_stepper": "lcpfric.methods",
@@ -44,8 +46,9 @@ _LAZY = {
     "steady_state": "lcpfric.periodic.driver",
     "CycleResult": "lcpfric.results", "State": "lcpfric.results",
     "SteadyState": "lcpfric.results", "StepState": "lcpfric.results",
-    "BatchResult": "lcpfric.results",
+    "BatchResult": "lcpfric.results", "ContactExtras": "lcpfric.results",
     "Scene": "lcpfric.scene", "make_scene": "lcpfric.scene",
+    "with_tangential_load": "lcpfric.scene", "methods_for": "lcpfric.methods",
     "Shakedown": "lcpfric.analysis.shakedown", "shakedown": "lcpfric.analysis.shakedown",
 }
 

@@ -570,13 +570,32 @@ def test_contact_json_against_mindlin_deresiewicz(capsys):
     (("--nodes", "5"), "--nodes"), (("--nodes", "2.5"), "--nodes"),
     (("--P1", "150", "--Q1", "30", "--phi", "0.3pi"), "--k-support"),
     (("--k-support", "-2"), "--k-support"), (("--R", "nan"), "--R"),
-    (("--method", "clarabel"), "--method")])
+    (("--method", "clarabel"), "--method"), (("--method", "newton-cg"), "--method"),
+    (("--method", "nope"), "--method")])
 def test_contact_bad_input_is_one_line(capsys, extra, option):
     args = dict(zip(SPHERE[1::2], SPHERE[2::2]))
     args.update({"--P1": "0", "--Q1": "10"})
     args.update(dict(zip(extra[0::2], extra[1::2])))
     code, _, err = run(capsys, "contact", *[x for kv in args.items() for x in kv])
     assert_one_line_error(code, err, option)
+
+
+def test_contact_method_is_the_registrys(capsys):
+    """--method chooses among the registry's names that solve the model (`lcpfric methods`):
+    the result says which ran; a method of another model is refused naming the right one."""
+    code, out, err = run(capsys, *SPHERE, "--P1", "0", "--Q1", "10", "--nodes", "50",
+                         "--steps", "40", "--method", "mdr-bar", "--json")
+    assert code == 0, err
+    assert json.loads(out)["method"] == "mdr-bar"
+    code, _, err = run(capsys, *SPHERE, "--P1", "0", "--Q1", "10", "--method", "active-set")
+    assert_one_line_error(code, err, "--method")
+    assert "mdr-bar" in err
+    code, out, err = run(capsys, "methods", "--json")
+    rows = {r["name"]: r for r in json.loads(out)}
+    assert rows["mdr-bar"]["models"] == ["MDRSphere"]
+    assert rows["newton-cg"]["dims"] == [1, 2] and "SingleNode" in rows["explicit"]["models"]
+    code, out, _ = run(capsys, "methods")
+    assert "halfplane-pdas" in out and "HalfPlaneCylinder" in out
 
 
 def test_contact_cylinder_json_against_the_plane_closed_form(capsys):

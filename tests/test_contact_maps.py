@@ -64,3 +64,44 @@ def test_sweep_of_a_contact_map_resumes(tmp_path):
                   chunk_size=6, processes=1)
     assert again.attrs["chunks_reused"] == 1 and again.attrs["chunks_computed"] == 3
     np.testing.assert_array_equal(again.W_normalized.values, ds.W_normalized.values)
+
+
+def test_points_that_do_not_converge_are_reported_never_returned():
+    """A map point that reaches no steady state in max_cycles is NaN (never its last cycle's
+    value, as lcpfric 0.1 returned it), counted in a ConvergenceWarning, or an error on
+    request; the MDR batch and the half-space map alike."""
+    from lcpfric.analysis.contact_maps import halfspace_W_normalized
+    from lcpfric.errors import ConvergenceError, ConvergenceWarning
+
+    P1, Q1, phi = np.array([0.5, 0.3, 0.5]), np.array([0.4, 0.2, 0.0]), np.array([0.5, 0.0, 0.0])
+    with pytest.warns(ConvergenceWarning, match=r"2 of 3 points reached no periodic steady"):
+        got = mdr_W_normalized(P1, Q1, phi, nodes=40, steps_per_cycle=40, max_cycles=1)
+    assert np.isnan(got[:2]).all() and got[2] == 0.0             # Q̂1 = 0: the limit 0
+    with pytest.raises(ConvergenceError, match="2 of 3 points"):
+        mdr_W_normalized(P1, Q1, phi, nodes=40, steps_per_cycle=40, max_cycles=1,
+                         on_nonconvergence="raise")
+    ok = mdr_W_normalized(P1, Q1, phi, nodes=40, steps_per_cycle=40)
+    assert np.isfinite(ok).all()
+    with pytest.warns(ConvergenceWarning, match=r"1 of 1 half-space map points"):
+        hs = halfspace_W_normalized(np.array([0.3]), np.array([0.3]), np.array([0.5]), grid=10,
+                                    steps_per_cycle=20, max_cycles=1)
+    assert np.isnan(hs).all()
+
+
+def test_sweep_counts_the_points_that_do_not_converge(tmp_path, capsys):
+    """A contact map whose points cannot converge (one cycle allowed): NaN there, and the
+    dataset and the command line's summary say how many, apart from the loads without
+    equilibrium."""
+    pytest.importorskip("xarray")
+    from lcpfric.analysis.sweep import sweep
+    from lcpfric.cli.map import _report
+
+    ds = sweep([0.5, 1.5], [0.2, 0.3], [0.0], contact={"nodes": 20, "max_cycles": 1},
+               steps_per_cycle=8, progress=False)
+    # P̂1 = 1.5 separates under pure load control: no equilibrium while Q ≠ 0
+    assert ds.attrs["no_equilibrium_points"] == 2 and ds.attrs["unconverged_points"] == 2
+    assert int(ds.W_normalized.isnull().sum()) == 4
+    _report(ds, tmp_path / "m.nc", False)
+    line = capsys.readouterr().out
+    assert "NaN at 4 points (2 without equilibrium, 2 that reached no steady state)" in line
+    assert "no point has a W_normalized" in line

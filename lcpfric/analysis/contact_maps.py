@@ -85,12 +85,27 @@ def mdr_W_normalized(P1, Q1, phi, *, nodes: int = 200, steps_per_cycle: int = 20
     idx = np.flatnonzero(run)
     if idx.size:
         points = _MDRPoints(P1[idx], Q1[idx], phi[idx], nodes, steps, ks)
-        res = batched.run(points, tol=tol, max_cycles=max_cycles,
-                          on_nonconvergence=on_nonconvergence, measure="map",
-                          quantity="W_normalized", values=lambda W: W, method="mdr-bar",
-                          steps_requested=steps)
+        res = batched.run(points, tol=tol, max_cycles=max_cycles, on_nonconvergence="ignore",
+                          measure="map", quantity="W_normalized", values=lambda W: W,
+                          method="mdr-bar", steps_requested=steps)
         out[idx] = res.values
+        late = ~res.converged
+        _unconverged("", int(late.sum()), P1.size, max_cycles,
+                     float(np.max(res.change[late], initial=0.0)), tol, on_nonconvergence)
     return out
+
+
+def _unconverged(what, failed, total, max_cycles, worst, tol, on_nonconvergence) -> None:
+    """Report a map's points that reached no steady state (their values are NaN)."""
+    if not failed:
+        return
+    msg = (f"{failed} of {total} {what}points reached no periodic steady state in "
+           f"{max_cycles} cycles (largest relative change {worst:.3g} > tol {tol:g}; their "
+           f"values are NaN); raise max_cycles or loosen tol")
+    if on_nonconvergence == "raise":
+        raise ConvergenceError(msg)
+    if on_nonconvergence == "warn":
+        warnings.warn(msg, ConvergenceWarning, stacklevel=3)
 
 
 class _MDRPoints:
@@ -182,22 +197,15 @@ def halfspace_W_normalized(P1, Q1, phi, *, grid: int = 20, dims: int = 1, nu: fl
                 out[i] = np.nan
                 failed += 1
                 worst = max(worst, r.change)
-    if failed:
-        msg = (f"{failed} of {P1.size} half-space map points reached no periodic steady state "
-               f"in {max_cycles} cycles (largest relative change {worst:.3g} > tol {tol:g}; "
-               f"their values are NaN); raise max_cycles or loosen tol")
-        if on_nonconvergence == "raise":
-            raise ConvergenceError(msg)
-        if on_nonconvergence == "warn":
-            warnings.warn(msg, ConvergenceWarning, stacklevel=2)
+    _unconverged("half-space map ", failed, P1.size, max_cycles, worst, tol, on_nonconvergence)
     return out
 
 
 #: a continuum contact's map options and defaults (``sweep(..., contact=)``), per model
 CONTACT_DEFAULTS = {"geometry": "sphere", "model": "mdr", "nodes": 200, "k_support": 0.0,
-                    "tol": 1e-8}
+                    "tol": 1e-8, "max_cycles": 200}
 HALFSPACE_DEFAULTS = {"geometry": "sphere", "model": "halfspace", "grid": 20, "dims": 1,
-                      "nu": 0.0, "k_support": 0.0, "tol": 1e-8}
+                      "nu": 0.0, "k_support": 0.0, "tol": 1e-8, "max_cycles": 200}
 #: each map model's model class (the registry's ``models``: the methods that solve it)
 MODEL_CLASSES = {"mdr": "MDRSphere", "halfspace": "HalfSpace"}
 _CONTACT_STEPS = 200
@@ -240,6 +248,7 @@ def map_spec(contact, steps_per_cycle, method=None):
                    "nu": _checks.nonnegative("nu", spec["nu"]),
                    "k_support": _checks.nonnegative("k_support", spec["k_support"]),
                    "tol": _checks.positive("tol", spec["tol"]), "steps_per_cycle": steps,
+                   "max_cycles": _checks.positive_int("max_cycles", spec["max_cycles"]),
                    "on_nonconvergence": "ignore"}
         # measured: about 35 ns per grid node, step and cycle at d = 1 (three cycles)
         return halfspace_W_normalized, options, 1.1e-7 * 1.8 * grid * grid * steps * \
@@ -248,6 +257,7 @@ def map_spec(contact, steps_per_cycle, method=None):
     options = {"nodes": _checks.positive_int("nodes", spec["nodes"]),
                "k_support": _checks.nonnegative("k_support", spec["k_support"]),
                "tol": _checks.positive("tol", spec["tol"]), "steps_per_cycle": steps,
+               "max_cycles": _checks.positive_int("max_cycles", spec["max_cycles"]),
                "on_nonconvergence": "ignore"}
     # measured: about 60 ns per node, step and cycle, four cycles
     return mdr_W_normalized, options, 2.4e-7 * options["nodes"] * steps, own
