@@ -28,7 +28,7 @@ from .errors import (ConvergenceError, ConvergenceWarning, InputError, LcpfricEr
                      MissingDependency, MissingExtra, ResolutionWarning, SolverError,
                      SolverNotFound, UndefinedQuantity)
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 # public name -> the module that defines it
 _LAZY = {

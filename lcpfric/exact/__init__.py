@@ -105,8 +105,8 @@ for inputs indistinguishable from the given ones. Results in the subnormal range
 """
 
 from .api import ExactCycle, exact_cycle, exact_W_hat
-from .discrete import DiscreteCycle, exact_system_cycle
+from .discrete import exact_system_cycle
 from .formulas import BACKWARD, FORWARD, MAX_AMPLITUDE, SEPARATION, STICK
 
-__all__ = ["exact_W_hat", "ExactCycle", "exact_cycle", "exact_system_cycle", "DiscreteCycle",
-           "STICK", "FORWARD", "BACKWARD", "SEPARATION", "MAX_AMPLITUDE"]
+__all__ = ["exact_W_hat", "ExactCycle", "exact_cycle", "exact_system_cycle", "STICK", "FORWARD",
+           "BACKWARD", "SEPARATION", "MAX_AMPLITUDE"]
