@@ -20,8 +20,8 @@ from lcpfric.model import ContactSystem, Harmonic, IndependentSprings, chain
 from lcpfric.steppers import Stepper
 from lcpfric.steppers.dissipation import increment_dissipation, node_shares, scalar_share
 
-from backend_table import need
-from conftest import CASES
+from support import need
+from support import CASES
 
 RNG = np.random.default_rng(8)
 

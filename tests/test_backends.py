@@ -10,8 +10,8 @@ from lcpfric.exact import exact_W_hat
 from lcpfric.scene import Scene
 from lcpfric.model import chain
 
-from backend_table import BACKENDS, FAST, REFINED, need, params
-from conftest import CASES
+from support import BACKENDS, FAST, REFINED, need, params
+from support import CASES
 
 SLOW_CASES = ("separation", "contact-phase")
 PAIRS = [pytest.param(m, c, id=f"{m}-{c}") for m in BACKENDS

@@ -8,8 +8,8 @@ from lcpfric import ConvergenceError, InputError, SingleNode, steady_state
 from lcpfric.batch import batched_W_hat, projection_steady_states, projection_W_hat
 from lcpfric.exact import exact_W_hat
 
-from backend_table import need
-from conftest import CASES, fitted_order
+from support import need
+from support import CASES, fitted_order
 
 RNG = np.random.default_rng(7)
 # the suite's cases, the edges (no load, tangency P̂1 = 1, no separation, stick) and random

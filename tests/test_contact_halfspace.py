@@ -14,17 +14,12 @@ from lcpfric.model.continuum.closed_forms import hertz_contact, mindlin_deresiew
 from lcpfric.model.continuum.halfspace import HalfSpace
 from lcpfric.model.continuum.influence import Convolution, element_integrals
 from lcpfric.model.continuum.normal3d import normal_contact
+from support import halfspace_sphere as sphere
 from lcpfric.errors import InputError
 from lcpfric.model.loads import Harmonic
 
 TWO_PI = 2.0 * math.pi
 DATA = Path(__file__).parent / "data" / "halfspace_reference.npz"
-
-
-def sphere(P1=0.0, Q1=0.25, phi=0.0, nu=0.0, grid=16, dims=1, k_support=0.0, **kw):
-    return HalfSpace.sphere(1.0, 1.0, nu, 0.5, Harmonic(1.0, P1, 0.0, TWO_PI),
-                            Harmonic(0.0, Q1, phi, TWO_PI), grid=grid, dims=dims,
-                            k_support=k_support, **kw)
 
 
 @pytest.mark.parametrize("x, y", [(0.3, 0.0), (0.6, -0.9), (1.2, 0.3), (-0.45, 0.75)])

@@ -13,7 +13,7 @@ pytest.importorskip("matplotlib")
 from lcpfric.errors import InputError  # noqa: E402
 from lcpfric.figures.style import COLUMN_WIDTH, MIN_FONT_SIZE, PAGE_WIDTH  # noqa: E402
 
-from test_figures import _renderer, _texts  # noqa: E402
+from support import renderer as _renderer, texts as _texts  # noqa: E402
 
 PI = np.pi
 

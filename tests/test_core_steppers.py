@@ -9,7 +9,7 @@ import lcpfric
 from lcpfric import ConvergenceError, ConvergenceWarning, SingleNode, steady_state
 from lcpfric.exact import exact_W_hat
 
-from conftest import fitted_order
+from support import fitted_order
 
 STEPS = [250, 500, 1000, 2000, 4000, 8000]
 

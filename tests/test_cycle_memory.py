@@ -6,7 +6,7 @@ import lcpfric
 import pytest
 
 from lcpfric.steppers.slip_memory import MAX_GAIN, SlipMemory
-from test_contact_halfspace import sphere
+from support import halfspace_sphere as sphere
 
 
 def _return_mapping(s0, deltas, c, b):

@@ -9,8 +9,8 @@ import pytest
 from lcpfric import make_scene, steady_state
 from lcpfric.model import chain
 
-from backend_table import need
-from conftest import fitted_order
+from support import need
+from support import fitted_order
 
 def coupled_chain():
     """3 nodes, coupling 10, separation: once per cycle a slipping node stops inside a step

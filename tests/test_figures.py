@@ -19,6 +19,7 @@ pytest.importorskip("xarray")
 from lcpfric.paper import figures  # noqa: E402
 from lcpfric._optional import MissingExtra  # noqa: E402
 from lcpfric.errors import InputError  # noqa: E402
+from support import renderer as _renderer, texts as _texts  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 NAMES = ("fig3_map_phi0", "fig4_maps", "fig5_phase_P1_0.5", "fig6_phase_P1_Q1_5",
@@ -157,27 +158,6 @@ def _png_dpi(path):
 def _png_size(path):
     width, height = struct.unpack(">II", Path(path).read_bytes()[16:24])
     return width, height
-
-
-def _renderer(fig):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-
-    canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
-    canvas.draw()
-    return canvas.get_renderer()
-
-
-def _texts(fig):
-    """Every visible, non-empty Text artist of a drawn figure: tick labels (all axes, colour bars,
-    secondary axes), axis labels, titles, legends, contour labels, annotations."""
-    from matplotlib.text import Text
-
-    found = {id(t): t for t in fig.findobj(Text)}
-    for ax in fig.axes:
-        for axes in (ax, *ax.child_axes):
-            for t in (*axes.get_xticklabels(which="both"), *axes.get_yticklabels(which="both")):
-                found[id(t)] = t
-    return [t for t in found.values() if t.get_visible() and t.get_text().strip()]
 
 
 def _curves(ax):

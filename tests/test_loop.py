@@ -11,7 +11,7 @@ from lcpfric.analysis.loop import hysteresis_loop, loop_area
 from lcpfric.cli import main
 from lcpfric.model import chain
 
-from conftest import CASES
+from support import CASES
 
 
 @pytest.mark.parametrize("case", ["separation", "contact-phase", "large"])

@@ -9,8 +9,8 @@ from lcpfric import InputError, SingleNode, make_scene, steady_state
 from lcpfric.exact import exact_W_hat
 from lcpfric.model import block_diagonal, chain, chain_stiffness
 
-from backend_table import need
-from conftest import CASES, fitted_order
+from support import need
+from support import CASES, fitted_order
 
 CONVEX = ("clarabel", "osqp", "qpsolvers:proxqp")
 

@@ -8,7 +8,7 @@ from lcpfric import SingleNode, steady_state
 from lcpfric.model import chain
 from lcpfric.periodic import cycle_change
 
-from backend_table import need
+from support import need
 
 
 def test_cycle_change_scales():

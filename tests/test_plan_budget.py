@@ -15,8 +15,8 @@ from lcpfric.backends import ScenePlan
 from lcpfric.backends.problem import DEFAULT_PLAN_BUDGET
 from lcpfric.model import chain
 
-from backend_table import need
-from conftest import CASES
+from support import need
+from support import CASES
 
 MIB = 2**20
 
