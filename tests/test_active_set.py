@@ -4,6 +4,8 @@ solved on K; its blocks, its d = 2 iteration, the driver without history, large 
 import numpy as np
 import pytest
 
+from support import need
+
 import lcpfric
 from lcpfric.errors import InputError, SolverError
 from lcpfric.model import ContactSystem, Harmonic, IndependentSprings
@@ -33,6 +35,7 @@ def dense_spd(n=8, seed=0):
 @pytest.mark.parametrize("events", [False, True])
 def test_same_increments_as_osqp(make, events):
     """The same discretized problem as every convex backend: W to round-off."""
+    need("osqp")
     system = make()
     a = lcpfric.steady_state(system, "active-set", 300, tol=1e-12, locate_events=events)
     b = lcpfric.steady_state(system, "osqp", 300, tol=1e-12, locate_events=events)
@@ -119,6 +122,7 @@ def test_second_order_against_exact():
 
 def test_discs_agree_with_clarabel():
     """d = 2: the Newton iteration gives clarabel's steps."""
+    need("clarabel")
     system = staggered_chain(n=4, dims=2, seed=1, kc=0.7)
     a = lcpfric.steady_state(system, "active-set", 120, tol=1e-11)
     b = lcpfric.steady_state(system, "clarabel", 120, tol=1e-11)
@@ -166,6 +170,7 @@ def test_load_set_equals_each_load():
 
 
 def test_bad_options_and_unsupported_history():
+    need("osqp")
     system = staggered_chain(n=3)
     with pytest.raises(InputError, match="block"):
         lcpfric.steady_state(system, "active-set", 100, block="cholmod")

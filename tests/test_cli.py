@@ -16,6 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from support import need_modules
+
 import lcpfric
 from lcpfric.cli import COMMANDS, _common, build_parser, main
 from lcpfric.errors import InputError, SolverError
@@ -176,7 +178,7 @@ def test_negative_Q0_and_shakedown_phase(capsys):
 
 
 def test_negative_phases_in_a_map(capsys, tmp_path):
-    pytest.importorskip("xarray")
+    need_modules("xarray")
     out = tmp_path / "m.nc"
     code, text, err = run(capsys, "map", "--P1", "0:2:3", "--Q1", "1,2", "--phi", "-0.5pi,0.5pi",
                           "--out", out, "--no-progress", "--json")
@@ -199,6 +201,7 @@ def test_a_forgotten_value_is_still_reported(capsys):
 
 # -- B6. memory guard ------------------------------------------------------------------------------
 def test_map_too_large_is_refused_before_allocating(capsys, tmp_path):
+    need_modules("xarray", "h5netcdf", "h5py")
     code, _, err = run(capsys, "map", "--P1", "0:10:1000000000", "--Q1", "0:10:1000000000",
                        "--phi", "0", "--out", tmp_path / "m.nc")
     assert_one_line_error(code, err, "--P1, --Q1, --phi")
@@ -248,6 +251,7 @@ def test_memory_estimates():
                                          ("map.txt", "must end in .nc"),
                                          ("missing/m.nc", "does not exist")])
 def test_map_output_checked_before_any_work(capsys, tmp_path, monkeypatch, name, expect):
+    need_modules("xarray", "h5netcdf", "h5py")
     monkeypatch.chdir(tmp_path)
     (tmp_path / "adir").mkdir()
     code, _, err = run(capsys, "map", *GRID, "--out", name)
@@ -260,6 +264,7 @@ def test_map_output_checked_before_any_work(capsys, tmp_path, monkeypatch, name,
 @pytest.mark.parametrize("name,expect", [("", "is empty"), ("afile", "is not a directory"),
                                          ("missing/figs", "does not exist")])
 def test_figures_output_checked_before_any_work(capsys, tmp_path, monkeypatch, name, expect):
+    need_modules("matplotlib", "xarray")
     monkeypatch.chdir(tmp_path)
     (tmp_path / "afile").write_text("x")
     code, _, err = run(capsys, "figures", "--out", name)
@@ -269,6 +274,7 @@ def test_figures_output_checked_before_any_work(capsys, tmp_path, monkeypatch, n
 
 
 def test_map_and_figures_share_the_parent_rule(capsys, tmp_path):
+    need_modules("matplotlib", "xarray", "h5netcdf", "h5py")
     messages = []
     for argv in (["map", *GRID, "--out", tmp_path / "no" / "m.nc"],
                  ["figures", "--out", tmp_path / "no" / "figs"]):
@@ -283,7 +289,7 @@ def test_map_and_figures_share_the_parent_rule(capsys, tmp_path):
 
 
 def test_figures_failure_leaves_no_empty_folder(capsys, tmp_path, monkeypatch):
-    pytest.importorskip("matplotlib")
+    need_modules("matplotlib")
     import lcpfric.paper.figures as figures
 
     def fail(out_dir, **kwargs):
@@ -314,6 +320,7 @@ def _failing_sweep(saved_chunks: int, exc):
 
 
 def test_map_failure_leaves_no_empty_parts_folder(capsys, tmp_path, monkeypatch):
+    need_modules("xarray", "h5netcdf", "h5py")
     import lcpfric.analysis.sweep as sweep_module
 
     out = tmp_path / "m.nc"
@@ -332,7 +339,7 @@ def test_map_failure_leaves_no_empty_parts_folder(capsys, tmp_path, monkeypatch)
 
 
 def test_interrupted_restart_does_not_leave_the_old_map(capsys, tmp_path, monkeypatch):
-    pytest.importorskip("xarray")
+    need_modules("xarray")
     import lcpfric.analysis.sweep as sweep_module
 
     out = tmp_path / "m.nc"
@@ -357,7 +364,7 @@ def test_interrupted_restart_does_not_leave_the_old_map(capsys, tmp_path, monkey
     ("127.0.0.1:1", "cannot reach the Dask scheduler at tcp://127.0.0.1:1"),
 ])
 def test_scheduler_checked_before_any_work(capsys, tmp_path, address, expect):
-    pytest.importorskip("distributed")
+    need_modules("distributed")
     code, _, err = run(capsys, "map", *GRID, "--out", tmp_path / "m.nc", "--scheduler", address)
     assert_one_line_error(code, err, "--scheduler")
     assert expect in err
@@ -365,7 +372,7 @@ def test_scheduler_checked_before_any_work(capsys, tmp_path, address, expect):
 
 
 def test_scheduler_that_is_not_dask_is_one_line(capsys, tmp_path):
-    pytest.importorskip("distributed")
+    need_modules("distributed")
     import socket
     import threading
 
@@ -419,7 +426,8 @@ def test_method_name_errors_are_one_line(capsys):
 
 
 def test_unknown_qpsolvers_solver_lists_the_installed_ones(capsys):
-    qpsolvers = pytest.importorskip("qpsolvers")
+    need_modules("qpsolvers")
+    import qpsolvers
     code, _, err = run(capsys, "dissipation", *CASE, "--method", "qpsolvers:nonexistent")
     assert code == 2
     assert all(s in err for s in qpsolvers.available_solvers)
@@ -427,7 +435,7 @@ def test_unknown_qpsolvers_solver_lists_the_installed_ones(capsys):
 
 
 def test_missing_cvxpy_solver_names_its_package(capsys):
-    pytest.importorskip("cvxpy")
+    need_modules("cvxpy")
     if _common.installed("ecos"):
         pytest.skip("ecos is installed")
     code, _, err = run(capsys, "dissipation", *CASE, "--method", "cvxpy:ECOS")
@@ -533,6 +541,10 @@ OWN = [
 @pytest.mark.parametrize("argv,option", QUOTED + OWN,
                          ids=[f"{i:02d}" for i in range(len(QUOTED) + len(OWN))])
 def test_bad_input_tour(capsys, tmp_path, argv, option):
+    if argv[0] == "map":
+        need_modules("xarray", "h5netcdf", "h5py")
+    if argv[0] == "figures":
+        need_modules("matplotlib", "xarray")
     (tmp_path / "adir").mkdir()
     (tmp_path / "afile").write_text("x")
     before = sorted(p.name for p in tmp_path.iterdir())
@@ -693,6 +705,7 @@ def test_contact_unresolved_slip_warns_in_one_line(capsys):
 def test_map_contact_halfspace_resumes(capsys, tmp_path):
     """lcpfric map --contact sphere --contact-model halfspace: through sweep, resumable, equal
     to the model's own solve."""
+    need_modules("xarray", "h5netcdf", "h5py")
     from lcpfric.model.continuum.halfspace import HalfSpace
     from lcpfric.model.loads import Harmonic
 

@@ -7,13 +7,14 @@ import numpy as np
 import lcpfric
 import pytest
 
-pytest.importorskip("matplotlib")
-pytest.importorskip("xarray")
+from support import need_modules, renderer as _renderer, texts as _texts
+
+need_modules("matplotlib")
+need_modules("xarray")
 
 from lcpfric.cli import main  # noqa: E402
 from lcpfric.figures.style import COLUMN_WIDTH, MIN_FONT_SIZE, PAGE_WIDTH  # noqa: E402
 
-from support import renderer as _renderer, texts as _texts  # noqa: E402
 
 NAMES = ("hertz-maps", "hertz-phase", "hertz-zones", "cylinder-tractions", "sphere-tractions")
 COLUMN = ("hertz-zones", "cylinder-tractions", "sphere-tractions")

@@ -6,6 +6,8 @@ import numpy as np
 import lcpfric
 import pytest
 
+from support import need
+
 from lcpfric.model.continuum import cattaneo_stick_ratio, cylinder_contact, cylinder_W
 from lcpfric.model.continuum.halfplane import HalfPlaneCylinder
 from lcpfric.errors import InputError
@@ -72,6 +74,7 @@ def test_as_an_lcpfric_system():
     """Held by a support, the plane contact is an lcpfric ContactSystem (compliance C + 1 1ᵀ/k_s,
     the elements' entry loads as its normal model's transitions, exact for the discrete
     problem): the backends give the same W on the same scene."""
+    need("clarabel")
     import lcpfric
     from lcpfric.scene import make_scene
 

@@ -14,7 +14,7 @@ from lcpfric.model.continuum.closed_forms import hertz_contact, mindlin_deresiew
 from lcpfric.model.continuum.halfspace import HalfSpace
 from lcpfric.model.continuum.influence import Convolution, element_integrals
 from lcpfric.model.continuum.normal3d import normal_contact
-from support import halfspace_sphere as sphere
+from support import need, halfspace_sphere as sphere
 from lcpfric.errors import InputError
 from lcpfric.model.loads import Harmonic
 
@@ -163,6 +163,7 @@ def test_against_the_convex_backends(dims, nu):
     product; the elements' exact entry loads as its normal model's transitions): Clarabel
     (second-order cones for d = 2) and active-set (d = 1, matrix-free) give the model's W on
     the same scene."""
+    need("clarabel")
     import lcpfric
     from lcpfric.scene import make_scene
 

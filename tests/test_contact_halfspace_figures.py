@@ -8,12 +8,13 @@ import numpy as np
 import lcpfric
 import pytest
 
-pytest.importorskip("matplotlib")
+from support import need_modules, renderer as _renderer, texts as _texts
+
+need_modules("matplotlib")
 
 from lcpfric.errors import InputError  # noqa: E402
 from lcpfric.figures.style import COLUMN_WIDTH, MIN_FONT_SIZE, PAGE_WIDTH  # noqa: E402
 
-from support import renderer as _renderer, texts as _texts  # noqa: E402
 
 PI = np.pi
 

@@ -5,6 +5,8 @@ import numpy as np
 import lcpfric
 import pytest
 
+from support import need_modules
+
 from lcpfric.analysis.contact_maps import mdr_W_normalized
 from lcpfric.model.continuum import MDRSphere
 from lcpfric.errors import InputError
@@ -39,7 +41,7 @@ def test_zero_amplitude_and_small_amplitude_law():
 
 
 def test_sweep_of_a_contact_map_resumes(tmp_path):
-    pytest.importorskip("xarray")
+    need_modules("xarray")
     from lcpfric.analysis.sweep import sweep
 
     P1, Q1, phi = np.linspace(0, 2, 4), np.linspace(0, 1, 3), [0.0, 0.3 * np.pi]
@@ -92,7 +94,7 @@ def test_sweep_counts_the_points_that_do_not_converge(tmp_path, capsys):
     """A contact map whose points cannot converge (one cycle allowed): NaN there, and the
     dataset and the command line's summary say how many, apart from the loads without
     equilibrium."""
-    pytest.importorskip("xarray")
+    need_modules("xarray")
     from lcpfric.analysis.sweep import sweep
     from lcpfric.cli.map import _report
 

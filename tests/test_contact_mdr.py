@@ -5,6 +5,8 @@ Deresiewicz's in-phase condition, W(φ + π) = W(φ), and the single node (one s
 import numpy as np
 import pytest
 
+from support import need
+
 import lcpfric
 from lcpfric.model.continuum import cattaneo_stick_ratio, mindlin_deresiewicz_W
 from lcpfric.model.continuum import MDRSphere
@@ -140,6 +142,7 @@ def test_as_an_lcpfric_system():
     """With a support, the MDR contact is an lcpfric ContactSystem (matrix-free compliance
     ``diag(1/k) + 1 1ᵀ/k_s``, its own normal model): the backends give the same W on the same
     scene; under pure load control it is refused (a singular stiffness)."""
+    need("clarabel")
     import lcpfric
     from lcpfric.scene import make_scene
 

@@ -12,6 +12,8 @@ import math
 import numpy as np
 import pytest
 
+from support import need_modules
+
 import lcpfric
 from lcpfric.analysis.analytic import jang_barber
 from lcpfric.exact import exact_cycle, exact_W_hat
@@ -86,7 +88,7 @@ def test_issue_examples_through_every_entry(P1, Q1, phi, ref):
     node = lcpfric.SingleNode.normalized(P1, Q1, phi)
     assert lcpfric.steady_state(node, "exact").W_hat == pytest.approx(ref, rel=1e-9)
     assert exact_cycle(P1, Q1, phi).W_hat == pytest.approx(ref, rel=1e-9)
-    pytest.importorskip("xarray")
+    need_modules("xarray")
     from lcpfric.analysis.sweep import sweep
 
     ds = sweep([P1], [Q1], [phi], progress=False)
@@ -164,7 +166,7 @@ def _audit(points, reference_W_hat, input_spread):
 
 
 def test_pinned_values_match_the_mpmath_reference():
-    pytest.importorskip("mpmath")
+    need_modules("mpmath")
     from exact_reference import reference_W_hat
 
     for P1, Q1, phi, ref, _ in PINNED:
@@ -173,7 +175,7 @@ def test_pinned_values_match_the_mpmath_reference():
 
 
 def test_random_audit_against_mpmath_quick():
-    pytest.importorskip("mpmath")
+    need_modules("mpmath")
     from exact_audit import draw
     from exact_reference import input_spread, reference_W_hat
 
@@ -184,7 +186,7 @@ def test_random_audit_against_mpmath_quick():
 
 @pytest.mark.slow
 def test_random_audit_against_mpmath():
-    pytest.importorskip("mpmath")
+    need_modules("mpmath")
     from exact_audit import draw
     from exact_reference import input_spread, reference_W_hat
 
@@ -194,7 +196,8 @@ def test_random_audit_against_mpmath():
 
 
 def test_reference_agrees_with_eqs_11_12_and_the_energy_identity():
-    mp = pytest.importorskip("mpmath")
+    need_modules("mpmath")
+    import mpmath as mp
     from exact_reference import jang_barber_mp, reference_cycle
 
     rng = np.random.default_rng(3)
@@ -211,7 +214,7 @@ def test_reference_agrees_with_eqs_11_12_and_the_energy_identity():
 
 @pytest.mark.slow
 def test_reference_agrees_with_a_fine_grid():
-    pytest.importorskip("mpmath")
+    need_modules("mpmath")
     from exact_reference import grid_W_hat, reference_W_hat
 
     P1 = np.array([0.5, 1.5, 3.0, 0.0, 2.0])

@@ -8,6 +8,8 @@ from pathlib import Path
 
 import pytest
 
+from support import need_modules
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -22,7 +24,7 @@ def run(name, *args, tmp_path):
 
 @pytest.mark.slow
 def test_motor(tmp_path):
-    pytest.importorskip("matplotlib")
+    need_modules("matplotlib")
     out = run("motor.py", "--out", str(tmp_path), tmp_path=tmp_path)
     assert (tmp_path / "fig9_motor.png").stat().st_size > 0
     a, b = map(float, re.search(r"gives W = ([\d.]+) mJ; Motor.dissipation gives ([\d.]+)",

@@ -13,13 +13,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-pytest.importorskip("matplotlib")
-pytest.importorskip("xarray")
+from support import need_modules, renderer as _renderer, texts as _texts
+
+need_modules("matplotlib")
+need_modules("xarray")
 
 from lcpfric.paper import figures  # noqa: E402
 from lcpfric._optional import MissingExtra  # noqa: E402
 from lcpfric.errors import InputError  # noqa: E402
-from support import renderer as _renderer, texts as _texts  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 NAMES = ("fig3_map_phi0", "fig4_maps", "fig5_phase_P1_0.5", "fig6_phase_P1_Q1_5",

@@ -11,7 +11,7 @@ from lcpfric.analysis.loop import hysteresis_loop, loop_area
 from lcpfric.cli import main
 from lcpfric.model import chain
 
-from support import CASES
+from support import need_modules, CASES
 
 
 @pytest.mark.parametrize("case", ["separation", "contact-phase", "large"])
@@ -52,6 +52,7 @@ def test_loops_of_a_system_add_up_to_W():
 
 
 def test_loop_command(tmp_path, capsys):
+    need_modules("matplotlib")
     out = tmp_path / "loop.pdf"
     assert main(["loop", "--P1", "1.5", "--Q1", "2", "--phi", "0.6pi", "--out", str(out),
                  "--json"]) == 0

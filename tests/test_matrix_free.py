@@ -4,6 +4,8 @@ compliance form with conjugate gradients, against the same system given as a mat
 
 import numpy as np
 import pytest
+
+from support import need
 from scipy.linalg import matmul_toeplitz, toeplitz
 from scipy.sparse.linalg import LinearOperator, aslinearoperator
 
@@ -62,6 +64,7 @@ def test_matrix_free_equals_the_matrix(sep, events):
 def test_small_matrix_free_with_convex_backends_and_start():
     """Up to 2000 unknowns the other methods form C from its products; a start u0 is turned
     into forces by conjugate gradients."""
+    need("osqp")
     free, dense = pair(n=12)
     a = lcpfric.steady_state(free, "osqp", 150, tol=1e-12)
     b = lcpfric.steady_state(dense, "osqp", 150, tol=1e-12)
@@ -110,6 +113,7 @@ def test_matrix_free_errors():
 def test_large_matrix_free_refused_by_matrix_methods():
     """Beyond 2000 unknowns no method forms C: the matrix methods refuse before any work,
     naming active-set."""
+    need("osqp")
     n = 2001
     c = kernel(n)
     normal = IndependentSprings(tuple(Harmonic(1.0, 0.5) for _ in range(n)))

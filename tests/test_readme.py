@@ -6,14 +6,16 @@ from pathlib import Path
 
 import pytest
 
+from support import need_modules
+
 README = Path(__file__).resolve().parents[1] / "README.md"
 
 
 @pytest.mark.slow
 def test_readme_snippets_run(tmp_path, monkeypatch):
-    pytest.importorskip("xarray")
-    pytest.importorskip("matplotlib")
-    pytest.importorskip("clarabel")
+    need_modules("xarray")
+    need_modules("matplotlib")
+    need_modules("clarabel")
     monkeypatch.chdir(tmp_path)
     blocks = re.findall(r"```python\n(.*?)```", README.read_text(), re.S)
     assert len(blocks) >= 3

@@ -4,9 +4,12 @@ import csv
 import math
 
 import scaling
+from support import need
 
 
 def test_scaling_core_in_process(tmp_path):
+    need("clarabel")
+    need("osqp")
     lines = []
     settings = scaling.quick_settings(systems={"chain": (10, 40)}, isolate=False,
                                       log=lines.append)

@@ -12,6 +12,8 @@ import math
 
 import pytest
 
+from support import need_modules, need
+
 import lcpfric
 from lcpfric.methods import available_methods
 from stiff_cases import RATIOS, stiff_cases  # benchmarks/, on the path
@@ -45,12 +47,14 @@ def test_active_set_matches_the_reference(name):
 
 @pytest.mark.parametrize("name", LOW_RATIO)
 def test_osqp_matches_the_reference_at_low_ratio(name):
+    need("osqp")
     assert _relative_error("osqp", name) <= RTOL
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", [n for n in LOW_RATIO if n not in OSQP_ONLY])
 def test_clarabel_matches_the_reference_at_low_ratio(name):
+    need("clarabel")
     assert _relative_error("clarabel", name) <= RTOL
 
 
@@ -73,7 +77,7 @@ def test_dense_references_do_not_depend_on_the_ratio():
 
 
 def test_reference_recomputed_live_equals_the_pinned_value():
-    pytest.importorskip("mpmath")
+    need_modules("mpmath")
     from stiff_reference import reference_W
 
     system, steps = CASES["stiff-chain-r1e4"]

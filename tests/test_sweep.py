@@ -11,7 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-pytest.importorskip("xarray")
+from support import need_modules
+
+need_modules("xarray")
 
 from lcpfric.analysis.analytic import jang_barber  # noqa: E402
 from lcpfric.errors import InputError  # noqa: E402
@@ -149,7 +151,8 @@ def test_process_pool_equals_serial():
 
 
 def test_dask_local_cluster_equals_serial():
-    distributed = pytest.importorskip("dask.distributed")
+    need_modules("dask.distributed")
+    from dask import distributed
     P = np.linspace(0.0, 6.0, 13)
     serial = sweep(P, P, PHASES, processes=1, progress=False)
     with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
@@ -164,7 +167,7 @@ def test_dask_local_cluster_equals_serial():
 
 
 def test_bad_scheduler_address():
-    pytest.importorskip("dask.distributed")
+    need_modules("dask.distributed")
     with pytest.raises(InputError) as info:
         sweep([1.0], [1.0], [0.0], scheduler=42, progress=False)
     assert info.value.parameter == "scheduler"
@@ -286,7 +289,7 @@ def test_map_command(tmp_path, capsys):
 
 
 def test_progress_bar_only_on_a_terminal(monkeypatch):
-    pytest.importorskip("tqdm")
+    need_modules("tqdm")
     import io
 
     from lcpfric.analysis import sweep as module

@@ -38,20 +38,29 @@ def fitted_order(steps, errors):
 
 #: the pip extra that installs each optional module the tests use
 EXTRAS = {"matplotlib": "plot", "xarray": "dist", "h5netcdf": "dist", "h5py": "dist",
-          "dask": "dist", "distributed": "dist", "tqdm": "dist", "mpmath": "test",
+          "dask": "dist", "distributed": "dist", "dask.distributed": "dist", "tqdm": "dist",
+          "mpmath": "test",
           "clarabel": "clarabel", "osqp": "osqp", "qpsolvers": "qpsolvers", "cvxpy": "cvxpy"}
 
 
 def need_modules(*modules: str) -> None:
     """Skip the test when one of ``modules`` is not installed, naming the extra to install."""
     for module in modules:
-        if importlib.util.find_spec(module) is None:
-            pytest.skip(f"needs {module} (pip install \"lcpfric[{EXTRAS.get(module, 'all')}]\")")
+        if _missing(module):
+            pytest.skip(f"needs {module} (pip install \"lcpfric[{EXTRAS.get(module, 'all')}]\")",
+                        allow_module_level=True)
+
+
+def _missing(module: str) -> bool:
+    try:
+        return importlib.util.find_spec(module) is None
+    except ModuleNotFoundError:          # a submodule of a missing package
+        return True
 
 
 def needs(*modules: str):
     """The same as a mark: ``@needs("matplotlib")``."""
-    missing = [m for m in modules if importlib.util.find_spec(m) is None]
+    missing = [m for m in modules if _missing(m)]
     extras = sorted({EXTRAS.get(m, "all") for m in missing})
     return pytest.mark.skipif(bool(missing), reason=f"needs {', '.join(missing)} (pip install "
                                                     f"\"lcpfric[{','.join(extras)}]\")")
