@@ -5,10 +5,10 @@ models, measured in one run.
 
 writes ``DIR/contact.md`` (default ``benchmarks/results``). Each validation gives the value, the
 closed form it is judged against, their relative difference, and the nodes and steps used;
-timings are wall seconds of ``solve`` on this machine (shared: other work may run on the second
-core). The Hertz map goal runs the command users run, ``lcpfric map --contact sphere ...`` with
-11 phases on a 41 x 41 grid, in a child process on both cores (``--no-map`` skips it;
-``--quick`` uses coarser grids and a 11 x 11 map, about a minute in all).
+timings are wall seconds of ``lcpfric.steady_state`` on this machine (shared: other work may
+run on the second core). The Hertz map goal runs the command users run, ``lcpfric map --contact
+sphere ...`` with 11 phases on a 41 x 41 grid, in a child process on both cores (``--no-map``
+skips it; ``--quick`` uses coarser grids and a 11 x 11 map, about a minute in all).
 
 Materials and loads: two identical bodies, E = 200e3, R = 10, μ = 0.5, P0 = 100 (sphere) or
 100 per unit length (cylinder); ν = 0 where the classical forms are exact (the sphere's
@@ -31,11 +31,10 @@ from pathlib import Path
 import numpy as np
 
 import lcpfric
-from lcpfric.model.continuum import (HalfPlaneCylinder, MDRSphere, cattaneo_stick_ratio,
-                             ciavarella_jager_W, cylinder_contact, cylinder_W,
-                             mindlin_deresiewicz_W, moduli)
-from lcpfric.model.continuum import PowerLaw
 from lcpfric.model import Harmonic
+from lcpfric.model.continuum import (HalfPlaneCylinder, MDRSphere, PowerLaw,
+                                     cattaneo_stick_ratio, ciavarella_jager_W, cylinder_contact,
+                                     cylinder_W, mindlin_deresiewicz_W, moduli)
 
 E, R, MU, P0 = 200e3, 10.0, 0.5, 100.0
 PI = math.pi
@@ -52,7 +51,7 @@ def cylinder(P1=0.0, Q1=0.5, phi=0.0, nu=0.0, **kw):
 
 def timed(model, steps, **kw):
     t = time.perf_counter()
-    r = lcpfric.steady_state(model, steps_per_cycle=steps, steps_per_cycle=**kw)
+    r = lcpfric.steady_state(model, steps_per_cycle=steps, **kw)
     return r, time.perf_counter() - t
 
 
@@ -74,7 +73,7 @@ def mindlin(lines, quick):
     for nu in (0.0, 0.3):
         for x in (0.2, 0.5, 0.9):
             r, s = timed(sphere(Q1=x, nu=nu, nodes=springs), 400)
-            ref = mindlin_deresiewicz_W(P0, x * MU * P0, MU, r.k_t0)
+            ref = mindlin_deresiewicz_W(P0, x * MU * P0, MU, r.contact.k_t0)
             lines.append(f"| sphere (MDR) | {nu:g} | {x:g} | {springs} | 400 | {r.W:.8g} "
                          f"| {ref:.8g} | {rel(r.W, ref):.2e} | {s:.2f} |")
     for nu in (0.0, 0.3):
@@ -112,13 +111,14 @@ def cattaneo(lines):
                                   ("cylinder (400 across)", cylinder(Q1=0.95, nodes=400),
                                    "cylinder")):
         steps = 400
-        r = lcpfric.steady_state(model, steps_per_cycle=steps, max_cycles=1, on_nonconvergence="ignore")
-        c = r.stick_size()
+        r = lcpfric.steady_state(model, steps_per_cycle=steps, max_cycles=1,
+                                 on_nonconvergence="ignore")
+        c, size = r.stick_size(), r.contact.size
         for j in (20, 40, 60, 80):
             x = 0.95 * math.sin(2 * PI * j / steps)
-            ca, ref = c[j] / r.size[j], cattaneo_stick_ratio(x, geometry)
+            ca, ref = c[j] / size[j], cattaneo_stick_ratio(x, geometry)
             lines.append(f"| {name} | {x:.4f} | {ca:.5f} | {ref:.5f} "
-                         f"| {(ca - ref) * r.size[j] / model.dx:+.2f} |")
+                         f"| {(ca - ref) * size[j] / model.dx:+.2f} |")
     lines.append("")
 
 
@@ -130,9 +130,9 @@ def phases(lines):
               "(φ + π) |", "|---|---|---|---|---|---|"]
     for name, make, n in (("sphere (MDR)", sphere, 2000), ("cylinder (half-plane)", cylinder,
                                                            400)):
-        w0 = lcpfric.steady_state(make(P1=0.5, Q1=0.4, nodes=n), steps_per_cycle=400).W_normalized
-        wa = lcpfric.steady_state(make(P1=0.5, Q1=0.4, phi=0.5, nodes=n), steps_per_cycle=400).W_normalized
-        wb = lcpfric.steady_state(make(P1=0.5, Q1=0.4, phi=0.5 + PI, nodes=n), steps_per_cycle=400).W_normalized
+        w0, wa, wb = (lcpfric.steady_state(make(P1=0.5, Q1=0.4, phi=phi, nodes=n),
+                                           steps_per_cycle=400).W_normalized
+                      for phi in (0.0, 0.5, 0.5 + PI))
         lines.append(f"| {name} | {n}, 400 | {w0:.3e} | {wa:.6g} | {wb:.6g} "
                      f"| {rel(wb, wa):.1e} |")
     lines += ["", "W at φ = 0 is not exactly 0: it is the discretization's (it falls with the "
@@ -159,7 +159,7 @@ def convergence(lines, quick):
     steps = (100, 200, 400, 800)
     for name, make, ref_of, nodes, node_set in (
             ("sphere (MDR)", sphere,
-             lambda r: mindlin_deresiewicz_W(P0, 0.5 * MU * P0, MU, r.k_t0), fine_nodes,
+             lambda r: mindlin_deresiewicz_W(P0, 0.5 * MU * P0, MU, r.contact.k_t0), fine_nodes,
              (50, 100, 200, 400, 800)),
             ("cylinder (half-plane)", cylinder,
              lambda r: cylinder_W(P0, 0.5 * MU * P0, MU, E, 0.0), 800 if not quick else 400,
@@ -174,7 +174,8 @@ def convergence(lines, quick):
         en = []
         ns = node_set if not (quick and name.startswith("cyl")) else (50, 100, 200)
         for n in ns:
-            r = lcpfric.steady_state(make(nodes=n), steps_per_cycle=fine_steps if name.startswith("sphere") else 1600)
+            r = lcpfric.steady_state(make(nodes=n), steps_per_cycle=fine_steps
+                                     if name.startswith("sphere") else 1600)
             en.append(rel(r.W, ref_of(r)))
         lines += [f"**{name}**: steps {list(steps)} at {nodes} nodes: errors "
                   + ", ".join(f"{e:.2e}" for e in es)

@@ -3,17 +3,18 @@
 ``OPENBLAS_NUM_THREADS=1 python benchmarks/cycle_acceleration.py [--out DIR]``
 
 writes ``DIR/cycle_acceleration.md`` (default ``benchmarks/results``; about 10 minutes). With
-ν > 0 and d = 2 the transverse slips settle over many cycles; the contact steady-state driver
-scales each cycle's change node by node by what the cycle remembers of its start
-(:class:`lcpfric.cycle_memory.SlipMemory`) and accelerates that map with
-:class:`lcpfric.periodic.Anderson` (depth 10). This runs the same d = 2 cases (ν = 0.3) with
-both (the default), with Anderson alone (depth 10 and 5: the driver before the memory), with
-the memory alone, and with neither, and gives the cycles, the seconds, W's difference from the
-default run, and how fast the plain cycles contract at their end (their slowest mode). The
-cases: the backends' cross-check contact (grid 10, support k_t0, the scene's steps), the maps'
-three load cases (grid 20, 100 steps, cycle tolerance 1e-8), Mindlin-Deresiewicz on grids 40
-and 56, and varying P with a phase on grid 32 (200 steps). A run that does not repeat within
-200 cycles is marked "no".
+ν > 0 and d = 2 the transverse slips settle over many cycles; the steady-state driver
+(:mod:`lcpfric.periodic.driver`) scales each cycle's change node by node by what the cycle
+remembers of its start (:class:`lcpfric.steppers.slip_memory.SlipMemory`) and accelerates that
+map with :class:`lcpfric.periodic.acceleration.Anderson` (depth 10). This runs the same d = 2
+cases (ν = 0.3) with both (the default), with Anderson alone (depth 10 and 5: the driver before
+the memory; the ``newton-cg`` option ``slip_memory=False``), with the memory alone, and with
+neither (``Anderson`` of :mod:`lcpfric.periodic.acceleration` replaced for one run), and gives
+the cycles, the seconds, W's difference from the default run, and how fast the plain cycles
+contract at their end (their slowest mode). The cases: the backends' cross-check contact (grid
+10, support k_t0, the scene's steps), the maps' three load cases (grid 20, 100 steps, cycle
+tolerance 1e-8), Mindlin-Deresiewicz on grids 40 and 56, and varying P with a phase on grid 32
+(200 steps). A run that does not repeat within 200 cycles is marked "no".
 
 ``--discrete`` runs the discrete driver's d = 2 systems instead (the chains of
 ``benchmarks/order_d2.py`` and the grid-10 contact as a ContactSystem) with the memory and with
@@ -33,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 import lcpfric
-import lcpfric.contact.steady as steady
+import lcpfric.periodic.acceleration as acceleration
 from lcpfric.periodic.acceleration import Anderson
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -41,13 +42,14 @@ from halfspace import PI, sphere  # noqa: E402  (the same materials and loads)
 
 
 def cases():
-    """(label, model factory, solve options)."""
+    """(label, model factory, solve options: ``lcpfric.steady_state``'s, and ``grid``, the
+    instants of the model's scene)."""
     from lcpfric.scene import make_scene
 
     def backends():
         m = sphere(0.0, 0.6, 0.7 * PI, nu=0.3, grid=10, dims=2, k_support=1.0)
-        m.k_support = m.k_t0
-        return m, {"t": make_scene(m.system(), 200).t, "tol": 1e-10}
+        m = m.with_support(m.k_t0)
+        return m, {"grid": make_scene(m.system(), 200).t, "tol": 1e-10}
 
     out = [("grid 10, support k_t0, P1/P0 = 0, Q1/(μP0) = 0.6, φ = 0.7π (the backends' case)",
             backends)]
@@ -55,13 +57,15 @@ def cases():
         out.append((f"grid 20, 100 steps, tol 1e-8, P1/P0 = {P1}, Q1/(μP0) = {Q1}, φ = {phi}π "
                     f"(a map's point)",
                     lambda P1=P1, Q1=Q1, phi=phi: (sphere(P1, Q1, phi * PI, nu=0.3, grid=20,
-                                                          dims=2), {"steps": 100, "tol": 1e-8})))
+                                                          dims=2),
+                                                   {"steps_per_cycle": 100, "tol": 1e-8})))
     for g in (40, 56):
         out.append((f"grid {g}, 200 steps, Mindlin-Deresiewicz (Q1/(μP0) = 0.5)",
                     lambda g=g: (sphere(0.0, 0.5, 0.0, nu=0.3, grid=g, dims=2),
-                                 {"steps": 200})))
+                                 {"steps_per_cycle": 200})))
     out.append(("grid 32, 200 steps, P1/P0 = 0.3, Q1/(μP0) = 0.6, φ = 0.7π",
-                lambda: (sphere(0.3, 0.6, 0.7 * PI, nu=0.3, grid=32, dims=2), {"steps": 200})))
+                lambda: (sphere(0.3, 0.6, 0.7 * PI, nu=0.3, grid=32, dims=2),
+                         {"steps_per_cycle": 200})))
     return out
 
 
@@ -86,17 +90,18 @@ def run(factory, depth, memory=True):
     cycle's change is largest: that element's distance from the centre over the contact radius
     at P0, and the share of the change that is transverse (along y)."""
     model, kw = factory()
-    if not memory:
-        model.memory = None
+    grid = kw.pop("grid", None)
+    target = model if grid is None else lcpfric.make_scene(model, grid=grid)
     plain = _Plain()
-    # the driver builds its accelerator as Anderson(); this sets it for one run
-    steady.Anderson = (lambda: plain) if depth is None else (lambda: Anderson(depth))
+    # the driver's acceleration builds its accelerator as Anderson(); this sets it for one run
+    acceleration.Anderson = (lambda: plain) if depth is None else (lambda: Anderson(depth))
     try:
         w = time.perf_counter()
-        r = lcpfric.steady_state(model, max_cycles=200, on_nonconvergence="ignore", steps_per_cycle=**kw)
+        r = lcpfric.steady_state(target, "newton-cg", max_cycles=200,
+                                 on_nonconvergence="ignore", slip_memory=memory, **kw)
         seconds = time.perf_counter() - w
     finally:
-        steady.Anderson = Anderson
+        acceleration.Anderson = Anderson
     n = plain.norms[-6:]
     rho = (n[-1] / n[0]) ** (1.0 / (len(n) - 1)) if len(n) >= 3 and n[0] > 0 else math.nan
     where = share = math.nan
@@ -110,17 +115,20 @@ def run(factory, depth, memory=True):
 
 def discrete(out: Path):
     """The discrete driver (``lcpfric.steady_state``) on d = 2 systems, with the memory (and,
-    for coupled nodes, Anderson's acceleration) against Aitken's jumps alone: cycles, wall
-    seconds and W's difference; written to ``cycle_acceleration_discrete.md``."""
-    import lcpfric
-    import lcpfric.periodic as periodic
+    for coupled nodes, Anderson's acceleration) against Aitken's jumps alone (the driver's
+    ``choose`` replaced for one run by its choice for a system whose cycles are not kept whole):
+    cycles, wall seconds and W's difference; written to ``cycle_acceleration_discrete.md``."""
+    import lcpfric.periodic.driver as driver
     from lcpfric.scene import make_scene
     from order_d2 import cases as chains
 
     def half_space():
         m = sphere(0.0, 0.6, 0.7 * PI, nu=0.3, grid=10, dims=2, k_support=1.0)
-        m.k_support = m.k_t0
+        m = m.with_support(m.k_t0)
         return make_scene(m.system(), 200)
+
+    def aitken_alone(scene, stepper, history, start):
+        return keep(scene, stepper, False, start)
 
     rows = [(name, (lambda s=system: s), "clarabel", {}) for name, system in chains()]
     rows.insert(0, ("1 node, non-collinear, projection (uncoupled)",
@@ -135,17 +143,17 @@ def discrete(out: Path):
              "| system | method | memory (default) | Aitken alone | W difference |",
              "|---|---|---|---|---|"]
     print("\n".join(lines), flush=True)
-    keep = periodic.SlipMemory
+    keep = driver.choose
     for name, make, method, opts in rows:
         runs = []
         for memory in (True, False):
-            periodic.SlipMemory = keep if memory else (lambda *a: None)
+            driver.choose = keep if memory else aitken_alone
             try:
                 w = time.perf_counter()
                 r = lcpfric.steady_state(make(), method, 200, tol=1e-10, **opts)
                 runs.append((r, time.perf_counter() - w))
             finally:
-                periodic.SlipMemory = keep
+                driver.choose = keep
         (a, sa), (b, sb) = runs
         row = (f"| {name} | {method} | {a.cycles}, {sa:.1f} s | {b.cycles}, {sb:.1f} s | "
                f"{(b.W - a.W) / a.W:+.1e} |")
@@ -164,7 +172,8 @@ def figure(out: Path):
 
     runs = {}
     for g in (40, 56):
-        factory = (lambda g=g: (sphere(0.0, 0.5, 0.0, nu=0.3, grid=g, dims=2), {"steps": 200}))
+        factory = (lambda g=g: (sphere(0.0, 0.5, 0.0, nu=0.3, grid=g, dims=2),
+                                {"steps_per_cycle": 200}))
         for depth, memory, name in ((10, True, "memory + Anderson (default)"),
                                     (10, False, "Anderson alone"),
                                     (None, True, "memory alone"), (None, False, "neither")):
@@ -195,7 +204,7 @@ def figure(out: Path):
                     transform=ax.transAxes, ha="right", va="top", fontsize=plotting.SMALL,
                     color="0.3")
             ax.set_xlabel("cycle")
-            ax.set_title(f"grid {g} ({runs[g, names[0]].nodes_in_contact_max} elements in "
+            ax.set_title(f"grid {g} ({runs[g, names[0]].contact.nodes_in_contact_max} elements in "
                          f"contact)")
             ax.grid(True, which="major", alpha=0.3)
         axes[0].set_ylabel("relative change of the cycle")

@@ -29,39 +29,50 @@ sys.path.insert(0, str(Path(__file__).parent))
 from _report import Report, stamp  # noqa: E402
 from halfspace import sphere  # noqa: E402
 
+import lcpfric  # noqa: E402
 from lcpfric.periodic.acceleration import Anderson  # noqa: E402
+from lcpfric.results import StepState  # noqa: E402
+from lcpfric.steppers.continuum import ContinuumData  # noqa: E402
+from lcpfric.steppers.newton_cg import NewtonCGStepper  # noqa: E402
 
 #: Arnoldi steps (products with J)
 KRYLOV = 40
 
 
-def fixed_point(model, steps):
+def fixed_point(model, steps, tol=1e-13):
     """The steady state's starting state: cycles (Anderson-accelerated, increments to the
-    model's tol, no warm starts from the previous cycle) until the start repeats to 1e-14 of
-    the slips' scale, or, once it repeats to 1e-10, until its change stops falling (three
-    cycles without halving the smallest so far: the increments' round-off, about 1e-12 of the
-    slips with the model's tol 1e-13, a millionth of the finite differences' step). Returns
-    ``(cycle, state, x*, G(x*), cycles)``."""
-    t = np.linspace(0.0, model.period, steps + 1)
-    b = model.limits(t)
-    Q = np.asarray(model.Q(t), dtype=float)
+    stepper's ``increment_tol`` ``tol``, no warm starts from the previous cycle) until the start
+    repeats to 1e-14 of the slips' scale, or, once it repeats to 1e-10, until its change stops
+    falling (three cycles without halving the smallest so far: the increments' round-off, about
+    1e-12 of the slips with the tolerance 1e-13, a millionth of the finite differences' step).
+    The increments are the ``newton-cg`` stepper's, driven by hand on the model's scene.
+    Returns ``(cycle, restart, state, x*, G(x*), cycles)``: ``cycle(state)`` runs one cycle
+    from a tangential state, ``restart(state, v)`` is the state with the slips v."""
+    stepper = NewtonCGStepper(increment_tol=tol)
+    scene = lcpfric.make_scene(model, steps)
+    ctx = stepper.context(scene)
+    b, Q = scene.limits, scene.Q
 
     def cycle(state):
         for j in range(steps):
-            state, _, _ = model.increment(state, b[j + 1], Q[j + 1])
+            state, _, _ = stepper.increment(ctx, state, b[j + 1], Q[j + 1])
         return state
 
-    state = cycle(model.start())
+    def restart(state, v):
+        step = StepState(u=state.v, F=state.F, state=None, data=ContinuumData(state, ctx))
+        return stepper.restart(scene, step, v).data.tangential
+
+    state = cycle(stepper.start(scene, ctx))
     x, accelerate = state.v.copy(), Anderson()
     smallest, stalled = np.inf, 0
     for k in range(100):
-        end = cycle(model.restart(state, x))
+        end = cycle(restart(state, x))
         g = end.v.copy()
         change = np.max(np.abs(g - x)) / np.max(np.abs(g))
         stalled = stalled + 1 if change > 0.5 * smallest else 0
         smallest = min(smallest, change)
         if change <= 1e-14 or (smallest <= 1e-10 and stalled >= 3):
-            return cycle, end, x, g, k + 2
+            return cycle, restart, end, x, g, k + 2
         jump = accelerate(x, g)
         state, x = end, (g if jump is None else jump)
     raise RuntimeError("no steady state in 100 cycles")
@@ -71,7 +82,7 @@ def ritz(model, steps, krylov=KRYLOV):
     """The Ritz values of the cycle map's Jacobian at the steady state, largest first, and the
     seconds and cycles it took."""
     start = time.perf_counter()
-    cycle, state, x, g, cycles = fixed_point(model, steps)
+    cycle, restart, state, x, g, cycles = fixed_point(model, steps)
     eps = 1e-6 * float(np.max(np.abs(x)))
     n = x.size
     V = np.zeros((n, krylov + 1))
@@ -80,7 +91,7 @@ def ritz(model, steps, krylov=KRYLOV):
     V[:, 0] = v / np.linalg.norm(v)
     k = krylov
     for j in range(krylov):
-        w = (cycle(model.restart(state, x + eps * V[:, j])).v - g) / eps
+        w = (cycle(restart(state, x + eps * V[:, j])).v - g) / eps
         for i in range(j + 1):                        # modified Gram-Schmidt
             H[i, j] = V[:, i] @ w
             w -= H[i, j] * V[:, i]
@@ -111,7 +122,7 @@ def main(argv=None):
          "neutral) | non-neutral ≥ 0.2 | seconds |")
     emit("|---|---|---|---|---|")
     for grid, steps in ((20, 100),) if args.quick else ((20, 100), (40, 200)):
-        model = sphere(Q1=0.5, grid=grid, nu=0.3, dims=2, tol=1e-13)
+        model = sphere(Q1=0.5, grid=grid, nu=0.3, dims=2)       # increments to 1e-13
         values, seconds, _ = ritz(model, steps)
         mags = np.abs(values)
         slow = int(np.count_nonzero((mags >= 0.2) & (mags < 1.0 - 1e-6)))

@@ -56,7 +56,6 @@ from multiprocessing.connection import wait
 
 import numpy as np
 
-import lcpfric
 TWO_PI = 2.0 * math.pi
 ID_TOL = 1e-11
 EXPL_TOL = 1e-5

@@ -4,9 +4,10 @@
 
 writes ``DIR/halfspace.md`` (default ``benchmarks/results``). Each validation gives the value,
 the closed form (or the MDR model) it is judged against, their relative difference, and the
-grid and steps used. Timings are wall seconds of ``solve`` on this machine, and CPU seconds of
-this process beside them (the machine is shared: other work may run on the second core). The
-floor of a product is one FFT pair on the padded grid, timed here in the same run.
+grid and steps used. Timings are wall seconds of ``lcpfric.steady_state`` on this machine, and
+CPU seconds of this process beside them (the machine is shared: other work may run on the
+second core). The floor of a product is one FFT pair on the padded grid, timed here in the
+same run.
 
 Materials and loads: two identical bodies, E = 200e3, R = 10, μ = 0.5, P0 = 100; ν = 0 where
 the classical forms are exact, ν = 0.3 with d = 2 for Cerruti's coupling. The height map
@@ -27,9 +28,11 @@ from pathlib import Path
 import numpy as np
 
 import lcpfric
-from lcpfric.model.continuum import MDRSphere, cattaneo_stick_ratio, hertz_contact, mindlin_deresiewicz_W
-from lcpfric.model.continuum.halfspace import HalfSpace
 from lcpfric.model import Harmonic
+from lcpfric.model.continuum import (MDRSphere, cattaneo_stick_ratio, hertz_contact,
+                                     mindlin_deresiewicz_W)
+from lcpfric.model.continuum.halfspace import HalfSpace, compliance
+from lcpfric.steppers.newton_cg import NewtonCGStepper
 
 from _report import Report, stamp
 
@@ -50,8 +53,10 @@ def mdr(P1=0.0, Q1=0.5, phi=0.0, nu=0.0, nodes=2000):
 
 
 def timed(model, steps, **kw):
+    """``lcpfric.steady_state(model, steps_per_cycle=steps, **kw)`` (``kw``: the driver's
+    options and the ``newton-cg`` stepper's): ``(result, wall, CPU seconds)``."""
     w, c = time.perf_counter(), time.process_time()
-    r = lcpfric.steady_state(model, steps_per_cycle=steps, steps_per_cycle=**kw)
+    r = lcpfric.steady_state(model, steps_per_cycle=steps, **kw)
     return r, time.perf_counter() - w, time.process_time() - c
 
 
@@ -67,16 +72,16 @@ def fft_floors(*models, repeats=100, batches=7):
     best = [math.inf] * len(models)
     for _ in range(batches):
         for i, (m, x) in enumerate(zip(models, xs)):
-            m.compliance(x)
+            compliance(m, m.op, x)
             t = time.perf_counter()
             for _ in range(repeats):
-                m.compliance(x)
+                compliance(m, m.op, x)
             best[i] = min(best[i], (time.perf_counter() - t) / repeats)
     return best
 
 
-def split(model, seconds):
-    st = model.stats
+def split(st, seconds):
+    """The solver statistics ``st`` of a result (``solver_stats``) in words."""
     per = st["tangential_products"] / max(st["increments"], 1)
     return (f"normal {st['normal_seconds']:.2f} s ({st['normal_solves']} solves, "
             f"{st['normal_products']} products), tangential {st['tangential_seconds']:.2f} s "
@@ -150,11 +155,16 @@ def main(argv=None):
     emit("")
     m = HalfSpace.sphere(R, E, 0.0, MU, P0, Harmonic(0.0, 0.95 * MU * P0, 0.0, 2 * PI),
                          grid=grid)
-    b = m.limits(np.zeros(1))[0]
+    b = m.normal_solution(np.zeros(1))[0][0]
     a = math.sqrt(np.count_nonzero(b) * m.h ** 2 / math.pi)
     n_inc = 200
     t = np.linspace(0.0, 0.25, n_inc + 1)
-    state = m.start()
+    # the increments by hand: the newton-cg stepper's context for the model's scene (its
+    # tolerance scale is the loads', whatever the scene's steps)
+    stepper = NewtonCGStepper()
+    scene = lcpfric.make_scene(m, 4)
+    ctx = stepper.context(scene)
+    state = stepper.start(scene, ctx)
     emit(f"grid {grid} ({np.count_nonzero(b)} elements in contact), {n_inc} increments to "
          f"Q = 0.95 μP; radii of the stick zone's and the contact's areas; h/a = {m.h / a:.3f}")
     emit("")
@@ -162,7 +172,7 @@ def main(argv=None):
     emit("|---|---|---|---|")
     for j in range(1, n_inc + 1):
         Q = float(m.Q(t[j]))
-        state, F, dv = m.increment(state, b, Q)
+        state, F, dv = stepper.increment(ctx, state, b, Q)
         x = Q / (MU * P0)
         if j % 25 == 0 or j == n_inc:
             c = math.sqrt(np.count_nonzero((b > 0) & (dv == 0.0)) * m.h ** 2 / math.pi)
@@ -203,16 +213,16 @@ def main(argv=None):
          f"contact, {m1.N} x {m1.N} grid), {steps} steps: W = {r1.W:.8g} against "
          f"{md:.8g} ({rel(r1.W, md):+.2e}), {r1.cycles} cycles, {w1:.2f} s wall "
          f"({c1:.2f} s CPU; the best of {reps} run{'s' if reps > 1 else ''}: "
-         f"{walls('d1')} s). {split(m1, w1)}.")
-    per_step = w1 / m1.stats["increments"]
+         f"{walls('d1')} s). {split(r1.solver_stats, w1)}.")
+    per_step = w1 / r1.solver_stats["increments"]
     emit(f"Per increment {per_step * 1e3:.2f} ms = {per_step / floor:.1f} FFT pairs "
          f"(one pair {floor * 1e6:.0f} µs on the {m1.op.M} x {m1.op.M} padded grid).")
     emit("")
     md3 = mindlin_deresiewicz_W(P0, 0.5 * MU * P0, MU, hertz_contact(P0, R, E, 0.3)["k_t0"])
     emit(f"ν = 0.3, d = 2, same grid and steps: W = {r2.W:.8g} against Mindlin-Deresiewicz "
          f"(Mindlin's approximation) {md3:.8g} ({rel(r2.W, md3):+.2e}), {r2.cycles} cycles "
-         f"({r2.extrapolations} moved starts), {w2:.2f} s wall ({c2:.2f} s CPU; runs: "
-         f"{walls('d2')} s). {split(m2, w2)}.")
+         f"({r2.solver_stats.get('extrapolations', 0)} moved starts), {w2:.2f} s wall "
+         f"({c2:.2f} s CPU; runs: {walls('d2')} s). {split(r2.solver_stats, w2)}.")
     w2b, _, r2b, _ = best("d2_1e-6")
     emit(f"With the cycle tolerance 1e-6 instead of 1e-10: {r2b.cycles} cycles, {w2b:.2f} s "
          f"wall (runs: {walls('d2_1e-6')} s; {w2b / w1:.2f}x d = 1's time at 1e-10), W "
@@ -224,7 +234,7 @@ def main(argv=None):
          f"{walls('d2_two')} s); d = 2's other {r2.cycles - 2} cycles take "
          f"{w2 - two[1]:.2f} s. The third cycle's W is {rel(r2.W_cycles[2], r2.W):+.1e} from "
          f"the converged one.")
-    p1, p2 = m1.stats["tangential_products"], m2.stats["tangential_products"]
+    p1, p2 = r1.solver_stats["tangential_products"], r2.solver_stats["tangential_products"]
     emit(f"Ratio d = 2 / d = 1: {w2 / w1:.2f} in all (CPU {c2 / c1:.2f}); an FFT pair costs "
          f"{floor2 / floor:.2f} times d = 1's; tangential FFT products {p2} against {p1} "
          f"({p2 / p1:.2f}x).")
@@ -236,16 +246,18 @@ def main(argv=None):
          f"({(w2 - f2) / (w1 - f1):.2f}x): with no time outside the FFT pairs in either, d = 2 "
          f"would still take {f2 / f1:.2f}x d = 1's.")
     if not args.quick:
-        for what, attr in (("per-node memory of the cycles' starts (Anderson alone)",
-                            "memory"),
-                           ("moved starts of the cycles (neither the memory nor Anderson)",
-                            "restart"),
-                           ("previous cycle's increments as starts", "guess")):
+        # the newton-cg stepper's options that turn each off
+        for what, option in (("per-node memory of the cycles' starts (Anderson alone)",
+                              "slip_memory"),
+                             ("moved starts of the cycles (neither the memory nor Anderson)",
+                              "accelerate"),
+                             ("previous cycle's increments as starts", "warm_start")):
             m = sphere(Q1=0.5, grid=grid, nu=0.3, dims=2)
-            setattr(m, attr, None)
-            r, w, _ = timed(m, steps, max_cycles=80, on_nonconvergence="ignore")
+            r, w, _ = timed(m, steps, max_cycles=80, on_nonconvergence="ignore",
+                            **{option: False})
+            st = r.solver_stats
             emit(f"d = 2 without the {what}: {r.cycles} cycles, {w:.2f} s wall "
-                 f"({w / w2:.2f}x), {m.stats['tangential_products'] / m.stats['increments']:.1f} "
+                 f"({w / w2:.2f}x), {st['tangential_products'] / st['increments']:.1f} "
                  f"products per increment, W {rel(r.W, r2.W):+.1e} from the default one "
                  f"(converged: {r.converged}).")
         # a finer grid settles more slowly still
@@ -277,7 +289,8 @@ def main(argv=None):
         ref = lcpfric.steady_state(mdr(P1, Q1, phi), steps_per_cycle=st).W_normalized
         diffs = []
         for g in grids:
-            diffs.append(rel(lcpfric.steady_state(sphere(P1, Q1, phi, grid=g), steps_per_cycle=st).W_normalized, ref))
+            r = lcpfric.steady_state(sphere(P1, Q1, phi, grid=g), steps_per_cycle=st)
+            diffs.append(rel(r.W_normalized, ref))
         hs = np.array([1.0 / g for g in grids])
         order = np.polyfit(np.log(hs), np.log(np.abs(diffs)), 1)[0]
         emit(f"| {P1} | {Q1} | {phi / PI:.2f} | {ref:.6f} | " + " | ".join(
@@ -320,14 +333,13 @@ def main(argv=None):
     # -- the same contact as an lcpfric system, solved by the backends --------------------------
     emit("## The same contact as an lcpfric ContactSystem, solved by the backends")
     emit("")
-    import lcpfric
     from lcpfric.scene import make_scene
 
     # d = 2 at constant P, to the cycle tolerance 1e-10 (the increments' own accuracy)
     for g, dims, nu, P1, methods in ((24 if args.quick else 36, 1, 0.0, 0.5, ("active-set",)),
                                      (10, 2, 0.3, 0.0, ("clarabel",))):
         m = sphere(P1, 0.6, 0.7 * PI, nu=nu, grid=g, dims=dims, k_support=1.0)
-        m.k_support = m.k_t0
+        m = m.with_support(m.k_t0)
         scene = make_scene(m.system(), 200)
         w = time.perf_counter()
         tol = 1e-12 if dims == 1 else 1e-10     # d = 2: the increments' own accuracy
@@ -351,8 +363,10 @@ def main(argv=None):
     for s in ((100, 200) if args.quick else (100, 200, 400)):
         w0 = lcpfric.steady_state(sphere(0.5, 0.4, 0.0, grid=g), steps_per_cycle=s).W_normalized
         emit(f"In phase, P1/P0 = 0.5, Q1/(μP0) = 0.4, grid {g}, {s} steps: W_norm = {w0:.3e}")
-    wa = lcpfric.steady_state(sphere(0.5, 0.4, 0.5 * PI, grid=g), steps_per_cycle=200).W_normalized
-    wb = lcpfric.steady_state(sphere(0.5, 0.4, 1.5 * PI, grid=g), steps_per_cycle=200).W_normalized
+    wa = lcpfric.steady_state(sphere(0.5, 0.4, 0.5 * PI, grid=g), steps_per_cycle=200
+                              ).W_normalized
+    wb = lcpfric.steady_state(sphere(0.5, 0.4, 1.5 * PI, grid=g), steps_per_cycle=200
+                              ).W_normalized
     emit(f"φ = 0.5π: {wa:.10f}; φ = 1.5π: {wb:.10f} (relative difference {rel(wb, wa):+.1e}).")
     emit("")
 
@@ -377,7 +391,8 @@ def heightmap(quick: bool):
     start = time.perf_counter()
     m = HalfSpace(E, 0.0, MU, Harmonic(P0, 0.5 * P0), Harmonic(0.0, 0.4 * MU * P0, 0.5 * PI),
                   heights=heights, spacing=h)
-    r = lcpfric.steady_state(m, steps_per_cycle=steps)
+    # the cycle's ends only (history=False): the peak memory is the solve's, not the record's
+    r = lcpfric.steady_state(m, steps_per_cycle=steps, history=False)
     wall = time.perf_counter() - start
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(f"## A {N} x {N} height map\n")
@@ -385,8 +400,9 @@ def heightmap(quick: bool):
           f"P0; `rough_sphere`), ν = 0, d = 1, P1/P0 = 0.5, Q1/(μP0) = 0.4, φ = 0.5π, {steps} "
           f"steps per cycle: W = {r.W:.8g} (W_norm {r.W_normalized:.6f}, k_t0 from the "
           f"contact's area at P0), {r.cycles} cycles, converged {r.converged}; at most "
-          f"{r.nodes_in_contact_max} elements in contact. Steady state in {wall:.1f} s wall "
-          f"(setup included), peak resident memory {peak:.0f} MB. {split(m, wall)}.")
+          f"{r.contact.nodes_in_contact_max} elements in contact. Steady state in {wall:.1f} s "
+          f"wall (setup included), peak resident memory {peak:.0f} MB. "
+          f"{split(r.solver_stats, wall)}.")
     print(f"\nGoal: a steady state in at most 10 minutes under 4 GB: {wall / 60:.1f} min, "
           f"{peak / 1024:.2f} GB.")
 

@@ -15,9 +15,12 @@ iterations. Last, the same case with other schedules of the increments' toleranc
 stopping points of the conjugate gradients: the cycles and products each takes, and W against
 the default's. Product counts repeat from run to run; the seconds are this machine's.
 
-The instrumentation wraps the model's private ``_natural`` (the natural map's residual; its
-first call in an increment is at the start) and the module's ``_cg``, and sets the module
-constants ``_CG_TOL`` and ``steady._LOOSE`` / ``steady._loose_tolerance`` for the variants.
+The instrumentation is a ``newton-cg`` stepper (:class:`lcpfric.steppers.newton_cg.
+NewtonCGStepper`) whose increments count their products, Newton steps and CG iterations, and
+whose increments' context wraps the private ``_natural`` (the natural map's residual; its first
+call in an increment is at the start); it wraps ``cg`` of :mod:`lcpfric.steppers.newton_step`,
+and sets the constants ``CG_TOL`` of :mod:`lcpfric.steppers.newton_cg` and ``_LOOSE``,
+``_LOOSE_MAX`` / ``loose_tolerance`` of :mod:`lcpfric.periodic.driver` for the variants.
 """
 
 from __future__ import annotations
@@ -30,46 +33,69 @@ from pathlib import Path
 
 import numpy as np
 
-import lcpfric
 sys.path.insert(0, str(Path(__file__).parent))
 
 from _report import Report, stamp  # noqa: E402
 from halfspace import sphere  # noqa: E402
 
-import lcpfric.model.continuum.halfspace as hs  # noqa: E402
-import lcpfric.contact.steady as steady  # noqa: E402
+import lcpfric  # noqa: E402
+import lcpfric.periodic.driver as driver  # noqa: E402
+import lcpfric.steppers.newton_cg as hs  # noqa: E402
+import lcpfric.steppers.newton_step as newton_step  # noqa: E402
 
 STEPS = 400
 #: the cycles whose Newton steps the conjugate-gradient table covers (from the fifth on)
 LATE = 4
 
 
-def run(record=False):
-    """Solve the goal's case: ``(model, result, seconds, increments, steps)``. Per increment:
-    (products, Newton steps, CG iterations, tolerance, start residual / tolerance, the last
-    NaN unless ``record``); with ``record``, per Newton step: (the CG's starting residual /
-    its tolerance, iterations, the increment's index)."""
-    model = sphere(Q1=0.5, nu=0.3, grid=40, dims=2)
-    incs, steps = [], []
-    cg = hs._cg
-    probe = {"first": math.nan}
-    natural, increment = model._natural, model.increment
+class _Probed(hs.HalfSpaceIncrements):
+    """The increments' context with its first natural-map residual of each increment kept in
+    ``probe["first"]`` (``probe``: a dict shared by the copies the cycles make)."""
 
-    def first_natural(*args):
-        ev = natural(*args)
-        if math.isnan(probe["first"]):
-            probe["first"] = ev[4]
+    probe: dict | None = None
+
+    def _natural(self, *args):
+        ev = super()._natural(*args)
+        if self.probe is not None and math.isnan(self.probe["first"]):
+            self.probe["first"] = ev[4]
         return ev
 
-    def counted(state, b, Q, guess=None, tol=None):
-        st = model.stats
+
+class _Counted(hs.NewtonCGStepper):
+    """The ``newton-cg`` stepper, each increment's products, Newton steps, CG iterations,
+    tolerance and start residual / tolerance appended to ``incs`` (the probe of the start's
+    residual with ``record``)."""
+
+    def __init__(self, incs, probe, record):
+        super().__init__()
+        self.incs, self.probe, self.record = incs, probe, record
+
+    def context(self, scene):
+        ctx = _Probed(scene.model, self.increment_tol, scene.scales[0])
+        ctx.probe = self.probe if self.record else None
+        return ctx
+
+    def increment(self, context, state, b, Q, guess=None, tol=None):
+        st = context.stats
         before = (st["tangential_products"], st["newton"], st["cg"])
-        probe["first"] = math.nan
-        out = increment(state, b, Q, guess, tol=tol)
-        tolF = tol * model._tolerance_scale()
-        incs.append((st["tangential_products"] - before[0], st["newton"] - before[1],
-                     st["cg"] - before[2], tol, probe["first"] / tolF))
+        self.probe["first"] = math.nan
+        out = super().increment(context, state, b, Q, guess, tol=tol)
+        tolF = tol * context._tolerance_scale()
+        self.incs.append((st["tangential_products"] - before[0], st["newton"] - before[1],
+                          st["cg"] - before[2], tol, self.probe["first"] / tolF))
         return out
+
+
+def run(record=False):
+    """Solve the goal's case: ``(stats, result, seconds, increments, steps)`` (``stats``: the
+    result's ``solver_stats``). Per increment: (products, Newton steps, CG iterations,
+    tolerance, start residual / tolerance, the last NaN unless ``record``); with ``record``,
+    per Newton step: (the CG's starting residual / its tolerance, iterations, the increment's
+    index)."""
+    model = sphere(Q1=0.5, nu=0.3, grid=40, dims=2)
+    incs, steps = [], []
+    cg = newton_step.cg
+    probe = {"first": math.nan}
 
     def counted_cg(M, g, x, project, pre, tol, stats, step=None, max_iter=None, res=None):
         r = res if project is None else project(res)
@@ -79,39 +105,37 @@ def run(record=False):
         steps.append((start, stats["cg"] - n, len(incs)))     # its increment's index
         return out
 
-    model.increment = counted
     if record:
-        model._natural = first_natural
-        hs._cg = counted_cg
+        newton_step.cg = counted_cg
     try:
         t = time.perf_counter()
-        res = lcpfric.steady_state(model, steps_per_cycle=STEPS)
+        res = lcpfric.steady_state(model, _Counted(incs, probe, record), STEPS)
         seconds = time.perf_counter() - t
     finally:
-        hs._cg = cg
-    return model, res, seconds, np.array(incs), np.array(steps)
+        newton_step.cg = cg
+    return res.solver_stats, res, seconds, np.array(incs), np.array(steps)
 
 
 def variant(label, **settings):
-    """The goal's case with module settings changed: ``(label, result, model, seconds,
+    """The goal's case with module settings changed: ``(label, result, stats, seconds,
     products of each cycle)``."""
     saved = {name: getattr(mod, attr) for name, (mod, attr, _) in settings.items()}
     try:
         for mod, attr, value in settings.values():
             setattr(mod, attr, value)
-        model, res, seconds, incs, _ = run()
+        stats, res, seconds, incs, _ = run()
     finally:
         for name, (mod, attr, _) in settings.items():
             setattr(mod, attr, saved[name])
     per = [int(incs[c * STEPS:(c + 1) * STEPS, 0].sum()) for c in range(res.cycles)]
-    return label, res, model, seconds, per
+    return label, res, stats, seconds, per
 
 
 def rounded(base):
     """The default schedule rounded down to a power of ``base`` (cycles at the same level
     share their tolerance)."""
     def schedule(change):
-        x = min(steady._LOOSE_MAX, steady._LOOSE * change)
+        x = min(driver._LOOSE_MAX, driver._LOOSE * change)
         return base ** math.floor(math.log(x) / math.log(base) + 1e-9)
     return schedule
 
@@ -128,10 +152,10 @@ def main(argv=None):
                     f"issue's d = 2 goal case).", ""])
     emit = lines.emit
 
-    model, res, seconds, incs, steps = run(record=True)
-    emit(f"W = {res.W:.12e}, {res.cycles} cycles, {model.stats['tangential_products']} "
-         f"tangential FFT products, {model.stats['newton']} Newton steps, "
-         f"{model.stats['cg']} CG iterations ({seconds:.1f} s with the probes).")
+    stats, res, seconds, incs, steps = run(record=True)
+    emit(f"W = {res.W:.12e}, {res.cycles} cycles, {stats['tangential_products']} "
+         f"tangential FFT products, {stats['newton']} Newton steps, "
+         f"{stats['cg']} CG iterations ({seconds:.1f} s with the probes).")
     emit("")
     emit("| cycle | increments' tolerance | products | Newton steps | increments solved by "
          "their start | start's residual / tolerance (10th, 50th, 90th percentile) | CG "
@@ -171,22 +195,22 @@ def main(argv=None):
     W0 = res.W
     runs = [
         ("default: a hundredth of the last change, at most 1e-6", {}),
-        ("a tenth of the last change", {"loose": (steady, "_LOOSE", 0.1)}),
-        ("3/100 of the last change", {"loose": (steady, "_LOOSE", 0.03)}),
-        ("3/1000 of the last change", {"loose": (steady, "_LOOSE", 0.003)}),
+        ("a tenth of the last change", {"loose": (driver, "_LOOSE", 0.1)}),
+        ("3/100 of the last change", {"loose": (driver, "_LOOSE", 0.03)}),
+        ("3/1000 of the last change", {"loose": (driver, "_LOOSE", 0.003)}),
         ("the default rounded down to a power of 10", {
-            "sched": (steady, "_loose_tolerance", rounded(10.0))}),
+            "sched": (driver, "loose_tolerance", rounded(10.0))}),
         ("the default rounded down to a power of 100", {
-            "sched": (steady, "_loose_tolerance", rounded(100.0))}),
-        ("the early cycles' cap 1e-5 (default 1e-6)", {"cap": (steady, "_LOOSE_MAX", 1e-5)}),
-        ("the early cycles' cap 1e-4", {"cap": (steady, "_LOOSE_MAX", 1e-4)}),
-        ("CG to 0.3 of the tolerance (default 0.9)", {"cg": (hs, "_CG_TOL", 0.3)}),
-        ("CG to 0.1 of the tolerance", {"cg": (hs, "_CG_TOL", 0.1)}),
+            "sched": (driver, "loose_tolerance", rounded(100.0))}),
+        ("the early cycles' cap 1e-5 (default 1e-6)", {"cap": (driver, "_LOOSE_MAX", 1e-5)}),
+        ("the early cycles' cap 1e-4", {"cap": (driver, "_LOOSE_MAX", 1e-4)}),
+        ("CG to 0.3 of the tolerance (default 0.9)", {"cg": (hs, "CG_TOL", 0.3)}),
+        ("CG to 0.1 of the tolerance", {"cg": (hs, "CG_TOL", 0.1)}),
     ]
     for label, settings in runs:
-        label, r, m, s, per = variant(label, **settings)
-        emit(f"| {label} | {r.cycles} | {m.stats['tangential_products']} | "
-             f"{m.stats['newton']} | {s:.1f} | {(r.W - W0) / W0:+.1e} | "
+        label, r, st, s, per = variant(label, **settings)
+        emit(f"| {label} | {r.cycles} | {st['tangential_products']} | "
+             f"{st['newton']} | {s:.1f} | {(r.W - W0) / W0:+.1e} | "
              f"{' '.join(str(p) for p in per)} |")
     emit("")
     lines.write(out / "late_cycles.md")

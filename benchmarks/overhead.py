@@ -8,7 +8,7 @@ timed twice:
 * raw: the solver calls alone, replayed with the very vectors lcpfric passed in that cycle, on the
   same solver objects and settings, through the solver's own API (Clarabel
   ``update(q=, b=)`` + ``solve()``; OSQP ``update(q=, l=, u=)`` + ``solve()``; qpsolvers
-  ``solve_problem(Problem(...))``; cvxpy ``param.value = ...`` + ``lcpfric.steady_state(problem)``).
+  ``solve_problem(Problem(...))``; cvxpy ``param.value = ...`` + ``problem.solve()``).
 
 The ratio lcpfric / raw is printed per backend (best of ``--repeat`` alternating runs). With
 ``--json`` the last line is one JSON object mapping backend names to ratios: the key is the
@@ -29,7 +29,6 @@ import time
 
 import numpy as np
 
-import lcpfric
 from lcpfric import SingleNode, available_methods, get_stepper, make_scene
 from lcpfric.model import chain
 
@@ -53,13 +52,13 @@ def raw_call(stepper):
         def call(prob, q, bdata):
             h = prob.handle
             h.update(q=q, b=bdata)
-            sol = lcpfric.steady_state(h)
+            sol = h.solve()
             return sol.x
     elif name == "osqp":
         def call(prob, q, bdata):
             h = prob.handle
             h.update(q=q, l=bdata[0], u=bdata[1])
-            return lcpfric.steady_state(h, raise_error=False).x
+            return h.solve(raise_error=False).x
     elif name == "qpsolvers":
         import qpsolvers
 
@@ -73,7 +72,7 @@ def raw_call(stepper):
             problem, F, lin, bnd, settings = prob.handle
             lin.value = q
             bnd.value = bdata
-            lcpfric.steady_state(problem, solver=stepper.solver, warm_start=True, steps_per_cycle=**settings)
+            problem.solve(solver=stepper.solver, warm_start=True, **settings)
             return F.value
     else:  # pragma: no cover
         raise ValueError(name)

@@ -18,12 +18,12 @@ import time
 import warnings
 from pathlib import Path
 
-from lcpfric.model.continuum.halfplane import HalfPlaneCylinder
+import lcpfric
 from _report import Report, stamp
-from lcpfric.model.continuum.halfspace import HalfSpace
-from lcpfric.model.continuum import MDRSphere
 from lcpfric.errors import LcpfricError, ResolutionWarning
 from lcpfric.model import Harmonic
+from lcpfric.model.continuum import HalfPlaneCylinder, HalfSpace, MDRSphere
+from lcpfric.steppers.newton_cg import NewtonCGStepper
 
 E, R, MU, P0 = 200e3, 10.0, 0.5, 100.0
 TWO_PI = 2.0 * math.pi
@@ -46,21 +46,39 @@ def sphere(P1, Q1, phi, *, grid, dims, supported):
     return make(make(1.0).k_t0) if supported else make(0.0)
 
 
+class _Tracked(NewtonCGStepper):
+    """The half-space's ``newton-cg`` stepper keeping its latest increments' context, whose
+    statistics (Newton steps) add up over the cycles run, also those of a case that fails."""
+
+    context_now = None
+
+    def context(self, scene):
+        self.context_now = super().context(scene)
+        return self.context_now
+
+    def copy_context(self, context):
+        self.context_now = super().copy_context(context)
+        return self.context_now
+
+
 def run(make, steps):
     """``(outcome, seconds, newton steps or '')`` of one case."""
     start = time.perf_counter()
+    method = None
     try:
         model = make()
+        method = _Tracked() if isinstance(model, HalfSpace) else None
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", ResolutionWarning)
-            r = lcpfric.steady_state(model, steps_per_cycle=steps, max_cycles=100)
+            r = lcpfric.steady_state(model, method, steps, max_cycles=100)
         note = " (W = 0: ResolutionWarning)" if any(
             issubclass(w.category, ResolutionWarning) for w in caught) else ""
         outcome = (f"{r.cycles} cycles, W_norm {r.W_normalized:.6g}{note}" if r.converged
                    else f"not converged ({r.change:.2g})")
     except LcpfricError as exc:
         outcome = f"**{type(exc).__name__}**: {str(exc)[:120]}"
-    stats = getattr(locals().get("model"), "stats", {})
+    ctx = getattr(method, "context_now", None)
+    stats = ctx.stats if ctx is not None else {}
     return outcome, time.perf_counter() - start, stats.get("newton", "")
 
 

@@ -40,9 +40,9 @@ runs ``cycles`` cycles (``max_cycles=3``, ``on_nonconvergence="ignore"``, one cy
 
 * **s/step**: CPU seconds of the child (``time.process_time``) over cycles × scene steps. The
   dense K⁻¹ is formed by the convex backends (their problem is written in C) and by the driver
-  up to 2000 unknowns (``periodic._COMPLIANCE_DENSE``; its displacement scale, ``max diag
-  K⁻¹``), even for a sparse K. The child forms it (cached on the system) before the timed
-  cycles when the case would, and reports its CPU time apart (**K⁻¹ s**, blank when not
+  up to 2000 unknowns (``lcpfric.model.system.COMPLIANCE_DENSE``; its displacement scale,
+  ``max diag K⁻¹``), even for a sparse K. The child forms it (cached on the system) before the
+  timed cycles when the case would, and reports its CPU time apart (**K⁻¹ s**, blank when not
   formed): O(n³) once, it would otherwise be spread over the steps. Its memory, 8 n² bytes, is
   in the peak; a case that forms it where three such arrays exceed half the memory is skipped;
 * **floor s**: the time of one product with the compliance C = K⁻¹ (n x n, dense systems) or
@@ -95,7 +95,6 @@ from pathlib import Path
 
 import numpy as np
 
-import lcpfric
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 #: the rows' method -> (lcpfric method, options)
@@ -214,11 +213,11 @@ def measure_floor(system: str, n: int, steps: int = 500) -> dict:
 def forms_inverse(m: int, method: str | None) -> bool:
     """Whether a steady state of ``method`` (None: of any) on a coupled system with m unknowns
     forms the dense K⁻¹: the convex backends always (their problem is written in C), the driver
-    up to ``periodic._COMPLIANCE_DENSE`` unknowns (its displacement scale, ``max diag K⁻¹``)."""
-    from lcpfric import periodic
+    up to ``lcpfric.model.system.COMPLIANCE_DENSE`` unknowns (its displacement scale, ``max diag
+    K⁻¹``)."""
+    from lcpfric.model.system import COMPLIANCE_DENSE
 
-    return method in (None, "clarabel", "osqp") or m <= getattr(periodic, "_COMPLIANCE_DENSE",
-                                                                  math.inf)
+    return method in (None, "clarabel", "osqp") or m <= COMPLIANCE_DENSE
 
 
 def inverse_seconds(model, method: str | None) -> float | None:

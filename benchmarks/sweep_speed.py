@@ -24,7 +24,6 @@ from pathlib import Path
 
 import numpy as np
 
-import lcpfric
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import lcpfric  # noqa: E402
