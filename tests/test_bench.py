@@ -1,4 +1,4 @@
-"""The backend comparison (benchmarks/compare_backends.py) end to end on a tiny set, run as
+"""The backend comparison (benchmarks/perf/compare_backends.py) end to end on a tiny set, run as
 users run it: error against run time, measured orders, Richardson's check of the coupled
 reference."""
 
@@ -9,7 +9,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-SCRIPT = str(Path(__file__).resolve().parents[1] / "benchmarks" / "compare_backends.py")
+SCRIPT = str(Path(__file__).resolve().parents[1] / "benchmarks" / "perf" / "compare_backends.py")
 
 
 def _run(*args, timeout=300):

@@ -63,7 +63,7 @@ def test_fft_products_equal_the_dense_matrices(nu, dims):
 def test_normal_contact_against_contactmechanics(case):
     """The same discretization (uniform-pressure squares, zero-padded FFT, non-periodic) solved
     by ContactMechanics 1.8.3 (Polonsky-Keer in its FreeFFTElasticHalfSpace; stored by
-    benchmarks/halfspace_reference.py): pressures and approach agree to round-off."""
+    benchmarks/validation/halfspace_reference.py): pressures and approach agree to round-off."""
     ref = np.load(DATA)
     N, h, Es, P = (int(ref["N_" + case]), float(ref["h_" + case]), float(ref["Estar_" + case]),
                    float(ref["P_" + case]))

@@ -224,7 +224,7 @@ def test_projection_converges_to_exact_on_uncoupled_nodes():
     assert -np.polyfit(np.log(steps), np.log(err), 1)[0] >= 1.8, err
 
 
-# -- found by benchmarks/exact_discrete_audit.py -------------------------------------------------
+# -- found by benchmarks/validation/exact_discrete_audit.py -------------------------------------------------
 def test_stiff_pair_converges_without_drift():
     """k_coupling = 1e4: correcting the start through K⁻¹ moved the pair along its soft mode by
     round-off / λmin every cycle (2e-9), and the periodicity test never passed."""

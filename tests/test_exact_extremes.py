@@ -1,6 +1,6 @@
 """The exact solution at extreme inputs, against an independent reference.
 
-References: values of the high-precision mpmath solution (benchmarks/exact_reference.py,
+References: values of the high-precision mpmath solution (tests/support/exact_reference.py,
 written separately from lcpfric.exact) pinned below, so these tests need no mpmath; the tests
 marked with ``mpmath`` recompute them and run a randomized audit when mpmath is installed. And
 two analytical limits: the small-Q̂1 asymptote ``Ŵ ≈ 2 Q̂1 sin²φ (1 - 1/P̂1²)`` (the slip just
@@ -167,7 +167,7 @@ def _audit(points, reference_W_hat, input_spread):
 
 def test_pinned_values_match_the_mpmath_reference():
     need_modules("mpmath")
-    from exact_reference import reference_W_hat
+    from support.exact_reference import reference_W_hat
 
     for P1, Q1, phi, ref, _ in PINNED:
         dps = 1300 if max(P1, Q1) > 1e100 or min(P1, Q1) < 1e-100 else None
@@ -176,8 +176,8 @@ def test_pinned_values_match_the_mpmath_reference():
 
 def test_random_audit_against_mpmath_quick():
     need_modules("mpmath")
-    from exact_audit import draw
-    from exact_reference import input_spread, reference_W_hat
+    from support.exact_reference import draw
+    from support.exact_reference import input_spread, reference_W_hat
 
     worst = _audit([tuple(map(float, p)) for p in draw(180, seed=123)], reference_W_hat,
                    input_spread)
@@ -187,8 +187,8 @@ def test_random_audit_against_mpmath_quick():
 @pytest.mark.slow
 def test_random_audit_against_mpmath():
     need_modules("mpmath")
-    from exact_audit import draw
-    from exact_reference import input_spread, reference_W_hat
+    from support.exact_reference import draw
+    from support.exact_reference import input_spread, reference_W_hat
 
     worst = _audit([tuple(map(float, p)) for p in draw(2700, seed=7)], reference_W_hat,
                    input_spread)
@@ -198,7 +198,7 @@ def test_random_audit_against_mpmath():
 def test_reference_agrees_with_eqs_11_12_and_the_energy_identity():
     need_modules("mpmath")
     import mpmath as mp
-    from exact_reference import jang_barber_mp, reference_cycle
+    from support.exact_reference import jang_barber_mp, reference_cycle
 
     rng = np.random.default_rng(3)
     for P1, Q1 in 10.0 ** rng.uniform(-20, 20, (40, 2)):
@@ -215,7 +215,7 @@ def test_reference_agrees_with_eqs_11_12_and_the_energy_identity():
 @pytest.mark.slow
 def test_reference_agrees_with_a_fine_grid():
     need_modules("mpmath")
-    from exact_reference import grid_W_hat, reference_W_hat
+    from support.exact_reference import grid_W_hat, reference_W_hat
 
     P1 = np.array([0.5, 1.5, 3.0, 0.0, 2.0])
     Q1 = np.array([2.0, 2.0, 1.5, 1.5, 3.0])

@@ -1,6 +1,6 @@
-"""The fast part of the stability study (benchmarks/stability.py) as regression tests.
+"""The fast part of the stability study (benchmarks/validation/stability.py) as regression tests.
 
-Every scenario has an exact reference (benchmarks/stability_cases.py); a method may fail with a
+Every scenario has an exact reference (tests/support/stability_cases.py); a method may fail with a
 clear LcpfricError only where ALLOWED_ERRORS says so, and must be "correct" everywhere else.
 """
 
@@ -11,8 +11,8 @@ import pytest
 
 from support import need, need_modules
 
-from stability_cases import applies, node_points, run_scenario, scenarios  # benchmarks/
-from stability_references import MP_REFERENCE
+from support.stability_cases import applies, node_points, run_scenario, scenarios  # benchmarks/
+from support.stability_references import MP_REFERENCE
 
 QUICK = scenarios(quick=True)
 CORE = ["exact", "explicit", "projection"]
@@ -161,7 +161,7 @@ def test_pinned_references_agree_with_eqs_11_12():
 
 def test_pinned_references_match_mpmath():
     need_modules("mpmath")
-    from exact_reference import reference_W_hat
+    from support.exact_reference import reference_W_hat
 
     for (P1, Q1, phi), (W, _) in MP_REFERENCE.items():
         ref = reference_W_hat(P1, Q1, phi)

@@ -1,9 +1,9 @@
 """Stiff coupled systems against the pinned extended-precision reference of their discretization.
 
-The cases (benchmarks/stiff_cases.py: a weakly grounded chain, a nearly rigid chain, a dense
+The cases (tests/support/stiff_cases.py: a weakly grounded chain, a nearly rigid chain, a dense
 K = D K0 D, stiffness ratios 1 to 1e12) are run with ``locate_events=False``: the periodic steady
-state of the incremental projection on the case's grid, which benchmarks/stiff_reference.py
-computes in mpmath (pinned in benchmarks/stiff_references.py). A method computing that
+state of the incremental projection on the case's grid, which tests/support/stiff_reference.py
+computes in mpmath (pinned in tests/support/stiff_references.py). A method computing that
 discretization must match it to 1e-8 relative; every reference moves by at most 6e-15 when its
 float64 inputs move by 1e-15, so the tolerance asks nothing that float64 cannot give.
 """
@@ -16,8 +16,8 @@ from support import need_modules, need
 
 import lcpfric
 from lcpfric.methods import available_methods
-from stiff_cases import RATIOS, stiff_cases  # benchmarks/, on the path
-from stiff_references import INPUT_SPREAD, STIFF_REFERENCE
+from support.stiff_cases import RATIOS, stiff_cases  # benchmarks/, on the path
+from support.stiff_references import INPUT_SPREAD, STIFF_REFERENCE
 
 RTOL = 1e-8
 OPTIONS = dict(locate_events=False, tol=1e-13, max_cycles=200)
@@ -78,7 +78,7 @@ def test_dense_references_do_not_depend_on_the_ratio():
 
 def test_reference_recomputed_live_equals_the_pinned_value():
     need_modules("mpmath")
-    from stiff_reference import reference_W
+    from support.stiff_reference import reference_W
 
     system, steps = CASES["stiff-chain-r1e4"]
     W, info = reference_W(system, steps)

@@ -88,11 +88,11 @@ amplitudes is formed: P̂1, Q̂1 up to :data:`MAX_AMPLITUDE` = 1e300 are accepte
 
 Accuracy
 --------
-Checked against an independent mpmath solution (``benchmarks/exact_reference.py``: 60 digits
+Checked against an independent mpmath solution (``tests/support/exact_reference.py``: 60 digits
 plus twice the decimal exponents of the inputs, started from w = 0 and run to the periodic
 cycle, slip integrals from a different antiderivative; itself checked against Eqs. (11)/(12),
 the energy identity ∮ L|dw| = ∮ w dQ̂, a fine-grid simulation and the asymptote above) by
-``benchmarks/exact_audit.py``. On 20000 points (P̂1 and Q̂1 log-uniform over [1e-20, 1e20],
+``benchmarks/validation/exact_audit.py``. On 20000 points (P̂1 and Q̂1 log-uniform over [1e-20, 1e20],
 Q̂1/P̂1 log-uniform over [1e-20, 1e20], and the borders below; ``benchmarks/results/
 exact-audit.md``) the worst relative error where Ŵ is well-conditioned is 1.5e-12, scalar and
 vectorized paths alike: the result is within 1e-9 relative of the exact Ŵ, however small Ŵ is.

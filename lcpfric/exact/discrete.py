@@ -59,7 +59,7 @@ its limit (not by its own slip rate vanishing), on that event's angle, whose sen
 ``-(∂g/∂u_S) / g'`` for the margin g that triggered it. With the sequence of events settled
 the convergence is quadratic; where a node sits on the threshold of slipping (a tiny slip that
 appears in one cycle and not the next) the cycle map has a kink there and the convergence is
-linear (``benchmarks/exact_discrete.py`` reports the cycles). A node that never changes state
+linear (``benchmarks/perf/exact_discrete.py`` reports the cycles). A node that never changes state
 keeps its start displacement (the steady state is not unique in it, the dissipation is).
 Cycles stop when the start displacements of two successive cycles agree to ``tol`` of the
 largest displacement range over the cycle (what the slips are measured against; at least

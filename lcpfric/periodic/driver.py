@@ -197,7 +197,7 @@ def steady_state(model, method: str | None = None, steps_per_cycle: int | None =
 def loose_tolerance(change: float) -> float:
     """Steppers with loose early cycles: the increments' tolerance after a cycle whose change
     was ``change`` (a hundredth of it, at most ``_LOOSE_MAX``; the final tolerance is the
-    floor). ``benchmarks/late_cycles.py`` measures other schedules against it."""
+    floor). ``benchmarks/studies/late_cycles.py`` measures other schedules against it."""
     return min(_LOOSE_MAX, _LOOSE * change)
 
 

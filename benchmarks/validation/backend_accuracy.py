@@ -8,10 +8,19 @@ time of the steady state divided by the steps taken (cycles x steps).
 
 Run::
 
-    PYTHONPATH=. python benchmarks/backend_accuracy.py [--steps 4000] [--json]
+    PYTHONPATH=. python benchmarks/validation/backend_accuracy.py [--steps 4000] [--json]
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import argparse
 import json

@@ -14,12 +14,21 @@ heavy package (scipy, xarray, matplotlib, a solver) a command imports.
 
 Run::
 
-    PYTHONPATH=. python benchmarks/startup.py [--runs 10] [--no-write]
+    PYTHONPATH=. python benchmarks/perf/startup.py [--runs 10] [--no-write]
 
 Writes ``benchmarks/results/startup.md`` (unless ``--no-write``).
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import argparse
 import os
@@ -31,7 +40,7 @@ import time
 from collections import defaultdict
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 OUT = ROOT / "benchmarks" / "results" / "startup.md"
 
 COMMANDS = {
@@ -137,7 +146,7 @@ def main(argv=None) -> int:
         f"Median wall time of {args.runs} runs per command (after one warm-up run, round "
         f"robin), {time.strftime('%Y-%m-%d')}, Python {platform.python_version()} on "
         f"{platform.platform()}, {os.cpu_count()} CPUs. Reproduce: "
-        "`PYTHONPATH=. python benchmarks/startup.py`.", "",
+        "`PYTHONPATH=. python benchmarks/perf/startup.py`.", "",
         *table, "",
         "## What the commands import (`python -X importtime`, self time summed per top-level "
         "package, one run)", "", *profile, ""])

@@ -29,8 +29,8 @@ chain the cycle map contracts by ρ = 1 - 1.2/ratio per cycle. Their W is well-d
 reference finds the fixed point by Newton's method) but a driver that only cycles needs about
 ratio cycles to get there, a test of the driver, not of the increment.
 
-The references come from benchmarks/stiff_reference.py (mpmath), pinned in
-benchmarks/stiff_references.py.
+The references come from tests/support/stiff_reference.py (mpmath), pinned in
+tests/support/stiff_references.py.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """The 3-D half-space contact: every validation and goal of issue 13, measured in one run.
 
-``OPENBLAS_NUM_THREADS=1 python benchmarks/halfspace.py [--quick] [--no-heightmap] [--out DIR]``
+``OPENBLAS_NUM_THREADS=1 python benchmarks/perf/halfspace.py [--quick] [--no-heightmap] [--out DIR]``
 
 writes ``DIR/halfspace.md`` (default ``benchmarks/results``). Each validation gives the value,
 the closed form (or the MDR model) it is judged against, their relative difference, and the
@@ -16,6 +16,15 @@ the classical forms are exact, ν = 0.3 with d = 2 for Cerruti's coupling. The h
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import argparse
 import math
@@ -120,7 +129,7 @@ def main(argv=None):
     ap.add_argument("--readme-figure", action="store_true",
                     help="only draw docs/halfspace_zones.png (a 128 x 128 rough sphere, by "
                          "the command users run)")
-    ap.add_argument("--out", default=str(Path(__file__).parent / "results"))
+    ap.add_argument("--out", default=str(Path(__file__).resolve().parents[1] / "results"))
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(exist_ok=True)
@@ -413,7 +422,7 @@ def readme_figure():
     import tempfile
 
     heights, h = rough_sphere(128)
-    docs = Path(__file__).resolve().parents[1] / "docs"
+    docs = Path(__file__).resolve().parents[2] / "docs"
     with tempfile.TemporaryDirectory() as tmp:
         np.save(Path(tmp) / "rough128.npy", heights)
         cmd = ["lcpfric", "contact", "--heightmap", "rough128.npy", "--spacing", repr(h),

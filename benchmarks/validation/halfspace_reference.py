@@ -1,13 +1,13 @@
 """Independent reference: frictionless, non-periodic Hertz-like contact on an elastic half-space.
 
-    python benchmarks/halfspace_reference.py          # writes tests/data/halfspace_reference.npz
+    python benchmarks/validation/halfspace_reference.py          # writes tests/data/halfspace_reference.npz
 
 Produced with **ContactMechanics 1.8.3** (Pastewka group, github pastewka/ContactMechanics;
 with SurfaceTopography 1.27.1, NuMPI 0.18.1, muGrid 1.6.1), *not* with lcpfric. It needs
 that library installed, in its own environment so as not to touch lcpfric's::
 
     python3 -m venv /tmp/venv-cm && /tmp/venv-cm/bin/pip install ContactMechanics==1.8.3
-    /tmp/venv-cm/bin/python benchmarks/halfspace_reference.py
+    /tmp/venv-cm/bin/python benchmarks/validation/halfspace_reference.py
 
 (All wheels, pure Python or manylinux: no compiler. It took about 30 s on the project's machine.)
 lcpfric's tests read only the stored ``.npz`` and do not need ContactMechanics.
@@ -51,6 +51,15 @@ independent of the library's FFT.
 
 from __future__ import annotations
 
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
+
 import math
 import os
 import sys
@@ -64,14 +73,14 @@ try:
     from SurfaceTopography import Topography
 except ImportError as exc:  # pragma: no cover - only run by hand
     raise SystemExit(
-        "benchmarks/halfspace_reference.py needs the ContactMechanics library "
+        "benchmarks/validation/halfspace_reference.py needs the ContactMechanics library "
         f"({exc}). Install it in a separate environment:\n"
         "    python3 -m venv /tmp/venv-cm && /tmp/venv-cm/bin/pip install ContactMechanics==1.8.3\n"
         "and run this script with /tmp/venv-cm/bin/python."
     )
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-OUT = os.path.join(HERE, os.pardir, "tests", "data", "halfspace_reference.npz")
+OUT = os.path.join(HERE, os.pardir, os.pardir, "tests", "data", "halfspace_reference.npz")
 
 R = 1.0
 ESTAR = 1.0

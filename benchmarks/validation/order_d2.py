@@ -2,7 +2,7 @@
 
 Usage::
 
-    python benchmarks/order_d2.py [--method clarabel]
+    python benchmarks/validation/order_d2.py [--method clarabel]
 
 With d = 2 there is no exact solution to judge against, so the order is measured from successive
 differences of W over doubling grids (``|W_2N - W_N|`` falls by 2^p for order p). Cases: one node
@@ -12,6 +12,15 @@ non-collinear loads.
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import argparse
 import math

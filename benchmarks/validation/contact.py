@@ -1,7 +1,7 @@
 """Continuum contacts: every validation and goal of the Hertz (MDR) and plane (half-plane)
 models, measured in one run.
 
-``OPENBLAS_NUM_THREADS=1 python benchmarks/contact.py [--quick] [--no-map] [--out DIR]``
+``OPENBLAS_NUM_THREADS=1 python benchmarks/validation/contact.py [--quick] [--no-map] [--out DIR]``
 
 writes ``DIR/contact.md`` (default ``benchmarks/results``). Each validation gives the value, the
 closed form it is judged against, their relative difference, and the nodes and steps used;
@@ -17,6 +17,15 @@ are exact at any ν for identical bodies), and ν = 0.3 as a check of the same.
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import argparse
 import json
@@ -258,7 +267,7 @@ def main(argv=None):
     ap.add_argument("--out", default="benchmarks/results")
     args = ap.parse_args(argv)
     lines = ["# Continuum contacts: validations and goals", "",
-             f"`OPENBLAS_NUM_THREADS=1 python benchmarks/contact.py"
+             f"`OPENBLAS_NUM_THREADS=1 python benchmarks/validation/contact.py"
              f"{' --quick' if args.quick else ''}{' --no-map' if args.no_map else ''}`", ""]
     t0 = time.perf_counter()
     for step in (lambda: mindlin(lines, args.quick), lambda: normal(lines),

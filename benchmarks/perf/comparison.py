@@ -1,5 +1,5 @@
 """Error against run time for every method: the cases, the runs and their reports
-(``python benchmarks/compare_backends.py``).
+(``python benchmarks/perf/compare_backends.py``).
 
 Every method is run on a set of cases at steps per cycle from 50 to 1e5 and judged against the
 exact solution: the single node's closed form, and for the multi-node case a block-diagonal
@@ -15,6 +15,15 @@ write ``compare-coupled.csv``, ``.md`` and ``.png`` (:func:`write_coupled_output
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import csv
 import math

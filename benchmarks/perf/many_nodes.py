@@ -1,6 +1,6 @@
 """The many-node goals of the active-set backend, measured side by side in one run.
 
-``OPENBLAS_NUM_THREADS=1 python benchmarks/many_nodes.py [--quick] [--out benchmarks/results]``
+``OPENBLAS_NUM_THREADS=1 python benchmarks/perf/many_nodes.py [--quick] [--out benchmarks/results]``
 
 1. **n = 400, dense K** (the chain of the issue: k_coupling = 0.5, P1 per node in [1.2, 2] so
    every node separates, Q1 in [0.5, 2], random phases; 500 steps per cycle plus the 800
@@ -25,6 +25,15 @@
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import argparse
 import json
@@ -159,7 +168,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     n1, n2, n3, n4 = (100, 1000, 10_000, 1000) if args.quick else (400, 4000, 100_000, 4000)
     lines = ["# Many nodes: the active-set backend's goals", "",
-             f"Reproduce: `OPENBLAS_NUM_THREADS=1 python benchmarks/many_nodes.py"
+             f"Reproduce: `OPENBLAS_NUM_THREADS=1 python benchmarks/perf/many_nodes.py"
              f"{' --quick' if args.quick else ''}` (CPU seconds; wall seconds for the sparse "
              f"steady state).", ""]
     r = goal_ratios(n1)

@@ -2,8 +2,8 @@
 """Pinned results of lcpfric, to check that a restructuring changes no public number: 471 values
 (W, Ŵ, W_normalized, cycles, counts) of every model and every method, compared as float.hex.
 
-    OPENBLAS_NUM_THREADS=1 python benchmarks/pinned.py --check benchmarks/results/pinned.json
-    OPENBLAS_NUM_THREADS=1 python benchmarks/pinned.py --out FILE.json   # write {name: hex}
+    OPENBLAS_NUM_THREADS=1 python benchmarks/validation/pinned.py --check benchmarks/results/pinned.json
+    OPENBLAS_NUM_THREADS=1 python benchmarks/validation/pinned.py --out FILE.json   # write {name: hex}
     ... --only SUBSTRING                                                 # some cases only
 
 ``benchmarks/results/pinned.json`` holds the values lcpfric 0.1 gave (written by this script's
@@ -20,6 +20,15 @@ after the restructuring, edit only those. The cases are declarative: ``CASES`` i
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import os
 

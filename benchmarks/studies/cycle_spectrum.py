@@ -1,7 +1,7 @@
 """The spectrum of the d = 2 half-space's cycle map at its steady state: why d = 2 takes about
 a dozen cycles.
 
-``OPENBLAS_NUM_THREADS=1 python benchmarks/cycle_spectrum.py [--quick] [--out DIR]``
+``OPENBLAS_NUM_THREADS=1 python benchmarks/studies/cycle_spectrum.py [--quick] [--out DIR]``
 
 writes ``DIR/cycle_spectrum.md`` (default ``benchmarks/results``; about 4 minutes, ``--quick``
 about 1). The plain cycle map takes a cycle's starting slips x to its ending ones G(x). At the
@@ -17,6 +17,15 @@ Q1/(μP0) = 0.5, ν = 0.3, d = 2) on grid 20 with 100 steps and on grid 40 with 
 
 from __future__ import annotations
 
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
+
 import argparse
 import sys
 import time
@@ -24,7 +33,6 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).parent))
 
 from _report import Report, stamp  # noqa: E402
 from halfspace import sphere  # noqa: E402
@@ -107,7 +115,7 @@ def ritz(model, steps, krylov=KRYLOV):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="grid 20 only")
-    ap.add_argument("--out", default=str(Path(__file__).parent / "results"))
+    ap.add_argument("--out", default=str(Path(__file__).resolve().parents[1] / "results"))
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(exist_ok=True)

@@ -3,11 +3,20 @@ method at increasing steps per cycle, judged against the exact solution; writes 
 compare.md and (with matplotlib) compare.png, or with --coupled the coupled d = 1 cases against
 method 'exact' (compare-coupled.csv, .md, .png).
 
-    python benchmarks/compare_backends.py [--quick] [--coupled] [--out DIR] [--methods a,b]
+    python benchmarks/perf/compare_backends.py [--quick] [--coupled] [--out DIR] [--methods a,b]
         [--cases a,b] [--steps n,m] [--budget S] [--json]
 
 Bad input exits with code 2 and one line naming the option.
 """
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import argparse
 import importlib.util
@@ -16,8 +25,6 @@ import sys
 import time
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 OUTPUTS = ("compare.csv", "compare.md", "compare.png")
 COUPLED_OUTPUTS = ("compare-coupled.csv", "compare-coupled.md", "compare-coupled.png")
@@ -45,6 +52,8 @@ def configure(p) -> None:
 
 
 def _list(text, option: str) -> list[str]:
+    from lcpfric.errors import InputError
+
     items = [s.strip() for s in str(text).split(",") if s.strip()]
     if not items:
         raise InputError(option, f"expected a comma-separated list, got {text!r}")
@@ -108,7 +117,7 @@ def run(args) -> int:
     t0 = time.perf_counter()
     rows = bench.run_comparison(cases, methods, steps, budget=budget,
                                 repeats=1 if args.quick else 3, placement=args.placement)
-    cmd = ("python benchmarks/compare_backends.py" + (" --coupled" if coupled else "")
+    cmd = ("python benchmarks/perf/compare_backends.py" + (" --coupled" if coupled else "")
            + (" --quick" if args.quick else "")
            + (f" --cases {args.cases}" if args.cases else "")
            + (f" --methods {args.methods}" if args.methods else "")

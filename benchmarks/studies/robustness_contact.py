@@ -1,7 +1,7 @@
 """The continuum contact models across hard loads, grids and steps: does every case reach its
 steady state, in how many cycles and how long?
 
-`OPENBLAS_NUM_THREADS=1 python benchmarks/robustness_contact.py` (about 1.5 minutes) writes
+`OPENBLAS_NUM_THREADS=1 python benchmarks/studies/robustness_contact.py` (about 1.5 minutes) writes
 `benchmarks/results/robustness_contact.md`. The cases: large increments (8 steps per cycle)
 and finer ones (40), near separation, gross sliding held by a support (Q1 = 1.5 μP0), complete
 separation (P1 = 1.3), opposite phases; small tangential loads (Q1 down to 1e-4 μP0); large
@@ -11,6 +11,15 @@ hidden: this is the sweep that found the defects fixed at 7b43c88 … 442b263.
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import argparse
 import math
@@ -84,7 +93,7 @@ def run(make, steps):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default=str(Path(__file__).parent / "results"))
+    ap.add_argument("--out", default=str(Path(__file__).resolve().parents[1] / "results"))
     args = ap.parse_args(argv)
     lines = Report(["# The continuum contact models across hard cases", "",
              f"{stamp('robustness_contact.py')}. E = {E:g}, R = {R:g}, "

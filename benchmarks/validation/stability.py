@@ -1,11 +1,20 @@
 """Stability study: every method on stiff and extreme cases, classified correct / wrong / error.
 
-    python benchmarks/stability.py [--quick] [--out DIR] [--methods a,b] [--groups g,h]
+    python benchmarks/validation/stability.py [--quick] [--out DIR] [--methods a,b] [--groups g,h]
         [--steps N]
 
-Writes stability.csv and stability.md (see benchmarks/stability_cases.py for the matrix, the
+Writes stability.csv and stability.md (see tests/support/stability_cases.py for the matrix, the
 references and the verdicts).
 """
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import argparse
 import csv
@@ -15,7 +24,7 @@ import time
 from collections import Counter
 
 from lcpfric.methods import available_methods
-from stability_cases import applies, coupled_agreement, run_scenario, scenarios
+from support.stability_cases import applies, coupled_agreement, run_scenario, scenarios
 
 
 def _err(row):
@@ -56,19 +65,19 @@ def main(argv=None):
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
-    cmd = ("python benchmarks/stability.py" + (" --quick" if args.quick else "")
+    cmd = ("python benchmarks/validation/stability.py" + (" --quick" if args.quick else "")
            + (f" --steps {args.steps}" if args.steps != 4000 else "")
            + (f" --methods {args.methods}" if args.methods else "")
            + (f" --groups {args.groups}" if args.groups else "") + f" --out {args.out}")
     lines = [f"Reproduce: `{cmd}`", "",
              "References: the independent mpmath solution, pinned in "
-             "benchmarks/stability_references.py. Verdicts: `exact` must be within 1e-9 "
+             "tests/support/stability_references.py. Verdicts: `exact` must be within 1e-9 "
              "relative (or the 16-ulp input spread where Ŵ is ill-conditioned); the "
              "time-stepping methods within 1e-4 relative or 1e-9 of the scale "
-             "1 + sqrt(P̂1 Q̂1) (see benchmarks/stability_cases.py). The stiff group "
+             "1 + sqrt(P̂1 Q̂1) (see tests/support/stability_cases.py). The stiff group "
              "(coupled, stiffness ratios 1 to 1e12) is judged against the mpmath reference of "
-             "the discretization itself (benchmarks/stiff_reference.py, pinned in "
-             "benchmarks/stiff_references.py), within 1e-8 relative at the case's grid, for "
+             "the discretization itself (tests/support/stiff_reference.py, pinned in "
+             "tests/support/stiff_references.py), within 1e-8 relative at the case's grid, for "
              "the methods that compute it (those taking locate_events, run with "
              "locate_events=False and tol=1e-13).", "",
              "Worst errors: relative, over the runs whose reference is at least 1e-6 of the "

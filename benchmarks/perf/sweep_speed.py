@@ -11,8 +11,17 @@ The set: 11 phases φ = kπ/10 (k = 0..10) on a 101 x 101 grid of P̂1, Q̂1 in 
   random sample of grid points, extrapolated to the whole set, and the ratio to the sweep;
 * the same sweep through a Dask ``LocalCluster`` (start-up and run time) against the serial run.
 
-    PYTHONPATH=. python benchmarks/sweep_speed.py [--quick] [--json]
+    PYTHONPATH=. python benchmarks/perf/sweep_speed.py [--quick] [--json]
 """
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import argparse
 import json
@@ -24,7 +33,6 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import lcpfric  # noqa: E402
 from lcpfric.analysis.analytic import jang_barber  # noqa: E402
@@ -161,7 +169,7 @@ def main(argv=None):
             result["dask"] = {"skipped": str(exc)}
     argv_text = " ".join(["--quick"] * quick + ([f"--sample {args.sample}"] if args.sample else [])
                          + ["--no-dask"] * args.no_dask)
-    result["reproduce"] = f"PYTHONPATH=. python benchmarks/sweep_speed.py {argv_text}".strip()
+    result["reproduce"] = f"PYTHONPATH=. python benchmarks/perf/sweep_speed.py {argv_text}".strip()
 
     if args.json:
         print(json.dumps(result, indent=1))

@@ -1,6 +1,6 @@
 """Randomized accuracy audit of ``lcpfric.exact_W_hat`` against the mpmath reference.
 
-    python benchmarks/exact_audit.py [--n 4000] [--seed 0] [--processes 8] [--out FILE.md]
+    python benchmarks/validation/exact_audit.py [--n 4000] [--seed 0] [--processes 8] [--out FILE.md]
 
 Points are drawn from a mixture (each family ``n / 9`` points, φ uniform on [0, 2π) unless
 stated): P̂1 and Q̂1 log-uniform on [1e-20, 1e20]; P̂1 log-uniform and Q̂1/P̂1 log-uniform on
@@ -21,6 +21,15 @@ over the well-conditioned points (that spread below 1e-10 of Ŵ).
 
 from __future__ import annotations
 
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
+
 import argparse
 import math
 import os
@@ -30,49 +39,12 @@ from multiprocessing import Pool
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from exact_reference import input_spread, reference_W_hat  # noqa: E402
+from support.exact_reference import draw, input_spread, reference_W_hat  # noqa: E402
 
 EPS = np.finfo(float).eps
 REL = 1e-9
 ULPS = 16
-
-
-def draw(n: int, seed: int) -> np.ndarray:
-    """(n, 3) array of (P̂1, Q̂1, φ) from the mixture in the module docstring."""
-    rng = np.random.default_rng(seed)
-    m = max(1, n // 9)
-    lu = lambda lo, hi, k: 10.0 ** rng.uniform(lo, hi, k)  # noqa: E731
-    phi = lambda k: rng.uniform(0, 2 * math.pi, k)  # noqa: E731
-    fam = []
-    fam.append(np.c_[lu(-20, 20, m), lu(-20, 20, m), phi(m)])
-    P = lu(-20, 20, m)
-    fam.append(np.c_[P, P * lu(-20, 20, m), phi(m)])
-    P = 1.0 + lu(-16, 2, m)
-    fam.append(np.c_[P, P * lu(-20, -3, m), phi(m)])
-    P = 1.0 + rng.choice([-1, 1], m) * lu(-16, 0, m)
-    fam.append(np.c_[P, lu(-8, 8, m), phi(m)])
-    fam.append(np.c_[lu(-3, 8, m), lu(-8, 8, m),
-                     rng.choice([0.0, math.pi, 2 * math.pi], m)
-                     + rng.choice([-1, 1], m) * lu(-12, 0, m)])
-    P = lu(-2, 8, m)
-    near0 = rng.choice([0.0, math.pi], m) + rng.choice([-1, 1], m) * lu(-12, -1, m)
-    fam.append(np.c_[P, P * (1 + np.where(rng.random(m) < 0.2, 0.0, rng.choice([-1, 1], m)
-                                          * lu(-16, 0, m))),
-                     np.where(rng.random(m) < 0.5, phi(m), near0)])
-    fam.append(np.c_[rng.uniform(0, 4, m), rng.uniform(0, 4, m), phi(m)])
-    P = rng.uniform(0, 50, m)
-    off = np.where(rng.random(m) < 0.5, 0.0, rng.choice([-1, 1], m) * lu(-8, 0, m))
-    fam.append(np.c_[P, np.maximum(P + rng.uniform(-3, 3, m), 0.0),
-                     rng.choice([0.0, math.pi], m) + off])
-    k = n - 8 * m
-    base = np.array([[p, q] for p in (0.0, 0.5, 1.0, 2.0, 1e10) for q in (0.0, 0.5, 1.0, 2.0, 1e10)]
-                    + [[x, x] for x in (0.5, 1.0, 2.0, 1e10)])
-    idx = rng.integers(0, len(base), k)
-    fam.append(np.c_[base[idx], np.r_[rng.choice([0.0, math.pi / 2, math.pi], k // 2),
-                                      phi(k - k // 2)]])
-    return np.concatenate(fam)
 
 
 def _reference(point):
@@ -136,7 +108,7 @@ def main(argv=None):
     pts = draw(args.n, args.seed)
     t0 = time.perf_counter()
     res = audit(pts, args.processes)
-    lines = [f"Reproduce: `python benchmarks/exact_audit.py --n {args.n} --seed {args.seed}`", "",
+    lines = [f"Reproduce: `python benchmarks/validation/exact_audit.py --n {args.n} --seed {args.seed}`", "",
              f"{res['n']} points (mixture of the module docstring), mpmath reference "
              f"({res['reference_seconds']:.0f} s), total {time.perf_counter() - t0:.0f} s.", ""]
     for name in ("scalar", "vectorized"):

@@ -1,6 +1,6 @@
 """An independent high-precision reference for the single node's Ŵ (needs mpmath).
 
-    python benchmarks/exact_reference.py P1 Q1 phi      # prints the reference Ŵ
+    python tests/support/exact_reference.py P1 Q1 phi      # prints the reference Ŵ
 
 Written separately from :mod:`lcpfric.exact` and differently from it, so that the two are not
 "the same approximation twice":
@@ -26,6 +26,7 @@ import math
 import sys
 
 import mpmath as mp
+import numpy as np
 
 __all__ = ["reference_W_hat", "reference_cycle", "default_dps", "input_spread", "grid_W_hat",
            "jang_barber_mp"]
@@ -254,3 +255,39 @@ if __name__ == "__main__":
     print(f"W_hat = {mp.nstr(r['W_hat'], 25)}  (energy identity: "
           f"{mp.nstr(r['J_energy'] / mp.mpf(q) if q else 0, 25)}; cycles {r['cycles']}, "
           f"dps {r['dps']})")
+
+
+def draw(n: int, seed: int) -> np.ndarray:
+    """(n, 3) array of (P̂1, Q̂1, φ) from the mixture in the module docstring."""
+    rng = np.random.default_rng(seed)
+    m = max(1, n // 9)
+    lu = lambda lo, hi, k: 10.0 ** rng.uniform(lo, hi, k)  # noqa: E731
+    phi = lambda k: rng.uniform(0, 2 * math.pi, k)  # noqa: E731
+    fam = []
+    fam.append(np.c_[lu(-20, 20, m), lu(-20, 20, m), phi(m)])
+    P = lu(-20, 20, m)
+    fam.append(np.c_[P, P * lu(-20, 20, m), phi(m)])
+    P = 1.0 + lu(-16, 2, m)
+    fam.append(np.c_[P, P * lu(-20, -3, m), phi(m)])
+    P = 1.0 + rng.choice([-1, 1], m) * lu(-16, 0, m)
+    fam.append(np.c_[P, lu(-8, 8, m), phi(m)])
+    fam.append(np.c_[lu(-3, 8, m), lu(-8, 8, m),
+                     rng.choice([0.0, math.pi, 2 * math.pi], m)
+                     + rng.choice([-1, 1], m) * lu(-12, 0, m)])
+    P = lu(-2, 8, m)
+    near0 = rng.choice([0.0, math.pi], m) + rng.choice([-1, 1], m) * lu(-12, -1, m)
+    fam.append(np.c_[P, P * (1 + np.where(rng.random(m) < 0.2, 0.0, rng.choice([-1, 1], m)
+                                          * lu(-16, 0, m))),
+                     np.where(rng.random(m) < 0.5, phi(m), near0)])
+    fam.append(np.c_[rng.uniform(0, 4, m), rng.uniform(0, 4, m), phi(m)])
+    P = rng.uniform(0, 50, m)
+    off = np.where(rng.random(m) < 0.5, 0.0, rng.choice([-1, 1], m) * lu(-8, 0, m))
+    fam.append(np.c_[P, np.maximum(P + rng.uniform(-3, 3, m), 0.0),
+                     rng.choice([0.0, math.pi], m) + off])
+    k = n - 8 * m
+    base = np.array([[p, q] for p in (0.0, 0.5, 1.0, 2.0, 1e10) for q in (0.0, 0.5, 1.0, 2.0, 1e10)]
+                    + [[x, x] for x in (0.5, 1.0, 2.0, 1e10)])
+    idx = rng.integers(0, len(base), k)
+    fam.append(np.c_[base[idx], np.r_[rng.choice([0.0, math.pi / 2, math.pi], k // 2),
+                                      phi(k - k // 2)]])
+    return np.concatenate(fam)

@@ -2,7 +2,7 @@
 they do: the issue's goal case (Mindlin-Deresiewicz, Q1/(μP0) = 0.5, ν = 0.3, d = 2, grid 40,
 400 steps per cycle, cycle tolerance 1e-10).
 
-``OPENBLAS_NUM_THREADS=1 python benchmarks/late_cycles.py [--out DIR]``
+``OPENBLAS_NUM_THREADS=1 python benchmarks/studies/late_cycles.py [--out DIR]``
 
 writes ``DIR/late_cycles.md`` (default ``benchmarks/results``; about 2 minutes). For each cycle:
 the tolerance its increments are solved to (the steady-state driver's loose early cycles), the
@@ -25,6 +25,15 @@ and sets the constants ``CG_TOL`` of :mod:`lcpfric.steppers.newton_cg` and ``_LO
 
 from __future__ import annotations
 
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
+
 import argparse
 import math
 import sys
@@ -33,7 +42,6 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).parent))
 
 from _report import Report, stamp  # noqa: E402
 from halfspace import sphere  # noqa: E402
@@ -142,7 +150,7 @@ def rounded(base):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default=str(Path(__file__).parent / "results"))
+    ap.add_argument("--out", default=str(Path(__file__).resolve().parents[1] / "results"))
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(exist_ok=True)

@@ -1,6 +1,6 @@
 """How many cycles the half-space needs with d = 2, by how the cycles' starts are moved.
 
-``OPENBLAS_NUM_THREADS=1 python benchmarks/cycle_acceleration.py [--out DIR]``
+``OPENBLAS_NUM_THREADS=1 python benchmarks/studies/cycle_acceleration.py [--out DIR]``
 
 writes ``DIR/cycle_acceleration.md`` (default ``benchmarks/results``; about 10 minutes). With
 ν > 0 and d = 2 the transverse slips settle over many cycles; the steady-state driver
@@ -17,13 +17,22 @@ tolerance 1e-8), Mindlin-Deresiewicz on grids 40 and 56, and varying P with a ph
 (200 steps). A run that does not repeat within 200 cycles is marked "no".
 
 ``--discrete`` runs the discrete driver's d = 2 systems instead (the chains of
-``benchmarks/order_d2.py`` and the grid-10 contact as a ContactSystem) with the memory and with
+``benchmarks/validation/order_d2.py`` and the grid-10 contact as a ContactSystem) with the memory and with
 Aitken's jumps alone, into ``DIR/cycle_acceleration_discrete.md`` (about 1 minute);
 ``--figure`` draws each cycle's change on grids 40 and 56 by strategy,
 ``DIR/cycle_acceleration.png`` and ``.pdf`` (about 5 minutes).
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import argparse
 import math
@@ -37,7 +46,6 @@ import lcpfric
 import lcpfric.periodic.acceleration as acceleration
 from lcpfric.periodic.acceleration import Anderson
 
-sys.path.insert(0, str(Path(__file__).parent))
 from halfspace import PI, sphere  # noqa: E402  (the same materials and loads)
 
 
@@ -136,9 +144,9 @@ def discrete(out: Path):
     rows.append(("grid 10 half-space (196 nodes, ν = 0.3, support k_t0, 200 steps)",
                  half_space, "clarabel", {"check_tol": 1e-4, "locate_events": False}))
     lines = ["# The discrete driver's d = 2 cycles, with and without the memory", "",
-             f"`OPENBLAS_NUM_THREADS=1 python benchmarks/cycle_acceleration.py --discrete`, "
+             f"`OPENBLAS_NUM_THREADS=1 python benchmarks/studies/cycle_acceleration.py --discrete`, "
              f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. Cycle tolerance 1e-10, "
-             f"200 steps per cycle (the chains of `benchmarks/order_d2.py`). Cycles, wall "
+             f"200 steps per cycle (the chains of `benchmarks/validation/order_d2.py`). Cycles, wall "
              f"seconds; W's difference of Aitken's run from the memory's.", "",
              "| system | method | memory (default) | Aitken alone | W difference |",
              "|---|---|---|---|---|"]
@@ -217,7 +225,7 @@ def figure(out: Path):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default=str(Path(__file__).parent / "results"))
+    ap.add_argument("--out", default=str(Path(__file__).resolve().parents[1] / "results"))
     ap.add_argument("--discrete", action="store_true",
                     help="the discrete driver's d = 2 systems only (about 1 minute)")
     ap.add_argument("--figure", action="store_true",
@@ -231,7 +239,7 @@ def main():
     if args.figure:
         return figure(out)
     lines = ["# Cycles of the d = 2 half-space by how the cycles' starts are moved", "",
-             f"`OPENBLAS_NUM_THREADS=1 python benchmarks/cycle_acceleration.py`, "
+             f"`OPENBLAS_NUM_THREADS=1 python benchmarks/studies/cycle_acceleration.py`, "
              f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. ν = 0.3, d = 2; cycle "
              f"tolerance 1e-10 unless given. Cycles, wall seconds, W's difference from the "
              f"default (memory and Anderson at depth 10).",

@@ -17,10 +17,19 @@ others.
 
 Run::
 
-    PYTHONPATH=. python benchmarks/overhead.py [--json] [--sizes 1,10] [--repeat 5]
+    PYTHONPATH=. python benchmarks/perf/overhead.py [--json] [--sizes 1,10] [--repeat 5]
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import argparse
 import json

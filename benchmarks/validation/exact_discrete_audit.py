@@ -1,6 +1,6 @@
 """Seeded audit of ``steady_state(system, method="exact")`` for discrete systems (d = 1).
 
-    OPENBLAS_NUM_THREADS=1 python benchmarks/exact_discrete_audit.py [--n-cases 30] [--seed 0]
+    OPENBLAS_NUM_THREADS=1 python benchmarks/validation/exact_discrete_audit.py [--n-cases 30] [--seed 0]
         [--steps 1600] [--jobs 2] [--timeout 120] [--only random,identity,degenerate] [-v]
 
 Three categories (every case runs in its own forked process with a wall-time limit; an
@@ -43,6 +43,15 @@ Exit status 1 if any case fails.
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import argparse
 import json

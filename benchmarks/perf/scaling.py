@@ -2,7 +2,7 @@
 
 Usage (from the repository root)::
 
-    OPENBLAS_NUM_THREADS=1 PYTHONPATH=. python benchmarks/scaling.py [--quick] [--out DIR]
+    OPENBLAS_NUM_THREADS=1 PYTHONPATH=. python benchmarks/perf/scaling.py [--quick] [--out DIR]
         [--budget SECONDS] [--cycles N] [--partial] [--methods a,b] [--systems a,b]
 
 writes ``DIR/scaling.csv``, ``scaling.md``, ``scaling.png`` and ``scaling.pdf`` (default
@@ -78,6 +78,15 @@ the convex solvers factor a KKT system per problem.
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import argparse
 import csv
@@ -613,7 +622,7 @@ def main(argv=None) -> int:
     ap.add_argument("--quick", action="store_true",
                     help="dense chain to n = 400, sparse (active-set only) to 1e4, 100 steps, "
                          "one cycle (about a minute)")
-    ap.add_argument("--out", default=str(HERE / "results"), help="output directory")
+    ap.add_argument("--out", default=str(HERE.parent / "results"), help="output directory")
     ap.add_argument("--budget", type=float, default=None,
                     help="CPU seconds per case (default 600; 20 with --quick)")
     ap.add_argument("--cycles", type=int, default=None,
@@ -643,7 +652,7 @@ def main(argv=None) -> int:
             ap.error(f"--cycles must be >= 1, got {args.cycles}")
         settings.cycles = args.cycles
     settings.partial = args.partial
-    settings.command = "OPENBLAS_NUM_THREADS=1 python benchmarks/scaling.py " + " ".join(
+    settings.command = "OPENBLAS_NUM_THREADS=1 python benchmarks/perf/scaling.py " + " ".join(
         argv if argv is not None else sys.argv[1:])
     rows = run(settings)
     for path in write(rows, settings, Path(args.out)):

@@ -2,7 +2,7 @@
 
 Usage::
 
-    OPENBLAS_NUM_THREADS=1 python benchmarks/exact_discrete.py [--quick] [--out FILE]
+    OPENBLAS_NUM_THREADS=1 python benchmarks/perf/exact_discrete.py [--quick] [--out FILE]
 
 (the committed results: ``--out benchmarks/results/exact-discrete.md``)
 
@@ -16,6 +16,15 @@ Times are CPU seconds of this process (``time.process_time``), the machines bein
 """
 
 from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+# the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
+# shared cases and references (tests/support)
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
+                 str(_ROOT / "tests")]
 
 import argparse
 import sys
@@ -98,7 +107,7 @@ def main(argv=None):
         lines.append(f"| {name} | {n} | {sec:.3g} | {st['cycles']} | {st['newton_steps']} "
                      f"| {st['events_per_cycle']} | {per:.3g} | {floor:.2g} | {r.W:.15g} |")
         print(lines[-1], flush=True)
-    command = "OPENBLAS_NUM_THREADS=1 python benchmarks/exact_discrete.py" + (
+    command = "OPENBLAS_NUM_THREADS=1 python benchmarks/perf/exact_discrete.py" + (
         " --quick" if args.quick else "")
     out = ["## exact on discrete systems", "", f"`{command}`; CPU seconds; floor: one K z and one "
            "rank-one update of an (n/2) x (n/2) block", "", *lines, ""]
