@@ -9,6 +9,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 SCRIPT = str(Path(__file__).resolve().parents[1] / "benchmarks" / "perf" / "compare_backends.py")
 
 
@@ -17,6 +19,7 @@ def _run(*args, timeout=300):
                           timeout=timeout)
 
 
+@pytest.mark.slow
 def test_bench_small(tmp_path):
     out = tmp_path / "b"
     p = _run("--cases", "separation", "--methods", "explicit,projection,exact", "--steps",
@@ -39,6 +42,7 @@ def test_bench_bad_input_exit_2(tmp_path):
     assert p.returncode == 2 and "--cases" in p.stderr and "--coupled" in p.stderr
 
 
+@pytest.mark.slow
 def test_bench_coupled_chain_order_and_richardson(tmp_path):
     """The coupled-case machinery on the small chain: explicit against method 'exact' is second
     order, and the Richardson extrapolation of explicit (independent of 'exact') agrees."""

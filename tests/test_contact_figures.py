@@ -44,6 +44,7 @@ def built():
             "cylinder-tractions": cf.figure_tractions(first, plane)}
 
 
+@pytest.mark.slow
 def test_sizes_fonts_and_legends(built):
     for name, fig in built.items():
         width, height = fig.get_size_inches()
@@ -55,6 +56,7 @@ def test_sizes_fonts_and_legends(built):
         assert any(lg is not None for lg in legends), f"{name} has no legend"
 
 
+@pytest.mark.slow
 def test_figures_command_writes_truetype_pdfs(tmp_path, capsys):
     out = tmp_path / "contact"
     code = main(["figures", "--contact", "--out", str(out), "--grid", "3", "--format",

@@ -145,6 +145,7 @@ def test_mindlin_deresiewicz_at_constant_load(x):
     assert errs[0] < 0.025 and errs[1] < errs[0]
 
 
+@pytest.mark.slow
 def test_two_directions_at_nu_zero_equal_one():
     """At ν = 0 Cerruti has no coupling and d = 2 gives d = 1's answer (no transverse traction);
     with ν > 0 the transverse tractions appear and W differs by a few percent."""
@@ -157,6 +158,7 @@ def test_two_directions_at_nu_zero_equal_one():
     assert np.max(np.abs(r3.F[:, 1::2])) > 1e-3 * np.max(np.abs(r3.F[:, 0::2]))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("dims, nu", [(1, 0.0), (2, 0.3)])
 def test_against_the_convex_backends(dims, nu):
     """Held by a support, the half-space is an lcpfric ContactSystem (its compliance the FFT
@@ -205,6 +207,7 @@ def test_in_phase_and_half_period_shift():
     assert w2 == pytest.approx(w1, rel=1e-9)
 
 
+@pytest.mark.slow
 def test_in_phase_with_fine_steps():
     """In phase on grid 32 with 400 steps: the increments are large against the tolerance
     (the forces change a lot, the slips hardly), the case where an inconsistent start product
@@ -221,6 +224,7 @@ def _md(grid):
                             Harmonic(0.0, 25.0, 0.0, TWO_PI), grid=grid)
 
 
+@pytest.mark.slow
 def test_d1_large_increments_on_a_fine_grid(monkeypatch):
     """8 steps per cycle on grid 64: an increment changes the state of thousands of nodes, the
     active-set patterns stall, and Murty's rule (one node per iteration) ran out of iterations
@@ -408,6 +412,7 @@ def test_memory_estimate_bounds_the_measured_peak(dims):
     assert m.memory_estimate() <= 2 * peak
 
 
+@pytest.mark.slow
 def test_loose_steps_for_new_patterns_keep_the_answer(monkeypatch):
     """d = 1 on a wavy surface (contact islands, where the first patterns are often wrong):
     Newton steps whose pattern is new are solved loosely, a repeated pattern to full accuracy;
@@ -465,6 +470,7 @@ def test_recorded_cycle_starts_where_it_ends():
     assert np.any((r.state[0] == 1) | (r.state[0] == 2))      # the edge slips at t = 0
 
 
+@pytest.mark.slow
 def test_accelerated_cycles_reach_the_plain_iterations_steady_state():
     """d = 2 with ν > 0: the transverse tractions settle over many cycles (35 here without
     acceleration). Anderson's acceleration of the cycles' starts reaches the same steady state
@@ -482,6 +488,7 @@ def test_accelerated_cycles_reach_the_plain_iterations_steady_state():
     assert per[0] < 0.6 * per[1]
 
 
+@pytest.mark.slow
 def test_loose_early_cycles_reach_the_same_steady_state(monkeypatch):
     """d = 2 solves its early cycles' increments loosely (to a hundredth of the last cycle's
     change) and only a cycle at full accuracy ends the iteration: the same W (1e-9) for fewer
@@ -511,6 +518,7 @@ def test_unsettled_cycles_raise_with_the_smallest_change(monkeypatch):
             lcpfric.steady_state(sphere(Q1=0.25, grid=12, nu=0.3, dims=2), steps_per_cycle=40, tol=1.1e-12, max_cycles=30)
 
 
+@pytest.mark.slow
 def test_tight_cycle_tolerances_settle_or_are_refused():
     """d = 2 solves its last cycles' increments to a tenth of the cycle tolerance (tighter than
     their own tol 1e-10): a cycle tolerance of 1.1e-12, which the increments at 1e-10 could not

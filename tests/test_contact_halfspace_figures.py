@@ -117,6 +117,7 @@ def test_traction_vectors(plane, line):
     assert err.value.parameter == "dims" and "dims=2" in str(err.value)
 
 
+@pytest.mark.slow
 def test_write_figures_truetype(tmp_path, plane, line):
     from lcpfric.figures.halfspace import write_halfspace_figures
 
@@ -156,6 +157,7 @@ def test_animation_refuses_before_work(tmp_path, plane):
     assert not list(tmp_path.rglob("*.gif"))
 
 
+@pytest.mark.slow
 def test_animation_written(tmp_path, plane):
     from PIL import Image
 

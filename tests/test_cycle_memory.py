@@ -69,6 +69,7 @@ def test_memory_step_is_a_floored_newton_step():
     assert mem.step(R, f).reshape(3, 2)[1] == pytest.approx([1.0, MAX_GAIN])
 
 
+@pytest.mark.slow
 def test_memory_cuts_the_cycles_to_the_same_steady_state(monkeypatch):
     """d = 2, ν = 0.3, the cycles not accelerated otherwise: scaling each cycle's change by
     the memory reaches the steady state in a few cycles (14 in a run of this test), where the
@@ -110,6 +111,7 @@ def _d2_chain(n, coupling):
         __import__("importlib").util.find_spec("clarabel") is None,
         reason="clarabel is not installed (pip install lcpfric[clarabel])")),
 ])
+@pytest.mark.slow
 def test_discrete_d2_driver_uses_the_memory(monkeypatch, n, coupling, method, most):
     """The discrete driver with d = 2: the same steady state (W to 1e-9) as with Aitken's
     jumps alone, in fewer cycles (a single node: 5 against 9; a coupled 3-node chain, with

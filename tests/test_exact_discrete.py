@@ -95,6 +95,7 @@ def test_frequency_and_force_units_do_not_change_W_beyond_scaling():
     assert exact_W(big) == pytest.approx(1e12 * W1, rel=1e-12)
 
 
+@pytest.mark.slow
 def test_explicit_converges_to_exact_at_second_order():
     system = lcpfric.chain(3, k_coupling=10, P1=[1.5, 0.5, 2.0], Q1=[1.5, 1.0, 2.0],
                            phi=[0.3, 1.0, 2.0])
@@ -107,6 +108,7 @@ def test_explicit_converges_to_exact_at_second_order():
     assert err[-1] <= 2e-6 * ref
 
 
+@pytest.mark.slow
 def test_coupled_dense_system_against_richardson_explicit():
     """Independent check: Richardson extrapolation of the (second-order) explicit stepper."""
     rng = np.random.default_rng(3)

@@ -166,6 +166,7 @@ def _curves(ax):
             if not line.get_label().startswith("_") and len(line.get_xdata()) > 2]
 
 
+@pytest.mark.slow
 def test_write_figures_reports_progress(written, tmp_path):
     out, paths, messages = written
     assert len(messages) == len(NAMES) + 1  # the maps, then one line per figure
@@ -222,6 +223,7 @@ def test_figure_sizes_fit_column_or_page(built):
     assert built["fig4_maps"].get_size_inches()[0] == pytest.approx(figures.PAGE_WIDTH)
 
 
+@pytest.mark.slow
 def test_no_text_below_7pt(built):
     for name, fig in built.items():
         _renderer(fig)
@@ -282,6 +284,7 @@ def test_every_mark_is_explained(built):
     assert all(f"f = {f:g}" in text for f in figures.MOTOR_FRICTION)
 
 
+@pytest.mark.slow
 def test_legends_and_annotations_stay_off_the_data(built):
     from matplotlib.text import Text
 

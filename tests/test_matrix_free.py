@@ -45,6 +45,7 @@ def pair(n=30, sep=True, seed=0):
     return free, dense
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sep", [True, False], ids=["separation", "contact"])
 @pytest.mark.parametrize("events", [False, True])
 def test_matrix_free_equals_the_matrix(sep, events):

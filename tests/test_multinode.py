@@ -31,6 +31,7 @@ def run_all(system, steps, methods):
     return scene, out
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("n, steps", [pytest.param(2, 200, id="n=2"),
                                       pytest.param(10, 400, id="n=10", marks=pytest.mark.slow),
                                       pytest.param(100, 100, id="n=100", marks=pytest.mark.slow)])

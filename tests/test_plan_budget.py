@@ -54,6 +54,7 @@ def test_a_tiny_budget_gives_the_same_steady_state(scene, method):
     assert tiny.solver_stats["plans_evicted"] == tiny.solver_stats["plans_built"] - 1
 
 
+@pytest.mark.slow
 def test_cvxpy_with_a_tiny_budget_gives_the_same_cycle(scene):
     """cvxpy compiles a problem when it is built: one cycle, not a steady state."""
     need("cvxpy:CLARABEL")
@@ -135,6 +136,7 @@ def test_the_single_node_fast_path_with_a_tiny_budget():
     assert tiny.solver_stats["plans_built"] == ref.solver_stats["plans_built"] == 1
 
 
+@pytest.mark.slow
 def test_peak_memory_stays_within_the_budget():
     """n = 200 nodes separating one after another (~200 contact sets of up to 200 unknowns):
     their problems alone would take hundreds of MiB; the traced peak of a cycle stays within
