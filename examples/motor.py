@@ -1,4 +1,6 @@
-"""The paper's example (Section 3.3, Figs. 8-9): a motor bolted to a foundation.
+"""
+A motor bolted to a foundation (the paper's Figs. 8-9)
+=======================================================
 
 A 20 kg rotor whose centre of mass is 0.5 mm off its axis turns at Ω. The bolts preload the joint
 with P0 = 2 kN and its tangential stiffness is k11 = 5e8 N/m. The out-of-balance force
@@ -26,7 +28,9 @@ FRICTION = (0.1, 0.2, 0.3, 0.5, 0.8)
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=".", help="directory for fig9_motor.png")
+    parser.add_argument("--out", default=None,
+                        help="directory for fig9_motor.png (default: draw it on screen, or in "
+                             "the documentation's gallery)")
     parser.add_argument("--points", type=int,
                         default=int(os.environ.get("LCPFRIC_EXAMPLE_POINTS", 400)),
                         help="speeds in the figure")
@@ -63,12 +67,26 @@ def main(argv=None):
 
     from lcpfric.paper.figures import figure_motor
 
+    fig = figure_motor(motor.M, motor.delta, motor.P0, motor.k11, FRICTION, points=args.points)
+    if args.out is None:
+        _show(fig)
+        return
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     path = out / "fig9_motor.png"
-    figure_motor(motor.M, motor.delta, motor.P0, motor.k11, FRICTION,
-                 points=args.points).savefig(path, dpi=150)
+    fig.savefig(path, dpi=150)
     print(f"wrote {path}")
+
+
+def _show(fig) -> None:
+    """Show a figure built outside pyplot (lcpfric's figures are) through pyplot: it takes the
+    place of a new pyplot figure's own."""
+    import matplotlib.pyplot as plt
+
+    manager = plt.figure(figsize=fig.get_size_inches()).canvas.manager
+    manager.canvas.figure = fig
+    fig.set_canvas(manager.canvas)
+    plt.show()
 
 
 if __name__ == "__main__":

@@ -1,4 +1,8 @@
-"""A contact with several nodes: the general uncoupled system F = Q(t) + K u, |F_i| <= f_i N_i(t).
+"""
+A contact with several nodes
+============================
+
+The general uncoupled system ``F = Q(t) + K u``, ``|F_i| <= f_i N_i(t)``.
 
 Three nodes of a joint, each with its own tangential stiffness, friction coefficient and loads
 (normal loads in phase but of different amplitude, as across a rocking joint; tangential loads

@@ -1,4 +1,8 @@
-"""A single contact node under loads with two harmonics (beyond the paper's Eq. 1).
+"""
+Loads with two harmonics
+========================
+
+A single contact node under loads with two harmonics (beyond the paper's Eq. 1).
 
 The normal load gets a second harmonic, P(t) = P0 + P1 sin ωt + P2 sin(2ωt + ψ), and so does the
 tangential load. The closed-form ``exact`` method needs the paper's one-harmonic loads, so the

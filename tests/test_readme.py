@@ -1,5 +1,6 @@
-"""Every Python snippet of the README runs as written (they share one namespace, as a reader
-running them in order would; the Dask scheduler line needs a cluster and is left out)."""
+"""Every Python snippet of the README and of the documentation's pages runs as written (the
+snippets of one page share one namespace, as a reader running them in order would; lines that
+need a cluster, or stand for a call already shown (``...``), are left out)."""
 
 import re
 from pathlib import Path
@@ -8,20 +9,30 @@ import pytest
 
 from support import need_modules
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+ROOT = Path(__file__).resolve().parents[1]
+PAGES = [p for p in [ROOT / "README.md", ROOT / "docs" / "getting-started.md",
+                     *sorted((ROOT / "docs" / "guide").glob("*.md"))]
+         if "```python" in p.read_text()]
+
+
+def _runnable(block: str) -> str:
+    return "\n".join(line for line in block.splitlines()
+                     if "tcp://" not in line and "(..." not in line and "..., " not in line)
 
 
 @pytest.mark.slow
-def test_readme_snippets_run(tmp_path, monkeypatch):
-    need_modules("xarray")
-    need_modules("matplotlib")
-    need_modules("clarabel")
+@pytest.mark.parametrize("page", PAGES, ids=[p.stem for p in PAGES])
+def test_snippets_run(page, tmp_path, monkeypatch):
+    need_modules("xarray", "matplotlib", "clarabel")
     monkeypatch.chdir(tmp_path)
-    blocks = re.findall(r"```python\n(.*?)```", README.read_text(), re.S)
-    assert len(blocks) >= 3
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    blocks = re.findall(r"```python\n(.*?)```", page.read_text(), re.S)
     namespace = {}
     for block in blocks:
-        code = "\n".join(line for line in block.splitlines() if "tcp://scheduler" not in line)
-        exec(compile(code, str(README), "exec"), namespace)  # noqa: S102 - our own README
-    assert (tmp_path / "maps.nc").exists() and (tmp_path / "loop.pdf").exists()
-    assert namespace["loop"].area == pytest.approx(namespace["r"].W, rel=1e-5)
+        exec(compile(_runnable(block), str(page), "exec"), namespace)  # noqa: S102 - our docs
+
+
+def test_readme_fits_a_screen_or_two():
+    text = (ROOT / "README.md").read_text()
+    assert len(text.splitlines()) <= 150
+    assert not re.search(r"\b(at|since|before) [0-9a-f]{7}\b", text)   # no commit hashes
