@@ -26,8 +26,10 @@ from lcpfric.paper.motor import Motor
 FRICTION = (0.1, 0.2, 0.3, 0.5, 0.8)
 
 
+DESCRIPTION = "A motor bolted to a foundation (the paper's Figs. 8-9)"
+
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=DESCRIPTION)
     parser.add_argument("--out", default=None,
                         help="directory for fig9_motor.png (default: draw it on screen, or in "
                              "the documentation's gallery)")

@@ -38,8 +38,10 @@ def system() -> ContactSystem:
         dims=1)
 
 
+DESCRIPTION = "A contact with several nodes"
+
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=DESCRIPTION)
     parser.add_argument("--steps", type=int,
                         default=int(os.environ.get("LCPFRIC_EXAMPLE_STEPS", 4000)),
                         help="steps per cycle")

@@ -29,8 +29,10 @@ def node(P2: float, Q2: float) -> SingleNode:
     return SingleNode(k11=1.0, f=1.0, normal_load=normal, tangential_load=tangential)
 
 
+DESCRIPTION = "Loads with two harmonics"
+
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=DESCRIPTION)
     parser.add_argument("--steps", type=int,
                         default=int(os.environ.get("LCPFRIC_EXAMPLE_STEPS", 4000)),
                         help="steps per cycle of the time-stepping methods")

@@ -8,6 +8,8 @@ residual checks, raises :class:`SolverError` carrying the backend's own status.
 
 from __future__ import annotations
 
+from typing import Any
+
 __all__ = [
     "LcpfricError",
     "InputError",
@@ -28,13 +30,25 @@ class LcpfricError(Exception):
 class InputError(LcpfricError, ValueError):
     """A parameter is outside its allowed range, not finite, or cannot be parsed.
 
+    The message reads ``"<parameter>: <message>"``, so that the command line can print it as
+    it is.
+
+    Parameters
+    ----------
+    parameter : str
+        The name of the offending parameter, as the user typed it.
+    message : str
+        What is wrong with it, with its allowed range.
+
     Attributes
     ----------
     parameter : str
         The name of the offending parameter, as the user typed it.
+    detail : str
+        The ``message`` given (without the parameter's name).
     """
 
-    def __init__(self, parameter: str, message: str):
+    def __init__(self, parameter: str, message: str) -> None:
         self.parameter = parameter
         self.detail = message
         super().__init__(f"{parameter}: {message}")
@@ -46,6 +60,17 @@ class InputError(LcpfricError, ValueError):
 class SolverError(LcpfricError, RuntimeError):
     """A step's convex problem was not solved to the requested accuracy.
 
+    Parameters
+    ----------
+    message : str
+        What failed, in words.
+    backend : str, optional
+        Registry name of the backend (``"clarabel"``, ``"osqp"``, ...).
+    status : str, optional
+        The backend's own status string, unchanged.
+    residuals : dict or None, optional
+        lcpfric's independent residual checks of the returned answer, when one was returned.
+
     Attributes
     ----------
     backend : str
@@ -53,11 +78,12 @@ class SolverError(LcpfricError, RuntimeError):
     status : str
         The backend's own status string, unchanged.
     residuals : dict
-        lcpfric's independent residual checks of the returned answer, when one was returned.
+        lcpfric's independent residual checks of the returned answer, when one was returned
+        (empty otherwise).
     """
 
     def __init__(self, message: str, *, backend: str = "", status: str = "",
-                 residuals: dict | None = None):
+                 residuals: dict | None = None) -> None:
         self.backend = backend
         self.status = status
         self.residuals = dict(residuals or {})
@@ -69,13 +95,25 @@ class SolverError(LcpfricError, RuntimeError):
 
 
 class MissingDependency(LcpfricError, ImportError):
-    """Something the user asked for needs an optional package that is not installed: a
-    method (:class:`SolverNotFound`) or a feature such as sweeps or figures
-    (:class:`MissingExtra`). The message names what to install."""
+    """Something the user asked for needs an optional package that is not installed.
+
+    It is a method (:class:`SolverNotFound`) or a feature such as sweeps or figures
+    (:class:`MissingExtra`). The message names what to install.
+    """
 
 
 class MissingExtra(MissingDependency):
     """A feature (sweeps, figures, progress bars) needs an optional package that is missing.
+
+    Parameters
+    ----------
+    feature : str
+        What the user asked for (``"Sweeps"``, ``"Figures"``).
+    extra : str
+        The extra that installs it: ``pip install "lcpfric[<extra>]"``.
+    module : str, optional
+        The missing module's name, when it differs from ``extra`` (it is then the one the
+        message names, and ``name``).
 
     Attributes
     ----------
@@ -83,9 +121,11 @@ class MissingExtra(MissingDependency):
         What the user asked for (``"Sweeps"``, ``"Figures"``).
     extra : str
         The extra that installs it: ``pip install "lcpfric[<extra>]"``.
+    name : str or None
+        The missing module (:attr:`ImportError.name`), None when only the extra is known.
     """
 
-    def __init__(self, feature: str, extra: str, module: str = ""):
+    def __init__(self, feature: str, extra: str, module: str = "") -> None:
         self.feature = feature
         self.extra = extra
         super().__init__(f"{feature} need the optional package {module or extra!r}, which is "
@@ -101,10 +141,33 @@ class SolverNotFound(MissingDependency):
 
     The message names what to install: the extra (``pip install "lcpfric[clarabel]"``) or, for
     one solver of a ``:<solver>`` method, its own package (``pip install ecos``).
+
+    Parameters
+    ----------
+    method : str
+        The method name as the user gave it (``"clarabel"``, ``"qpsolvers:ecos"``).
+    extra : str or None
+        The pip extra that installs what the method needs.
+    installed : list of str or None, optional
+        The methods usable now (:func:`lcpfric.methods.available_methods`), listed in the
+        message when given.
+    package : str or None, optional
+        The package to install instead of the extra (one solver of a ``:<solver>`` method).
+
+    Attributes
+    ----------
+    method : str
+        The method name as the user gave it.
+    extra : str or None
+        The pip extra that installs what the method needs.
+    installed : list of str or None
+        The methods usable now, when known.
+    package : str or None
+        The package to install instead of the extra, when there is one.
     """
 
     def __init__(self, method: str, extra: str | None, installed: list[str] | None = None,
-                 package: str | None = None):
+                 package: str | None = None) -> None:
         self.method = method
         self.extra = extra
         self.installed = installed
@@ -124,21 +187,47 @@ class SolverNotFound(MissingDependency):
 class ConvergenceError(LcpfricError, RuntimeError):
     """The periodic driver did not reach a steady state within ``max_cycles``.
 
+    Parameters
+    ----------
+    message : str
+        What happened, in words.
+    result : SteadyState or None, optional
+        The (unconverged) result, for inspection.
+
     Attributes
     ----------
-    result : SteadyState
-        The (unconverged) result, for inspection.
+    result : SteadyState or None
+        The (unconverged) result, for inspection
+        (:class:`~lcpfric.results.SteadyState`).
     """
 
-    def __init__(self, message: str, result=None):
+    def __init__(self, message: str, result: Any = None) -> None:
         self.result = result
         super().__init__(message)
 
 
 class UndefinedQuantity(LcpfricError, AttributeError):
-    """A result was asked for a quantity it does not define (Ŵ of a general system)."""
+    """A result was asked for a quantity it does not define (Ŵ of a general system).
 
-    def __init__(self, quantity: str, message: str):
+    It is also an :class:`AttributeError`, so ``hasattr`` and ``getattr`` with a default
+    treat the quantity as absent.
+
+    Parameters
+    ----------
+    quantity : str
+        The name of the quantity asked for (``"W_hat"``).
+    message : str
+        Why the result does not define it.
+
+    Attributes
+    ----------
+    quantity : str
+        The name of the quantity asked for.
+    detail : str
+        The ``message`` given (without the quantity's name).
+    """
+
+    def __init__(self, quantity: str, message: str) -> None:
         self.quantity = quantity
         self.detail = message
         super().__init__(f"{quantity}: {message}")
@@ -160,6 +249,8 @@ class ConvergenceWarning(UserWarning):
 
 
 class ResolutionWarning(UserWarning):
-    """A continuum contact's answer that its grid cannot resolve: no element slipped over the
-    steady cycle (W = 0), where the exact contact may slip in a zone thinner than an element
-    (:func:`lcpfric.steady_state`)."""
+    """A continuum contact's answer that its grid cannot resolve.
+
+    No element slipped over the steady cycle (W = 0), where the exact contact may slip in a
+    zone thinner than an element (:func:`lcpfric.steady_state`).
+    """

@@ -39,6 +39,7 @@ import importlib
 import importlib.util
 import inspect
 from dataclasses import dataclass, field
+from typing import Any
 
 from .errors import InputError, SolverNotFound
 
@@ -86,8 +87,9 @@ class Method:
     default_solver : str or None
         The solver used when no suffix is given (None: a suffix is required).
     grid : str, callable or None
-        A function (or its ``"module:function"`` path, imported on use) evaluating Ŵ(P̂1, Q̂1, φ) of many single-node points at once
-        (flat arrays; sweeps use it); None: point by point through the driver.
+        A function (or its ``"module:function"`` path, imported on use) evaluating
+        Ŵ(P̂1, Q̂1, φ) of many single-node points at once (flat arrays; sweeps use it); None:
+        point by point through the driver.
     seconds_per_point : float or None
         Cost estimate of ``grid`` per point (closed form), for sizing sweep chunks.
     seconds_per_point_step : float or None
@@ -216,8 +218,27 @@ def _split(method) -> tuple[str, str | None]:
 def get_method(method: str) -> tuple[Method, str | None]:
     """The registry entry of a method name, and its ``:<solver>`` suffix (or None).
 
-    Raises :class:`InputError` for an unknown name (with the closest known names) or a suffix
-    the method does not take. Imports nothing.
+    Imports nothing: neither the method's code nor its solver.
+
+    Parameters
+    ----------
+    method : str
+        A method name as users type it, case-insensitive, with an optional ``:<solver>``
+        suffix (``"exact"``, ``"qpsolvers:proxqp"``, ``"cvxpy:ECOS"``).
+
+    Returns
+    -------
+    entry : Method
+        The method's registry entry.
+    solver : str or None
+        The ``:<solver>`` suffix as given (None without one; not checked against the
+        installed solvers here, see :func:`get_stepper`).
+
+    Raises
+    ------
+    InputError
+        ``method`` is not a non-empty string, is an unknown name (the message suggests the
+        closest known names), or has a suffix the method does not take.
     """
     name, sub = _split(method)
     entry = METHODS.get(name)
@@ -245,7 +266,7 @@ def check_options(cls, options: dict, what: str) -> None:
                                      f"{', '.join(valid) if valid else 'none'}")
 
 
-def get_stepper(method, **options):
+def get_stepper(method: Any, **options: Any) -> Any:
     """An instance of a method, ready to use: a time stepper, or a closed-form solver.
 
     Parameters
@@ -257,10 +278,20 @@ def get_stepper(method, **options):
         The method's own options (its constructor's keyword arguments: tolerances, solver
         settings). An option it does not take raises :class:`InputError` naming the valid ones.
 
+    Returns
+    -------
+    Stepper or ExactSolver
+        The method's implementation (:class:`~lcpfric.steppers.base.Stepper` for a time
+        stepper, :class:`~lcpfric.exact.solver.ExactSolver` for ``"exact"``), constructed with
+        ``options`` and, for a ``:<solver>`` method, the solver's name as the registry spells
+        it (the method's default solver when no suffix is given); ``method`` itself when it is
+        an instance.
+
     Raises
     ------
     InputError
-        Unknown name or option.
+        Unknown name or option; options given with an instance; a ``:<solver>`` method without
+        a solver (and no default), or with a solver it does not know.
     SolverNotFound
         The method's optional dependency is missing (the message names what to install).
     """
@@ -309,8 +340,16 @@ def _solver_name(entry: Method, sub: str) -> str:
 
 
 def available_methods() -> list[str]:
-    """Method names usable on this installation, ``:<solver>`` methods with each installed
-    solver. Found with ``importlib.util.find_spec``: no solver package is imported."""
+    """Method names usable on this installation.
+
+    Found with ``importlib.util.find_spec``: no solver package is imported.
+
+    Returns
+    -------
+    list of str
+        The registry's names whose optional dependency is installed, in registry order; a
+        ``:<solver>`` method once per installed solver (``"qpsolvers:osqp"``, ...).
+    """
     out = []
     for entry in METHODS.values():
         if not entry.installed:
@@ -322,8 +361,21 @@ def available_methods() -> list[str]:
     return out
 
 
-def methods_for(model) -> list[str]:
-    """The installed method names that solve ``model``, by the registry's ``models``."""
+def methods_for(model: object) -> list[str]:
+    """The installed method names that solve ``model``, by the registry's ``models``.
+
+    Parameters
+    ----------
+    model : SingleNode, ContactSystem or ContactModel
+        The model; a method solves it when the name of its class, or of one of its base
+        classes, is in the method's ``models`` (``Method.models``).
+
+    Returns
+    -------
+    list of str
+        The names usable on this installation, in registry order; a ``:<solver>`` method once
+        per installed solver.
+    """
     names = {c.__name__ for c in type(model).__mro__}
     out = []
     for entry in METHODS.values():

@@ -21,8 +21,20 @@ __all__ = ["State", "StepState", "CycleResult", "SteadyState", "BatchResult", "N
            "ContactExtras"]
 
 
-class State(IntEnum):
-    """The states of a node (paper, Eq. 3), as stored in every ``state`` time series (int8)."""
+class State(IntEnum):  # the Enum API's arguments are not documented: numpydoc ignore=PR01
+    """The states of a node (paper, Eq. 3), as stored in every ``state`` time series (int8).
+
+    Parameters
+    ----------
+    value : int
+        The code: ``State(1)`` is ``State.FORWARD``.
+
+    Attributes
+    ----------
+    STICK, FORWARD, BACKWARD, SEPARATION : State
+        0 stick; 1 forward slip (du/dt > 0, F = -f N); 2 backward slip (du/dt < 0, F = +f N);
+        3 separation (N = 0, F = 0).
+    """
 
     STICK = 0
     FORWARD = 1     # forward slip, du/dt > 0, F = -f N
@@ -42,6 +54,11 @@ _LABELS = {State.STICK: "stick", State.FORWARD: "forward slip",
 @dataclass(frozen=True)
 class StepState:
     """The state at one grid instant, passed into and returned by ``Stepper.step``.
+
+    Parameters
+    ----------
+    u, F, state, dW, data
+        Kept as the attributes of the same names (see Attributes).
 
     Attributes
     ----------
@@ -81,6 +98,17 @@ class CycleResult:
     ``memory`` is what the cycle remembers of its start, node by node (``(n, 2, 2)``, d = 2:
     :class:`lcpfric.steppers.slip_memory.SlipMemory`), for a stepper that tracks it during the
     cycle; None otherwise (the driver then takes it from the recorded cycle where it needs it).
+
+    Parameters
+    ----------
+    t, u, F, state : ndarray
+        The grid's instants and, at each, the displacements, forces and node states (above).
+    W : float
+        Dissipation of the cycle.
+    stats : dict, optional
+        The stepper's statistics over the cycle.
+    span, memory : ndarray or None, optional
+        As above. All are kept as the attributes of the same names.
     """
 
     t: np.ndarray
@@ -100,8 +128,16 @@ class CycleResult:
 
 @dataclass(frozen=True)
 class Normalization:
-    """The single node's units of Eq. (6): ``Ŵ = W / W``, ``v̂ = v / v``, ``F̂ = F / F``,
-    ``N̂ = N / N`` with W = f P0 Q1 / k11, v = Q1 / k11, F = f P0, N = P0."""
+    """The single node's units of Eq. (6).
+
+    ``Ŵ = W / W``, ``v̂ = v / v``, ``F̂ = F / F``, ``N̂ = N / N`` with W = f P0 Q1 / k11,
+    v = Q1 / k11, F = f P0, N = P0.
+
+    Parameters
+    ----------
+    W, v, F, N : float
+        The units, kept as the attributes of the same names.
+    """
 
     W: float
     v: float
@@ -112,6 +148,11 @@ class Normalization:
 @dataclass(frozen=True)
 class ContactExtras:
     """What a continuum contact's steady state adds (:attr:`SteadyState.contact`).
+
+    Parameters
+    ----------
+    W_normalized, normalization, contact_size_max, k_t0, nodes, nodes_in_contact_max, x, size
+        Kept as the attributes of the same names (see Attributes).
 
     Attributes
     ----------
@@ -153,6 +194,16 @@ class SteadyState:
     ``v_hat``) exist for a single node only; asking a general system for them raises
     :class:`~lcpfric.errors.UndefinedQuantity`.
 
+    For a continuum contact ``v`` and ``F`` are the nodes' slips and friction forces
+    (``(len(t), nodes·d)``), ``N`` the nodes' normal forces and ``state`` their states.
+
+    Parameters
+    ----------
+    W, W_cycles, cycles, converged, method, steps_requested, steps_used, t, v, F, N, state
+        Required; each is kept as the attribute of the same name (see Attributes).
+    seconds, change, message, solver_stats, normalization, W_hat_cycles, changes, contact
+        Likewise; ``seconds`` is required, the others are optional.
+
     Attributes
     ----------
     W : float
@@ -192,9 +243,8 @@ class SteadyState:
         last is ``change``): how the cycles settled. None for the closed form.
     contact : ContactExtras or None
         A continuum contact's normalized dissipation and geometry; None for other models.
-
-    For a continuum contact ``v`` and ``F`` are the nodes' slips and friction forces
-    (``(len(t), nodes·d)``), ``N`` the nodes' normal forces and ``state`` their states.
+    W_hat, v_hat, W_normalized, steps_per_cycle, success
+        Properties (below).
     """
 
     W: float
@@ -239,9 +289,24 @@ class SteadyState:
         return self.contact.W_normalized
 
     def stick_size(self) -> np.ndarray:
-        """A continuum contact's stick size at each instant of the last cycle: the largest |x|
-        of the sticking nodes that hold the centre (the stick radius or half-width; 0 when the
-        centre does not stick). Needs the cycle's history (``history=True``)."""
+        """A continuum contact's stick size at each instant of the last cycle.
+
+        The largest ``|x|`` of the sticking nodes that hold the centre, plus half the nodes'
+        spacing (the stick radius or half-width; 0 when the centre does not stick). Needs the
+        cycle's history (``history=True``).
+
+        Returns
+        -------
+        ndarray
+            The stick size at each instant of ``t``.
+
+        Raises
+        ------
+        UndefinedQuantity
+            The model is not a continuum contact.
+        InputError
+            The cycle was run without its history (named ``history``).
+        """
         from .errors import InputError
 
         if self.contact is None:
@@ -272,10 +337,17 @@ class SteadyState:
 
     @property
     def success(self) -> bool:
+        """Whether the driver reached a steady state (``converged``)."""
         return self.converged
 
     def summary(self) -> dict:
-        """The scalar results as a JSON-serializable dict."""
+        """The scalar results as a JSON-serializable dict.
+
+        Returns
+        -------
+        dict
+            W (and Ŵ or the contact's results), the method, steps, cycles, convergence, time.
+        """
         out = {"W": self.W}
         if self.normalization is not None:
             out["W_hat"] = self.W_hat
@@ -292,6 +364,13 @@ class SteadyState:
         return out
 
     def to_json(self) -> str:
+        """The scalar results (:meth:`summary`) as a JSON string.
+
+        Returns
+        -------
+        str
+            ``json.dumps(self.summary())``.
+        """
         return json.dumps(self.summary())
 
     def __repr__(self) -> str:
@@ -303,10 +382,16 @@ class SteadyState:
 
 @dataclass(frozen=True)
 class BatchResult:
-    """Steady states of many points advanced together: single-node points
-    (:mod:`lcpfric.batch`) or the MDR sphere's map points
+    """Steady states of many points advanced together.
+
+    Single-node points (:mod:`lcpfric.batch`) or the MDR sphere's map points
     (:func:`lcpfric.analysis.contact_maps.mdr_W_normalized`), by the batched cycle loop
     (:mod:`lcpfric.periodic.batched`).
+
+    Parameters
+    ----------
+    values, quantity, converged, cycles, change, method, steps_requested, steps_used, seconds
+        Kept as the attributes of the same names (see Attributes).
 
     Attributes
     ----------
@@ -323,9 +408,14 @@ class BatchResult:
     change : ndarray
         Per point, the last convergence measure.
     method : str
+        Registry name of the method.
     steps_requested, steps_used : int
         As in :class:`SteadyState` (``steps_used`` is the largest over the points).
     seconds : float
+        Wall time of the computation.
+    W_hat, W_normalized, unconverged
+        Properties (below); asking for the quantity the batch does not hold raises
+        :class:`~lcpfric.errors.UndefinedQuantity`.
     """
 
     values: Any
@@ -344,12 +434,12 @@ class BatchResult:
         return self.values
 
     @property
-    def W_hat(self):
+    def W_hat(self) -> np.ndarray | float:
         """Ŵ per point (single-node batches)."""
         return self._get("W_hat")
 
     @property
-    def W_normalized(self):
+    def W_normalized(self) -> np.ndarray | float:
         """The normalized dissipation per point (continuum contacts)."""
         return self._get("W_normalized")
 

@@ -31,12 +31,19 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from . import _checks, memory
 from .errors import InputError
 from .model import ContactSystem, SingleNode
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from .model.continuum.base import ContactModel
+    from .model.loads import Load
 
 __all__ = ["Scene", "Rows", "make_scene", "with_tangential_load", "increments",
            "column_reduce"]
@@ -47,6 +54,16 @@ PLACEMENTS = ("contact", "uniform")
 @dataclass(frozen=True, eq=False)
 class Scene:
     """A model over one load cycle on a fixed time grid.
+
+    Made by :func:`make_scene` (and :func:`with_tangential_load`); the parameters are kept as
+    the attributes of the same names (see Attributes for their full meaning).
+
+    Parameters
+    ----------
+    system, model, t, Q, N, transitions, placement, steps_requested, limits, sizes, scales
+        See Attributes; ``steps_requested`` and the next ones are optional.
+    loads, stats, _cache
+        Optional; ``_cache`` is internal (what the scene computes once), not to be given.
 
     Attributes
     ----------
@@ -83,6 +100,8 @@ class Scene:
     stats : dict
         The normal problem's statistics (solves, products, seconds), reported with the
         result's.
+    steps, period, n, dims, m, held, contact
+        Properties (below).
     """
 
     system: ContactSystem | None
@@ -107,6 +126,7 @@ class Scene:
 
     @property
     def period(self) -> float:
+        """The period of the model (of the system, for a discrete one)."""
         return self.model.period if self.system is None else self.system.period
 
     @property
@@ -126,9 +146,11 @@ class Scene:
 
     @property
     def held(self) -> np.ndarray:
-        """A continuum contact's unknowns whose slips are its state: those of the nodes in
-        contact at the cycle's start (a node out of contact has no force, and its slip
-        follows from the others' forces). ``(m,)`` bool."""
+        """A continuum contact's unknowns whose slips are its state, ``(m,)`` bool.
+
+        Those of the nodes in contact at the cycle's start (a node out of contact has no force,
+        and its slip follows from the others' forces).
+        """
         b = self.limits[0]
         return np.repeat(b > 1e-10 * np.max(self.limits, initial=0.0), self.dims)
 
@@ -158,14 +180,17 @@ def _start_time(system: ContactSystem) -> float:
     return 0.0
 
 
-def make_scene(system_or_model, steps_per_cycle: int | None = None, *,
-               placement: str | None = None, t0: float | None = None, grid=None,
+def make_scene(system_or_model: ContactSystem | SingleNode | ContactModel,
+               steps_per_cycle: int | None = None, *, placement: str | None = None,
+               t0: float | None = None, grid: ArrayLike | None = None,
                history: bool = True) -> Scene:
     """Sample one cycle of a model on a time grid.
 
     Parameters
     ----------
     system_or_model : ContactSystem, SingleNode or ContactModel
+        The model (a single node is sampled as its normalized system,
+        :meth:`~lcpfric.model.SingleNode.system`).
     steps_per_cycle : int, optional
         Number of increments per cycle (>= 4), before the known transition instants are added
         (default: the model's, 2000 for a discrete system and 400 for a continuum contact).
@@ -179,6 +204,23 @@ def make_scene(system_or_model, steps_per_cycle: int | None = None, *,
         ``steps_per_cycle`` uniform steps).
     history : bool
         Whether the cycle will be kept whole (for a continuum contact's memory estimate).
+
+    Returns
+    -------
+    Scene
+        The grid, the loads and the normal reactions on it (for a continuum contact, its
+        normal problem solved at every instant).
+
+    Raises
+    ------
+    InputError
+        ``steps_per_cycle`` < 4 or not an integer; an unknown ``placement``; ``t0`` not finite,
+        or given for a continuum contact; ``grid`` given for a discrete system, or not
+        increasing from 0 to the period with at least 4 steps; not a model; a continuum
+        contact whose cycle would exceed the memory limit (:mod:`lcpfric.memory`), or with
+        ``k_support = 0`` and ``|Q| > μ P`` at some instant.
+    SolverError
+        A continuum contact's normal problem failed.
     """
     from .model.continuum.base import ContactModel
 
@@ -263,9 +305,30 @@ def _continuum_scene(model, steps, placement, grid, history) -> Scene:
     return _tangential(scene, model.Q)
 
 
-def with_tangential_load(scene: Scene, Q) -> Scene:
-    """A continuum contact's scene under the tangential load Q instead (the normal problem
-    shared: a map's points of one normal load), checked as :func:`make_scene` checks it."""
+def with_tangential_load(scene: Scene, Q: Load | float) -> Scene:
+    """A continuum contact's scene under the tangential load Q instead.
+
+    The normal problem is shared (a map's points of one normal load); Q is checked as
+    :func:`make_scene` checks it.
+
+    Parameters
+    ----------
+    scene : Scene
+        A continuum contact's scene (:func:`make_scene`).
+    Q : Load or float
+        The new tangential load (a float is a constant load), of the scene's period.
+
+    Returns
+    -------
+    Scene
+        A copy of ``scene`` with the new Q on the grid, its scales and loads.
+
+    Raises
+    ------
+    InputError
+        ``scene`` is not a continuum contact's; Q is neither a Load nor a number, or has
+        another period; ``k_support = 0`` and ``|Q| > μ P`` at some instant.
+    """
     from .model.continuum.base import gross_sliding, load
 
     if scene.system is not None:

@@ -11,10 +11,11 @@ import numpy as np
 __all__ = ["jang_barber"]
 
 
-def jang_barber(P1, Q1):
+def jang_barber(P1: float | np.ndarray, Q1: float | np.ndarray) -> float | np.ndarray:
     """Steady-state Ŵ at φ = 0 for P̂1, Q̂1 >= 0 (arrays broadcast).
 
-    Raises :class:`~lcpfric.errors.InputError` for negative, non-finite or non-numeric input.
+    The four régimes of Jang and Barber (2011), Eqs. (11)-(12), Eq. (11) corrected (module
+    docstring):
 
     ============================  ===================================================
     régime                        Ŵ
@@ -24,6 +25,24 @@ def jang_barber(P1, Q1):
     P̂1 >= 1, Q̂1 <= P̂1              0
     P̂1 >= 1, Q̂1 > P̂1               (Q̂1 - P̂1)(1 + P̂1)² / (P̂1 (Q̂1 + P̂1))   (Eq. 12)
     ============================  ===================================================
+
+    Parameters
+    ----------
+    P1 : float or array_like
+        Normalized normal amplitude P̂1 = P1/P0, finite and >= 0.
+    Q1 : float or array_like
+        Normalized tangential amplitude Q̂1 = Q1/(f P0), finite and >= 0; broadcast against
+        ``P1``.
+
+    Returns
+    -------
+    float or ndarray
+        Ŵ at each point (the broadcast shape of ``P1`` and ``Q1``); a float for scalar input.
+
+    Raises
+    ------
+    InputError
+        A negative, non-finite or non-numeric ``P1`` or ``Q1``.
     """
     from .._checks import finite_array
 

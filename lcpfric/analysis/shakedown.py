@@ -16,16 +16,32 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from .. import _checks
+
+if TYPE_CHECKING:  # for the annotations only: lcpfric.model is imported on first use
+    from ..model import SingleNode
 
 __all__ = ["Shakedown", "shakedown", "shakedown_margin"]
 
 
 @dataclass(frozen=True)
 class Shakedown:
-    """Outcome of the shakedown test.
+    """Outcome of the shakedown test (:func:`shakedown`).
+
+    The parameters are kept as the attributes of the same names.
+
+    Parameters
+    ----------
+    shakedown : bool
+        True when a constant shift keeps the node in stick for the whole cycle (then Ŵ = 0).
+    shift : float or None
+        A valid shift c in units of f P0 (the middle of the admissible range), or None.
+    margin : float
+        ``min(Q̂ + P̂) - max(Q̂ - P̂)``: the width of the admissible range of c (< 0: no shakedown).
 
     Attributes
     ----------
@@ -42,6 +58,13 @@ class Shakedown:
     margin: float
 
     def as_dict(self) -> dict:
+        """The outcome as a JSON-serializable dict.
+
+        Returns
+        -------
+        dict
+            ``{"shakedown": bool, "shift": float or None, "margin": float}``.
+        """
         return {"shakedown": self.shakedown, "shift": self.shift, "margin": self.margin}
 
 
@@ -53,11 +76,37 @@ def shakedown_margin(P1, Q1, phi):
     return out if out.ndim else float(out)
 
 
-def shakedown(P1=None, Q1=None, phi=0.0, *, model=None) -> Shakedown:
+def shakedown(P1: float | SingleNode | None = None, Q1: float | None = None, phi: float = 0.0,
+              *, model: SingleNode | None = None) -> Shakedown:
     """Decide shakedown exactly.
 
     Call as ``shakedown(P1, Q1, phi)`` with normalized parameters, or ``shakedown(model=node)``
     (or ``shakedown(node)``) for a :class:`~lcpfric.model.SingleNode` with any periodic loads.
+    Harmonic loads of one frequency are decided in closed form (module docstring); other
+    periodic loads by the extrema of ``Q̂ - P̂`` and ``Q̂ + P̂`` over a cycle, sampled and
+    polished (:meth:`lcpfric.model.loads.Load.extrema`).
+
+    Parameters
+    ----------
+    P1 : float or SingleNode, optional
+        Normalized normal amplitude P̂1 = P1/P0, >= 0; or the node itself, as ``model``.
+    Q1 : float, optional
+        Normalized tangential amplitude Q̂1 = Q1/(f P0), >= 0.
+    phi : float, optional
+        Phase φ of Q relative to P, radians (finite).
+    model : SingleNode, optional
+        The node to decide; its parameters replace ``P1``, ``Q1`` and ``phi``.
+
+    Returns
+    -------
+    Shakedown
+        Whether shakedown happens, a valid shift and the margin.
+
+    Raises
+    ------
+    InputError
+        Without a model: ``P1`` or ``Q1`` missing, negative or not finite, or ``phi`` not
+        finite.
     """
     from ..model import SingleNode
 

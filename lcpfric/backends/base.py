@@ -17,24 +17,28 @@ and implement ``build``, ``solve`` and, if its bounds are not a box ``(-b, b)``,
 
 from __future__ import annotations
 
-import math
-import warnings
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._checks import boolean, byte_budget, positive
-from ..errors import InputError, SolverError
-from ..results import CycleResult, State, StepState
+from ..errors import InputError
+from ..results import CycleResult, StepState
 from ..steppers.base import Stepper
 from ..steppers.dissipation import increment_dissipation
-from .checks import worst
-from .refine import accept
-from ..steppers.rates import first_event, path_is_exact
-from .problem import DEFAULT_PLAN_BUDGET, IncrementProblem, ScenePlan
-from .settings import CONIC_METHODS, settings_for
+from .plan import ScenePlan
+from .problem import DEFAULT_PLAN_BUDGET, IncrementProblem
+from .settings import CONIC_METHODS
+from .increments import Increments
+from .interface import SolverInterface, quiet
 from .scalar import ScalarCycle
-from .status import UNKNOWN, advice
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from ..model import ContactSystem
+    from ..scene import Scene
 
 __all__ = ["ConvexStepper", "ConvexData", "quiet"]
 
@@ -43,7 +47,10 @@ __all__ = ["ConvexStepper", "ConvexData", "quiet"]
 class ConvexData:
     """What a convex backend carries in ``StepState.data``.
 
-    Attributes
+    Made by :meth:`ConvexStepper.init`; every later state holds the same plan and bounds, and
+    its own ``stats``.
+
+    Parameters
     ----------
     plan : ScenePlan
         The scene's plan: its problems, with their solver objects (``prob.handle``), are built
@@ -55,6 +62,11 @@ class ConvexData:
         ``solves``, ``refined``, ``unrefined``, ``max_residual`` and ``events`` so far, and the
         plan's ``plans_built``, ``plans_evicted`` and ``plan_peak_bytes`` (bytes) at the time of
         the state (a new dict in every state).
+
+    Attributes
+    ----------
+    plan, bdata, stats
+        The parameters, as given.
     """
 
     plan: ScenePlan
@@ -62,7 +74,7 @@ class ConvexData:
     stats: dict
 
 
-class ConvexStepper(ScalarCycle, Stepper):
+class ConvexStepper(SolverInterface, Increments, ScalarCycle, Stepper):
     """A stepper that solves problem (P) with a convex solver at every increment.
 
     A backend subclass sets ``name`` (registry name), ``can_soc`` (whether it expresses the d = 2
@@ -92,13 +104,13 @@ class ConvexStepper(ScalarCycle, Stepper):
     refine : bool
         Refine the solver's answers on their active set (see :mod:`~lcpfric.backends.refine`).
     check_tol : float
-        Largest residual accepted (relative to the problem scale).
+        Largest residual accepted (relative to the problem scale), > 0.
     active_tol : float
-        δ / s_F of the active-set identification.
+        δ / s_F of the active-set identification, > 0.
     locate_events : bool
         On coupled d = 1 systems, split an increment at the instant where a node starts to
-        slip when the single projection cannot be exact there (see :meth:`_increment`): one
-        more convex problem per event, and second order instead of first.
+        slip when the single projection cannot be exact there (see ``_increment`` in the
+        source): one more convex problem per event, and second order instead of first.
     plan_budget : float
         Bytes the scene's plan may hold for its contact sets' problems (``C_AA``, ``C[:, A]``,
         the refinement's operators and :meth:`handle_bytes` of each solver object), at least 1
@@ -108,21 +120,42 @@ class ConvexStepper(ScalarCycle, Stepper):
         step runs in bounded memory; the problem in use is always kept. See
         :mod:`~lcpfric.backends.problem`.
     **settings
-        Solver settings, overriding lcpfric's tight defaults.
-    """
+        Solver settings, overriding lcpfric's tight defaults
+        (:data:`~lcpfric.backends.settings.TIGHT_SETTINGS`). They are checked by the solver
+        when the first problem is built (:meth:`init`).
 
-    name = ""
-    can_soc = False
-    STATUS_MAP: dict[str, str] = {}
-    settings_key = ""  # key into TIGHT_SETTINGS (default: the name)
-    # the size of a solver object, for the plan's budget: bytes per entry of the upper triangle
-    # of P (its copies of P, its KKT system, the factor) and per object
-    handle_size: tuple[int, int] = (64, 128 * 1024)
-    solver: str | None = None  # the solver of a ':<solver>' backend
+    Attributes
+    ----------
+    name : str
+        Registry name (class attribute).
+    can_soc : bool
+        Whether the backend expresses the d = 2 cone (class attribute).
+    STATUS_MAP : dict
+        The solver's own statuses -> lcpfric's (:mod:`~lcpfric.backends.status`); an unknown
+        status is :data:`~lcpfric.backends.status.UNKNOWN` (class attribute).
+    settings_key : str
+        The backend's entry in :data:`~lcpfric.backends.settings.TIGHT_SETTINGS` ("": the
+        name).
+    handle_size : tuple of int
+        Bytes of a solver object per entry of the upper triangle of P, and per object (for
+        :meth:`handle_bytes`).
+    solver : str or None
+        The solver of a ``:<solver>`` backend (``"proxqp"`` of ``"qpsolvers:proxqp"``).
+    refine, check_tol, active_tol, locate_events, plan_budget
+        The options, as checked.
+    user_settings : dict
+        The user's solver settings (``**settings``).
+
+    Raises
+    ------
+    lcpfric.errors.InputError
+        ``refine`` or ``locate_events`` not a bool, ``check_tol`` or ``active_tol`` not a
+        finite number > 0, ``plan_budget`` not a number >= 1 (or ``math.inf``).
+    """
 
     def __init__(self, *, refine: bool = True, check_tol: float = 1e-6,
                  active_tol: float = 1e-6, locate_events: bool = True,
-                 plan_budget: float = DEFAULT_PLAN_BUDGET, **settings):
+                 plan_budget: float = DEFAULT_PLAN_BUDGET, **settings: Any) -> None:
         self.refine = boolean("refine", refine)
         self.locate_events = boolean("locate_events", locate_events)
         self.check_tol = positive("check_tol", check_tol)
@@ -130,49 +163,53 @@ class ConvexStepper(ScalarCycle, Stepper):
         self.plan_budget = byte_budget("plan_budget", plan_budget)
         self.user_settings = dict(settings)
 
-    @property
-    def label(self) -> str:
-        return f"{self.name}:{self.solver}" if self.solver else self.name
-
-    def settings_for(self, dims: int) -> dict:
-        """The solver settings for problems with d = ``dims``: lcpfric's tight defaults, then
-        the user's."""
-        return settings_for(self.settings_key or self.name, dims, self.user_settings)
-
-    @property
-    def settings(self) -> dict:
-        """The settings for d = 1 problems."""
-        return self.settings_for(1)
-
-    # -- the backend interface (see the class docstring) ------------------------------------
-    def build(self, prob: IncrementProblem, settings: dict):  # pragma: no cover - abstract
-        raise NotImplementedError
-
-    def bounds(self, prob: IncrementProblem, b: np.ndarray):
-        """The box ``(l, u) = (-b, b)`` of d = 1 (QP backends); conic backends override it."""
-        return -b, b.copy()
-
-    def solve(self, prob: IncrementProblem, q: np.ndarray, bdata):  # pragma: no cover
-        raise NotImplementedError
-
-    def handle_bytes(self, prob: IncrementProblem) -> int:
-        """Estimated bytes of the solver object of ``prob`` (counted in the plan's budget), from
-        ``handle_size``: bytes per entry of the upper triangle of P, and per object."""
-        per_entry, per_object = self.handle_size
-        return per_entry * prob.triu_nnz + per_object
-
-    def status_category(self, status) -> str:
-        """lcpfric's status (SOLVED, MAX_ITER, ...) for the backend's own ``status``."""
-        return self.STATUS_MAP.get(str(status), UNKNOWN)
-
     # -- the stepper contract ----------------------------------------------------------------
-    def check_system(self, system) -> None:
+    def check_system(self, system: ContactSystem) -> None:
+        """Refuse a system whose cone the backend cannot express.
+
+        Parameters
+        ----------
+        system : ContactSystem
+            The discrete system to solve.
+
+        Raises
+        ------
+        lcpfric.errors.InputError
+            ``method``: d = 2 and the backend solves QPs only (``can_soc`` false); the
+            message names the methods that can (:data:`~lcpfric.backends.CONIC_METHODS`).
+        """
         if system.dims == 2 and not self.can_soc:
             raise InputError("method", f"{self.label!r} solves QPs only and cannot express the "
                                        f"d = 2 friction cone (a disc per node); use "
                                        f"{CONIC_METHODS}")
 
-    def init(self, scene, u0=None) -> StepState:
+    def init(self, scene: Scene, u0: ArrayLike | None = None) -> StepState:
+        """The initial state at ``scene.t[0]``, with the scene's plan.
+
+        Builds the :class:`~lcpfric.backends.problem.ScenePlan` and the first step's problem
+        now, so that the backend's settings are checked before any step.
+
+        Parameters
+        ----------
+        scene : Scene
+            A discrete system's scene.
+        u0 : (m,) array_like, optional
+            The initial tangential displacements (default zero).
+
+        Returns
+        -------
+        StepState
+            ``u = u0``, ``F = Q(t_0) + K u``, the nodes sticking or separated, and
+            :class:`ConvexData` in ``data``.
+
+        Raises
+        ------
+        lcpfric.errors.InputError
+            The backend cannot express the system's cone (:meth:`check_system`), the loads on
+            the grid are not finite, or the solver does not take a setting.
+        lcpfric.errors.SolverError
+            The solver failed to build the first problem.
+        """
         self.check_system(scene.system)
         plan = ScenePlan(scene, self._build, self.handle_bytes, self.plan_budget)
         # the first step's problem now: the backend's settings are checked before any step
@@ -188,24 +225,55 @@ class ConvexStepper(ScalarCycle, Stepper):
         """The solver object of a new problem (the plan's ``build``)."""
         return self.guarded(self.build, prob, self.settings_for(prob.dims))
 
-    def bounds_at(self, data: ConvexData, prob: IncrementProblem, j: int):
-        """The bounds of grid instant j in the backend's form, made on first use."""
+    def bounds_at(self, data: ConvexData, prob: IncrementProblem, j: int) -> Any:
+        """The bounds of a grid instant in the backend's form, made on first use.
+
+        Parameters
+        ----------
+        data : ConvexData
+            The state's data (its ``bdata`` is filled in place).
+        prob : IncrementProblem
+            The problem of the instant's contact set.
+        j : int
+            The grid instant.
+
+        Returns
+        -------
+        Any
+            :meth:`bounds` of the instant's limits, kept in ``data.bdata[j]``.
+        """
         bdata = data.bdata[j]
         if bdata is None:
             bdata = data.bdata[j] = self.bounds(prob, data.plan.node_bounds[j])
         return bdata
 
-    def guarded(self, fn, *args):
-        """Call a backend function, re-raising the backend's own exceptions as SolverError."""
-        try:
-            return fn(*args)
-        except (SolverError, InputError):
-            raise
-        except Exception as exc:  # the backend's own error types vary
-            raise SolverError(f"{self.label}: the solver failed: {type(exc).__name__}: {exc}",
-                              backend=self.label, status=type(exc).__name__) from exc
+    def step(self, scene: Scene, k: int, state: StepState) -> StepState:
+        """Increment k: the state at ``scene.t[k+1]`` from the state at ``scene.t[k]``.
 
-    def step(self, scene, k, state):
+        Problem (P) to t_{k+1}, refined and checked; on a coupled d = 1 system whose answer
+        cannot be the exact end state, split at its events (``locate_events``).
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene :meth:`init` was given.
+        k : int
+            The increment, ``0 <= k < scene.steps``.
+        state : StepState
+            The state at ``scene.t[k]`` (not changed).
+
+        Returns
+        -------
+        StepState
+            The new state, its ``dW`` the increment's dissipation and its ``data`` the same
+            plan with updated stats.
+
+        Raises
+        ------
+        lcpfric.errors.SolverError
+            The solver failed, its status is not solved, or the answer fails the residual
+            checks (``check_tol``), equilibrium included.
+        """
         data = state.data
         stats = dict(data.stats)
         u1, F1, extra = self._increment(data, scene, k, state.u, state.F, stats)
@@ -218,7 +286,33 @@ class ConvexStepper(ScalarCycle, Stepper):
                          increment_dissipation(state.F, F1, du, data.plan.dims) + extra,
                          replace(data, stats=stats))
 
-    def cycle(self, scene, state):
+    def cycle(self, scene: Scene, state: StepState) -> tuple[StepState, CycleResult]:
+        """One cycle from ``state`` at ``scene.t[0]``: :meth:`step` for every increment.
+
+        The same answers as the step-by-step loop; the equilibrium checks, node states and
+        dissipation are computed for the whole cycle at once, and a one-unknown scene runs in
+        Python floats (:class:`~lcpfric.backends.scalar.ScalarCycle`). The whole history is
+        kept (no ``history`` parameter: the driver refuses ``history=False``).
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene :meth:`init` was given.
+        state : StepState
+            The state at the cycle's start.
+
+        Returns
+        -------
+        end : StepState
+            The state at the cycle's end (``dW = 0``).
+        cycle : CycleResult
+            Every instant of the cycle, its dissipation and :meth:`stats`.
+
+        Raises
+        ------
+        lcpfric.errors.SolverError
+            As :meth:`step`, at the first increment that fails.
+        """
         data = state.data
         plan = data.plan
         if plan.m == 1:
@@ -250,140 +344,19 @@ class ConvexStepper(ScalarCycle, Stepper):
                         replace(data, stats=stats))
         return end, CycleResult(scene.t, U, Fs, S, W, self.stats(end))
 
-    def stats(self, state) -> dict:
+    def stats(self, state: StepState) -> dict[str, Any]:
+        """The backend's statistics, from a state.
+
+        Parameters
+        ----------
+        state : StepState
+            A state this backend made.
+
+        Returns
+        -------
+        dict
+            A copy of :attr:`ConvexData.stats`: ``solves``, ``refined``, ``unrefined``,
+            ``max_residual``, ``events``, ``plans_built``, ``plans_evicted``,
+            ``plan_peak_bytes``.
+        """
         return dict(state.data.stats)
-
-    # -- one increment, any size --------------------------------------------------------------
-    def _increment(self, data: ConvexData, scene, k, u, F, stats):
-        """Increment k from ``(u, F)`` at t_k: ``(u, F)`` at t_{k+1} and the dissipation to add
-        to the increment's trapezoid (nonzero when it was split at events).
-
-        One problem (P) to t_{k+1}; on a coupled d = 1 system whose answer is not the exact
-        end state (:func:`~lcpfric.steppers.rates.path_is_exact`: a node slips at the end that
-        did not at the start), the increment is split at its events
-        (:mod:`~lcpfric.steppers.rates`), one problem (P) per sub-increment."""
-        plan = data.plan
-        u1, F1, limit = self._project(data, scene, k, u, stats)
-        if (not self.locate_events or limit is None or plan.dims != 1 or plan.diagonal
-                or path_is_exact(F, plan.bound[k], F1, limit, plan.separating[k + 1],
-                                 plan.force_scale)):
-            return u1, F1, 0.0
-        # split at the events: the first one from the rates at the start, solve to it, and
-        # again from there while the rest of the increment is not exact
-        f = plan.friction
-        Qk, Nk = plan.Q[k], plan.N[k]
-        dQ, dN = plan.Q[k + 1] - Qk, plan.N[k + 1] - Nk
-        sep = (Nk + plan.N[k + 1]) <= 0.0
-        a, ua, Fa = 0.0, u, F
-        W = 0.0
-        for _ in range(4 * plan.n + 16):
-            tau = first_event(plan.K, f, Fa, Qk + a * dQ, Nk + a * dN, dQ, dN, sep, a)
-            if tau is None:
-                break
-            ub, Fb, _ = self._project(data, scene, k, ua, stats, tau)
-            stats["events"] += 1
-            W += increment_dissipation(Fa, Fb, ub - ua)
-            a, ua, Fa = tau, ub, Fb
-            u1, F1, limit = self._project(data, scene, k, ua, stats)
-            if limit is None or path_is_exact(Fa, f * (Nk + a * dN), F1, limit,
-                                              plan.separating[k + 1], plan.force_scale):
-                break
-        W += increment_dissipation(Fa, F1, u1 - ua)
-        return u1, F1, W - increment_dissipation(F, F1, u1 - u)
-
-    def _project(self, data: ConvexData, scene, k, u, stats, frac=None):
-        """Solve, refine and check (P) from ``u`` to t_{k+1} (or, with ``frac``, to the instant
-        ``t_k + frac (t_{k+1} - t_k)``, loads interpolated); return ``(u, F, limit)`` there,
-        ``limit`` marking the nodes on their friction limit (None for an unrefined answer)."""
-        plan = data.plan
-        j = k + 1
-        if frac is None:
-            prob = plan.problem(j)
-            if prob is None:  # everything separated: F = 0, u = -C Q
-                return -plan.CQ[j], np.zeros(plan.m), None
-            neg_CQ, b = plan.neg_CQ[j], plan.node_bounds[j]
-            bdata = self.bounds_at(data, prob, j)
-            CQ = plan.CQ[j]
-        else:
-            prob = plan.interior_problem(k)
-            CQ = plan.CQ[k] + frac * (plan.CQ[j] - plan.CQ[k])
-            neg_CQ = -(CQ if prob.full else CQ[prob.dofs])
-            b = plan.bound[k, prob.nodes] + frac * (plan.bound[j, prob.nodes]
-                                                    - plan.bound[k, prob.nodes])
-            bdata = self.bounds(prob, b)
-        q = prob.q
-        np.subtract(neg_CQ, u if prob.full else u[prob.dofs], out=q)
-        x, status, ok = self.guarded(self.solve, prob, q, bdata)
-        stats["solves"] += 1
-        if not ok:
-            self.fail(scene, k, status, None)
-        FA, stick, res, kind = accept(prob, np.array(x, dtype=float), q, b,
-                                      refine=self.refine, active_tol=self.active_tol,
-                                      check_tol=self.check_tol, fscale=plan.force_scale,
-                                      cscale=plan.compliance_scale)
-        if FA is None:
-            self.fail(scene, k, status, res)
-        stats[kind] += 1
-        stats["max_residual"] = max(stats["max_residual"], worst(res))
-        u1 = prob.Cf @ FA
-        u1 -= CQ
-        limit = None
-        if stick is not None:  # a refined stick node keeps its displacement exactly
-            st = prob.dofs[stick]
-            u1[st] = u[st]
-            if prob.dims == 1:
-                limit = np.zeros(plan.n, dtype=bool)
-                limit[prob.nodes[~stick]] = True
-        if prob.full:
-            return u1, FA, limit
-        F1 = np.zeros(plan.m)
-        F1[prob.dofs] = FA
-        return u1, F1, limit
-
-    def _check_equilibrium(self, plan, scene, rows, U, Fs):
-        """``max |Q + K u - F| / s_F`` of the increments ending at ``rows``; raise on the first
-        over ``check_tol``."""
-        R = U @ plan.K  # K symmetric
-        R += plan.Q[rows]
-        R -= Fs
-        eq = np.abs(R).max(axis=1) / plan.force_scale
-        bad = np.flatnonzero(~(eq <= self.check_tol))
-        if bad.size:
-            i = bad[0]
-            self.fail(scene, int(rows[i]) - 1, "solved", {"equilibrium": float(eq[i])})
-
-    def _states(self, plan, rows, dU):
-        """Node states over the increments ending at ``rows``, from their slips ``dU``."""
-        eps = self.check_tol * plan.compliance_scale * plan.force_scale
-        if plan.dims == 1:
-            S = (dU > eps).view(np.int8)  # State.FORWARD is 1
-            S[dU < -eps] = State.BACKWARD
-        else:
-            S = (np.hypot(dU[:, 0::2], dU[:, 1::2]) > eps).view(np.int8)
-        S[~plan.contact[rows]] = State.SEPARATION
-        return S
-
-    def fail(self, scene, k, status, res):
-        """Raise the SolverError of step k (status not solved, or residuals over tolerance)."""
-        t0, t1 = scene.t[k], scene.t[k + 1]
-        where = f"{self.label}: increment {k} (t = {t0:.6g} -> {t1:.6g})"
-        if res is None:
-            mapped = self.status_category(status)
-            msg = (f"{where} ended with solver status {status!s} ({mapped}): "
-                   f"{advice(mapped)}")
-        else:
-            bad = max(res, key=lambda r: math.inf if res[r] != res[r] else res[r])
-            msg = (f"{where}: the solver reported {status!s} but its answer fails lcpfric's "
-                   f"residual check ({bad} {res[bad]:.3g} > check_tol {self.check_tol:g}); "
-                   f"tighten the solver's tolerances"
-                   + ("" if self.refine else " or pass refine=True"))
-            if any(v != v for v in res.values()):
-                msg += " (the answer contains NaN: check the loads for NaN or inf)"
-        raise SolverError(msg, backend=self.label, status=str(status), residuals=res)
-
-    # -- one node, d = 1: the same step in float arithmetic -----------------------------------
-def quiet(fn, *args, **kwargs):
-    """Call ``fn`` with the backend's warnings silenced (lcpfric raises its own errors)."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return fn(*args, **kwargs)

@@ -9,13 +9,17 @@ After every step lcpfric computes, from the returned forces only, with the slip
 ``Δu_A = P F_A + q`` (the gradient of (P)), relative to the scene's force scale ``s_F`` and
 compliance scale ``c = max C_ii``:
 
-``cone``            ``max_i (||F_i|| - f_i N_i)_+ / s_F``: primal feasibility;
-``complementarity`` ``max_i (F_i·Δu_i + f_i N_i ||Δu_i||) / (c s_F²)``: >= 0 always, and 0 iff
-                    the slip opposes the force and vanishes below the limit;
-``stationarity``    ``max_i ||F_i - Π_i(F_i - Δu_i / c)|| / s_F``, the natural-map residual of
-                    (P) (Π_i the projection on node i's interval or disc): zero iff F solves (P);
-``equilibrium``     ``max |Q + K u - F| / s_F`` with ``u = C (F - Q)``, which catches a
-                    compliance that is not K⁻¹.
+``cone``
+    ``max_i (||F_i|| - f_i N_i)_+ / s_F``: primal feasibility;
+``complementarity``
+    ``max_i (F_i·Δu_i + f_i N_i ||Δu_i||) / (c s_F²)``: >= 0 always, and 0 iff the slip
+    opposes the force and vanishes below the limit;
+``stationarity``
+    ``max_i ||F_i - Π_i(F_i - Δu_i / c)|| / s_F``, the natural-map residual of (P) (Π_i the
+    projection on node i's interval or disc): zero iff F solves (P);
+``equilibrium``
+    ``max |Q + K u - F| / s_F`` with ``u = C (F - Q)``, which catches a compliance that is
+    not K⁻¹.
 
 A step whose status is not "solved", or whose largest residual exceeds ``check_tol``, raises
 :class:`~lcpfric.errors.SolverError` with the backend's own status and the residuals.
@@ -33,7 +37,8 @@ import numpy as np
 __all__ = ["residuals", "scalar_residuals", "scalar_worst", "worst"]
 
 
-def residuals(F, g, b, dims: int, fscale: float, cscale: float) -> dict:
+def residuals(F: np.ndarray, g: np.ndarray, b: np.ndarray, dims: int, fscale: float,
+              cscale: float) -> dict[str, float]:
     """The residuals of a candidate answer of (P) (see the module docstring).
 
     Parameters
@@ -45,8 +50,16 @@ def residuals(F, g, b, dims: int, fscale: float, cscale: float) -> dict:
     b : (a,) ndarray
         Their friction limits f_i N_i.
     dims : int
+        d, the tangential directions per node: 1 (intervals) or 2 (discs).
     fscale, cscale : float
-        Force and compliance scales.
+        Force and compliance scales (``s_F`` and ``c = max C_ii``), both > 0.
+
+    Returns
+    -------
+    dict
+        ``cone``, ``complementarity`` and ``stationarity`` (floats, relative as in the module
+        docstring; all 0 for an empty set). NaN in ``F`` or ``g`` gives a NaN residual, which
+        fails any tolerance.
     """
     if F.size == 0:
         return {"cone": 0.0, "complementarity": 0.0, "stationarity": 0.0}

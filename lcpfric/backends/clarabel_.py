@@ -1,8 +1,8 @@
 """Clarabel through its direct API (``method="clarabel"``; d = 1 and d = 2).
 
 Each contact set's problem (P) (see :mod:`lcpfric.backends.problem`) is built when a step first
-needs it (again if the plan's budget dropped it): ``P = C_AA`` (upper triangle), and the cone as Clarabel's ``A x + s = b,
-s ∈ K`` with
+needs it (again if the plan's budget dropped it): ``P = C_AA`` (upper triangle), and the cone
+as Clarabel's ``A x + s = b, s ∈ K`` with
 
 * d = 1: ``A = [I; -I]``, ``b = [fN; fN]``, one ``NonnegativeConeT`` (the interval
   ``|F_i| <= f_i N_i``);

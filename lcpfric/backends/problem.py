@@ -76,23 +76,37 @@ from __future__ import annotations
 from collections import OrderedDict
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..errors import InputError
+if TYPE_CHECKING:
+    import scipy.sparse as sp
+    from numpy.typing import ArrayLike
 
-__all__ = ["IncrementProblem", "ProblemCache", "ScenePlan", "DEFAULT_PLAN_BUDGET", "triu_csc",
+
+
+__all__ = ["IncrementProblem", "DEFAULT_PLAN_BUDGET", "triu_csc",
            "set_dofs", "matrix_bytes"]
 
 #: Bytes a plan's problems may hold (P, C[:, A], operators, solver objects) unless the backend
-#: is given ``plan_budget``.
+#: is given ``plan_budget``: 256 MiB (268435456).
 DEFAULT_PLAN_BUDGET = 256 * 2**20
 
 
-def triu_csc(P):
-    """The upper triangle of a dense or sparse symmetric matrix, as scipy CSC (what Clarabel and
-    OSQP read)."""
+def triu_csc(P: ArrayLike | sp.spmatrix) -> sp.csc_matrix:
+    """The upper triangle of a dense or sparse symmetric matrix, as scipy CSC.
+
+    Parameters
+    ----------
+    P : (s, s) array_like or scipy sparse matrix
+        A symmetric matrix (only its upper triangle is read).
+
+    Returns
+    -------
+    scipy.sparse.csc_matrix
+        The upper triangle of P, diagonal included (what Clarabel and OSQP read).
+    """
     import scipy.sparse as sp
 
     return sp.triu(sp.csc_matrix(P), format="csc")
@@ -120,7 +134,7 @@ class IncrementProblem:
     Built once per contact set (while its plan holds it); per step only ``q`` and the bounds
     change.
 
-    Attributes
+    Parameters
     ----------
     nodes : (a,) int ndarray
         The nodes in contact (the set).
@@ -137,13 +151,24 @@ class IncrementProblem:
     full : bool
         The set holds every unknown (no indexing needed).
     handle : Any
-        The backend's solver object for this problem.
+        The backend's solver object for this problem (set by the plan once it is built).
     handle_bytes : int
         The backend's estimate of the bytes ``handle`` holds (counted in the plan's budget).
     reserve : callable or None
         ``reserve(problem, bytes)``, called before an operator is added to the cache: the plan's
         :meth:`ProblemCache.reserve`. None outside a plan: the operators alone are then kept
         under :data:`DEFAULT_PLAN_BUDGET`.
+
+    Attributes
+    ----------
+    nodes, dofs, dims, P, Cf, diagonal, full, handle, handle_bytes, reserve
+        The parameters, as given (``handle``, ``handle_bytes`` and ``reserve`` change while a
+        plan holds the problem).
+    q : (a·d,) ndarray
+        The linear term ``-(C F_tr)_A`` of the current step, overwritten in place by every
+        step (a backend's ``solve`` receives it).
+    pdiag : (a·d,) ndarray
+        The diagonal of P.
     """
 
     nodes: np.ndarray
@@ -171,8 +196,11 @@ class IncrementProblem:
 
     @property
     def triu_nnz(self) -> int:
-        """Entries of the upper triangle of P as a solver gets it (the diagonal alone when P is
-        diagonal): the base of the backends' estimates of their solver objects."""
+        """Entries of the upper triangle of P as a solver gets it.
+
+        The diagonal alone when P is diagonal: the base of the backends' estimates of their
+        solver objects.
+        """
         s = self.size
         return s if self.diagonal else s * (s + 1) // 2
 
@@ -192,10 +220,29 @@ class IncrementProblem:
         """Bytes held for this set: P, Cf, the cached operators and ``handle_bytes``."""
         return matrix_bytes(self.P) + matrix_bytes(self.Cf) + self.ops_bytes + self.handle_bytes
 
-    def active_set_operator(self, at: np.ndarray):
-        """``(Tq, Tb, stick)`` with ``F = Tq q + Tb (±b on the limit nodes)`` solving
-        ``P_SS F_S = -(q_S + P_SB F_B)`` for the stick nodes S = ~at; cached per pattern, the
-        least recently used dropped first when the budget is reached (see ``reserve``)."""
+    def active_set_operator(self, at: np.ndarray
+                            ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
+        """The operators of the refinement's linear solve for one pattern of limit variables.
+
+        ``F = Tq q + Tb (±b on the limit nodes)`` solves ``P_SS F_S = -(q_S + P_SB F_B)`` for
+        the stick variables S = ~at. Cached per pattern, the least recently used dropped first
+        when the budget is reached (see ``reserve``).
+
+        Parameters
+        ----------
+        at : (a·d,) bool ndarray
+            The variables on their limit (B); the others stick (S).
+
+        Returns
+        -------
+        Tq : (a·d, a·d) ndarray
+            ``-P_SS⁻¹`` on the stick block, zero elsewhere.
+        Tb : (a·d, a·d) ndarray or None
+            ``-P_SS⁻¹ P_SB`` on the stick rows, the identity on the limit block (None when no
+            variable is on its limit).
+        stick : (a·d,) float ndarray
+            1.0 on the stick variables, 0.0 on the limit ones.
+        """
         key = at.tobytes()
         ops = self._ops
         op = ops.get(key)
@@ -222,225 +269,20 @@ class IncrementProblem:
         return op
 
     def trim_ops(self, room: float) -> int:
-        """Drop cached operators, least recently used first, until they take at most ``room``
-        bytes; return the bytes freed."""
+        """Drop cached operators, least recently used first, until they fit in ``room`` bytes.
+
+        Parameters
+        ----------
+        room : float
+            Bytes the cached operators may keep (negative: drop them all).
+
+        Returns
+        -------
+        int
+            The bytes freed.
+        """
         ops = self._ops
         before = len(ops)
         while ops and self.ops_bytes > room:
             ops.popitem(last=False)
         return (before - len(ops)) * self.operator_bytes
-
-
-class ProblemCache:
-    """The problems of a scene's contact sets, built on first use and held under a byte budget.
-
-    An LRU cache keyed by the contact set (its row of booleans, as bytes): :meth:`get` returns
-    the set's problem, building it (with its solver object, through ``build``) when it is not
-    held. Before anything is built that would take the bytes held (:attr:`nbytes`, the sum of
-    the problems' :attr:`IncrementProblem.nbytes`) over ``budget``, :meth:`reserve` drops the
-    least recently used problems, then the least recently used operators of the problem in use;
-    the problem in use is always kept. A dropped problem is only forgotten: one still referenced
-    elsewhere keeps working (outside the budget).
-
-    Parameters
-    ----------
-    C : (m, m) ndarray
-        The scene's compliance (its one dense copy; a problem copies its set's part).
-    n, dims : int
-        Nodes and tangential directions per node.
-    diagonal : bool
-        C is diagonal.
-    build : callable, optional
-        ``build(problem) -> handle``: the backend's solver object for a new problem (None: the
-        problems get none).
-    handle_bytes : callable, optional
-        ``handle_bytes(problem) -> int``: the estimated bytes of that object, reserved before
-        it is built.
-    budget : float
-        Bytes (``math.inf``: no bound).
-
-    Attributes
-    ----------
-    nbytes, peak_bytes : int
-        Bytes held now, and at most so far.
-    built, evicted : int
-        Problems built and dropped so far.
-    """
-
-    def __init__(self, C: np.ndarray, n: int, dims: int, diagonal: bool,
-                 build: Callable[[IncrementProblem], Any] | None = None,
-                 handle_bytes: Callable[[IncrementProblem], int] | None = None,
-                 budget: float = DEFAULT_PLAN_BUDGET):
-        self.C, self.n, self.dims, self.diagonal = C, n, dims, diagonal
-        self._build, self._handle_bytes = build, handle_bytes
-        self.budget = budget
-        self._held: OrderedDict[bytes, IncrementProblem] = OrderedDict()
-        self.nbytes = self.peak_bytes = 0
-        self.built = self.evicted = 0
-
-    def __len__(self) -> int:
-        return len(self._held)
-
-    def held(self) -> list[IncrementProblem]:
-        """The problems held, least recently used first."""
-        return list(self._held.values())
-
-    def counts(self) -> dict:
-        """``plans_built``, ``plans_evicted`` and ``plan_peak_bytes`` (the backends' stats)."""
-        return {"plans_built": self.built, "plans_evicted": self.evicted,
-                "plan_peak_bytes": self.peak_bytes}
-
-    def get(self, row: np.ndarray, key: bytes | None = None) -> IncrementProblem | None:
-        """The problem of the contact set ``row`` (n booleans; ``key`` its bytes, if known),
-        built if not held; None for the empty set (every node separated)."""
-        key = row.tobytes() if key is None else key
-        held = self._held
-        prob = held.get(key)
-        if prob is not None:
-            held.move_to_end(key)
-            return prob
-        nodes = np.flatnonzero(row)
-        if nodes.size == 0:
-            return None
-        dofs = set_dofs(nodes, self.dims)
-        s, C = dofs.size, self.C
-        self.reserve(None, 8 * s * (s + C.shape[0]))  # P and Cf, float64
-        prob = IncrementProblem(nodes, dofs, self.dims,
-                                np.ascontiguousarray(C[np.ix_(dofs, dofs)]),
-                                np.ascontiguousarray(C[:, dofs]), self.diagonal,
-                                full=bool(nodes.size == self.n), reserve=self.reserve)
-        held[key] = prob
-        if self._build is not None:
-            try:
-                need = int(self._handle_bytes(prob)) if self._handle_bytes is not None else 0
-                self.reserve(prob, need)
-                prob.handle_bytes = need
-                prob.handle = self._build(prob)
-            except BaseException:
-                del held[key]
-                self.nbytes -= prob.nbytes
-                raise
-        self.built += 1
-        return prob
-
-    def reserve(self, prob: IncrementProblem | None, need: int) -> None:
-        """Make room for ``need`` more bytes of ``prob`` (the problem in use; None for one not
-        held yet) and count them: while the bytes held would exceed the budget, drop the least
-        recently used other problem, then ``prob``'s least recently used operators."""
-        held = self._held
-        while self.nbytes + need > self.budget and held:
-            key = next(iter(held))
-            old = held[key]
-            if old is prob:
-                if len(held) == 1:
-                    break
-                held.move_to_end(key)  # the problem in use is the most recently used
-                continue
-            del held[key]
-            self.nbytes -= old.nbytes
-            old.reserve = None  # forgotten: its operators are bounded on their own
-            self.evicted += 1
-        if prob is not None and self.nbytes + need > self.budget:
-            self.nbytes -= prob.trim_ops(self.budget - need - (self.nbytes - prob.ops_bytes))
-        self.nbytes += need
-        self.peak_bytes = max(self.peak_bytes, self.nbytes)
-
-
-class ScenePlan:
-    """Everything about a scene the steps need, computed once before the first step; the
-    problems of its contact sets are built on first use and held under a byte budget (see the
-    module docstring).
-
-    Parameters
-    ----------
-    scene : Scene
-    build, handle_bytes : callable, optional
-        The backend's solver object for a new problem and its estimated bytes (see
-        :class:`ProblemCache`).
-    budget : float
-        Bytes the problems may hold (:data:`DEFAULT_PLAN_BUDGET`).
-
-    Attributes
-    ----------
-    C, K : (m, m) ndarray
-        Compliance and stiffness (dense).
-    Q, CQ : (N+1, m) ndarray
-        ``Q(t_k)`` and ``C Q(t_k)`` on the grid.
-    bound : (N+1, n) ndarray
-        ``f_i N_i(t_k)``, the friction limits.
-    contact : (N+1, n) bool ndarray
-        The nodes in contact at each grid instant.
-    set_of_step : (N+1,) int ndarray
-        Index of the contact set of each grid instant (the sets in order of first appearance).
-    problems : ProblemCache
-        The problems held (:meth:`problem` and :meth:`interior_problem` get them).
-    node_bounds, neg_CQ : list of ndarray
-        Per grid instant, for the nodes of its set: the limits (one per node) and ``-(C Q)_A``
-        (None where every node is separated).
-    separating : list
-        Per grid instant, the nodes that separate there (None if none).
-    force_scale, compliance_scale : float
-        ``s_F`` and ``c`` of the residuals (see :mod:`~lcpfric.backends.checks`).
-    """
-
-    def __init__(self, scene, build: Callable[[IncrementProblem], Any] | None = None,
-                 handle_bytes: Callable[[IncrementProblem], int] | None = None,
-                 budget: float = DEFAULT_PLAN_BUDGET):
-        system = scene.system
-        Q = np.asarray(scene.Q, dtype=float)
-        N = np.asarray(scene.N, dtype=float)
-        if not (np.all(np.isfinite(Q)) and np.all(np.isfinite(N))):
-            raise InputError("scene", "the tangential loads and normal reactions on the grid "
-                                      "must be finite; found NaN or inf")
-        self.n, self.m, self.dims = system.n, system.m, system.dims
-        self.C = np.ascontiguousarray(system.compliance_matrix(), dtype=float)
-        self.K = np.ascontiguousarray(system.dense_stiffness(), dtype=float)
-        self.Q = Q
-        self.CQ = Q @ self.C  # C symmetric: rows are C Q(t_k)
-        self.bound = N * system.friction
-        contact = np.asarray(scene.contact, dtype=bool)
-        keys: dict[bytes, int] = {}
-        set_of_step = np.empty(Q.shape[0], dtype=np.intp)
-        rows = []
-        for k, row in enumerate(contact):
-            key = row.tobytes()
-            if key not in keys:
-                keys[key] = len(keys)
-                rows.append(row)
-            set_of_step[k] = keys[key]
-        self.set_of_step = set_of_step
-        self.contact = contact
-        self.N = N
-        self.friction = np.asarray(system.friction, dtype=float)
-        self.diagonal = system.is_diagonal()
-        # per set: its row (None for the empty set) and key; per grid instant, vectors only
-        self._set_rows = [row if row.any() else None for row in rows]
-        self._set_keys = list(keys)
-        nodes = [np.flatnonzero(row) for row in rows]
-        dofs = [None if row.all() else set_dofs(idx, self.dims) for row, idx in zip(rows, nodes)]
-        self.node_bounds = [self.bound[k, nodes[s]] if nodes[s].size else None
-                            for k, s in enumerate(set_of_step)]
-        self.neg_CQ = [None if not nodes[s].size else
-                       -(self.CQ[k] if dofs[s] is None else self.CQ[k, dofs[s]])
-                       for k, s in enumerate(set_of_step)]
-        # per grid instant j, the nodes in contact at t_{j-1} that separate at t_j (None if none)
-        leaving = np.zeros_like(contact)
-        leaving[1:] = contact[:-1] & ~contact[1:]
-        self.separating = [row if row.any() else None for row in leaving]
-        self.problems = ProblemCache(self.C, self.n, self.dims, self.diagonal, build,
-                                     handle_bytes, budget)
-        scale = max(float(np.max(self.bound, initial=0.0)), float(np.max(np.abs(Q), initial=0.0)))
-        self.force_scale = scale if scale > 0 else 1.0
-        self.compliance_scale = float(np.max(np.diag(self.C)))
-
-    def problem(self, j: int) -> IncrementProblem | None:
-        """The problem of grid instant j (None where every node is separated)."""
-        s = self.set_of_step[j]
-        row = self._set_rows[s]
-        return None if row is None else self.problems.get(row, self._set_keys[s])
-
-    def interior_problem(self, k: int) -> IncrementProblem:
-        """The problem for an instant inside increment k: its nodes are those in contact at
-        either end (N > 0 over the open increment); the same object as a grid instant's when
-        the set is the same."""
-        return self.problems.get(self.contact[k] | self.contact[k + 1])

@@ -25,19 +25,38 @@ from .problem import IncrementProblem
 __all__ = ["refine_box", "refine_disc", "accept"]
 
 
-def refine_box(prob: IncrementProblem, F, q, b, delta: float, fscale: float, cscale: float,
-               max_iter: int = 8):
+def refine_box(prob: IncrementProblem, F: np.ndarray, q: np.ndarray, b: np.ndarray,
+               delta: float, fscale: float, cscale: float, max_iter: int = 8
+               ) -> tuple[np.ndarray, np.ndarray, dict[str, float]] | None:
     """Active-set refinement of a d = 1 answer (see the module docstring).
 
     Identify the limit nodes of ``F`` (``|F_i| >= b_i - delta``), solve the stick nodes exactly,
     and correct the identification until the KKT conditions hold.
 
+    Parameters
+    ----------
+    prob : IncrementProblem
+        The problem (P) of the contact set.
+    F : (a·d,) ndarray
+        The solver's answer, which identifies the active set.
+    q : (a·d,) ndarray
+        The linear term of (P), ``-(C F_tr)_A``.
+    b : (a,) ndarray
+        The friction limits f_i N_i of the set's nodes.
+    delta : float
+        The identification's margin δ (the backends' ``active_tol`` times ``fscale``).
+    fscale, cscale : float
+        Force and compliance scales (``s_F`` and ``c``) of the residuals, both > 0.
+    max_iter : int
+        Corrections of the identification tried before giving up.
+
     Returns
     -------
-    (F, stick, res) or None
-        The refined forces, the mask of the variables that stick (their slip is zero by
-        construction) and the residuals (as :func:`residuals`); None when no KKT point was
-        reached within ``max_iter`` corrections.
+    tuple or None
+        ``(F, stick, res)``: the refined forces, the mask of the variables that stick (their
+        slip is zero by construction) and the residuals (as
+        :func:`~lcpfric.backends.checks.residuals`); None when no KKT point was reached within
+        ``max_iter`` corrections.
     """
     at = np.abs(F) >= b - delta
     sb = np.copysign(b, F)
@@ -74,13 +93,14 @@ def refine_box(prob: IncrementProblem, F, q, b, delta: float, fscale: float, csc
     return None
 
 
-def refine_disc(prob: IncrementProblem, F, q, b, delta: float, fscale: float, cscale: float,
-                max_corrections: int = 4, max_newton: int = 30):
+def refine_disc(prob: IncrementProblem, F: np.ndarray, q: np.ndarray, b: np.ndarray,
+                delta: float, fscale: float, cscale: float, max_corrections: int = 4,
+                max_newton: int = 30) -> tuple[np.ndarray, np.ndarray, dict[str, float]] | None:
     """Active-set refinement of a d = 2 answer.
 
     The nodes with ``||F_i|| >= b_i - delta`` are put on their circle, ``F_i = b_i e_i`` with
     slip ``Δu_i = -λ_i F_i`` (λ_i >= 0), the others stick (``Δu_i = 0``); the resulting KKT
-    system of (P),
+    system of (P)::
 
         P F + q + Λ F = 0,   ½ (||F_i||² - b_i²) = 0 on the limit nodes   (Λ = diag λ_i there),
 
@@ -88,10 +108,31 @@ def refine_disc(prob: IncrementProblem, F, q, b, delta: float, fscale: float, cs
     matrix ``[[P + Λ, E], [Eᵀ, 0]]``, E holding the limit nodes' forces), and the identification
     is corrected (λ_i < 0 -> stick, ``||F_i|| > b_i`` -> limit) until the conditions hold.
 
+    Parameters
+    ----------
+    prob : IncrementProblem
+        The problem (P) of the contact set.
+    F : (2a,) ndarray
+        The solver's answer, which identifies the active set.
+    q : (2a,) ndarray
+        The linear term of (P), ``-(C F_tr)_A``.
+    b : (a,) ndarray
+        The friction limits f_i N_i of the set's nodes.
+    delta : float
+        The identification's margin δ (the backends' ``active_tol`` times ``fscale``).
+    fscale, cscale : float
+        Force and compliance scales (``s_F`` and ``c``) of the residuals, both > 0.
+    max_corrections : int
+        Corrections of the identification tried before giving up.
+    max_newton : int
+        Newton iterations per identification.
+
     Returns
     -------
-    (F, g, res) or None
-        As :func:`refine_box`.
+    tuple or None
+        ``(F, stick, res)`` as :func:`refine_box` (``stick`` per variable, both of a node's
+        entries alike); None when no KKT point was reached within ``max_corrections``
+        corrections, or the KKT matrix was singular.
     """
     import scipy.sparse as sp
 
@@ -148,20 +189,44 @@ def refine_disc(prob: IncrementProblem, F, q, b, delta: float, fscale: float, cs
     return None
 
 
-def accept(prob, F, q, b, *, refine: bool, active_tol: float, check_tol: float,
-           fscale: float, cscale: float):
+def accept(prob: IncrementProblem, F: np.ndarray, q: np.ndarray, b: np.ndarray, *,
+           refine: bool, active_tol: float, check_tol: float, fscale: float, cscale: float
+           ) -> tuple[np.ndarray | None, np.ndarray | None, dict[str, float], str]:
     """Accept a solver's answer ``F`` of ``prob`` (linear term ``q``, limits ``b``).
 
     With ``refine`` the answer identifies the active set and the refined point
     (:mod:`~lcpfric.backends.refine`) is used if it passes the residual check; otherwise the
     solver's own answer must pass on its own.
 
+    Parameters
+    ----------
+    prob : IncrementProblem
+        The problem (P) of the contact set (d = 1 is refined on the box, d = 2 on the discs).
+    F : (a·d,) ndarray
+        The solver's answer.
+    q : (a·d,) ndarray
+        The linear term of (P), ``-(C F_tr)_A``.
+    b : (a,) ndarray
+        The friction limits f_i N_i of the set's nodes.
+    refine : bool
+        Try the active-set refinement first.
+    active_tol : float
+        δ / s_F of the identification (:func:`refine_box`, :func:`refine_disc`).
+    check_tol : float
+        Largest residual accepted (relative, as in :mod:`~lcpfric.backends.checks`).
+    fscale, cscale : float
+        Force and compliance scales (``s_F`` and ``c``), both > 0.
+
     Returns
     -------
-    (F, stick, res, kind)
-        The accepted forces (None when nothing passed), the mask of the variables that stick
-        exactly (None for an unrefined answer), the residuals, and ``"refined"``,
-        ``"unrefined"`` or ``"failed"``.
+    F : ndarray or None
+        The accepted forces (None when nothing passed).
+    stick : ndarray or None
+        The mask of the variables that stick exactly (None for an unrefined answer).
+    res : dict
+        The residuals of the accepted answer (of the solver's own answer when nothing passed).
+    kind : str
+        ``"refined"``, ``"unrefined"`` or ``"failed"``.
     """
     if refine:
         refine_fn = refine_box if prob.dims == 1 else refine_disc

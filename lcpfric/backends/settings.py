@@ -9,11 +9,15 @@ from typing import Any
 
 __all__ = ["TIGHT_SETTINGS", "CONIC_METHODS", "settings_for"]
 
+#: The methods that can express the d = 2 friction cone, in words: named by the error of a QP
+#: backend given a d = 2 system (:meth:`lcpfric.backends.ConvexStepper.check_system`).
 CONIC_METHODS = ("'clarabel', 'cvxpy:CLARABEL' (or 'cvxpy:ECOS', 'cvxpy:SCS'), or "
                  "'projection' for a diagonal K isotropic within each node")
 
-# Tight defaults per underlying solver, shared by the direct backends, qpsolvers and cvxpy.
-# Every entry overrides the solver's default; the comment says why.
+#: lcpfric's tight default settings per underlying solver (solver key -> settings), shared by
+#: the direct backends, qpsolvers and cvxpy; a key ending in ``_soc`` is added for d = 2
+#: problems. Every entry overrides the solver's default (the source comment says why), and a
+#: user's settings override these in turn (:func:`settings_for`).
 TIGHT_SETTINGS: dict[str, dict[str, Any]] = {
     "clarabel": {
         # at the default 1e-8 a one-variable projection is off by ~2e-5; 1e-12 gives ~1e-8
@@ -61,9 +65,24 @@ TIGHT_SETTINGS: dict[str, dict[str, Any]] = {
 }
 
 
-def settings_for(key: str, dims: int, user: dict) -> dict:
-    """The settings of solver ``key`` for problems with d = ``dims``: the tight defaults (with
-    their ``_soc`` variant for d = 2), then the user's."""
+def settings_for(key: str, dims: int, user: dict[str, Any]) -> dict[str, Any]:
+    """The settings of solver ``key`` for problems with d = ``dims``.
+
+    Parameters
+    ----------
+    key : str
+        The solver's entry in :data:`TIGHT_SETTINGS` (none: no tight defaults).
+    dims : int
+        d of the problems, 1 or 2 (2 adds the ``_soc`` variant of the tight defaults).
+    user : dict
+        The user's settings, which override the tight defaults.
+
+    Returns
+    -------
+    dict
+        A new dict: the tight defaults (with their ``_soc`` variant for d = 2), then the
+        user's.
+    """
     out = dict(TIGHT_SETTINGS.get(key, {}))
     if dims == 2:
         out.update(TIGHT_SETTINGS.get(key + "_soc", {}))

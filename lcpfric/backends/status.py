@@ -10,14 +10,30 @@ from __future__ import annotations
 __all__ = ["SOLVED", "INACCURATE", "INFEASIBLE", "MAX_ITER", "TIME_LIMIT", "NUMERICAL",
            "UNKNOWN", "ADVICE", "advice"]
 
+#: Outcome ``"solved"``: the solver reports the problem solved to its tolerances; the only
+#: outcome accepted (the answer is then checked by :mod:`lcpfric.backends.checks`).
 SOLVED = "solved"
+#: Outcome ``"inaccurate"``: the solver reached only its reduced accuracy (Clarabel's
+#: ``AlmostSolved``, OSQP's ``solved inaccurate``); raises :class:`~lcpfric.errors.SolverError`.
 INACCURATE = "inaccurate"
+#: Outcome ``"infeasible"``: the solver reports the step primal or dual infeasible, which a
+#: consistent scene never is; raises :class:`~lcpfric.errors.SolverError`.
 INFEASIBLE = "infeasible"
+#: Outcome ``"max_iter"``: the solver stopped at its iteration limit; raises
+#: :class:`~lcpfric.errors.SolverError`.
 MAX_ITER = "max_iter"
+#: Outcome ``"time_limit"``: the solver stopped at its time limit; raises
+#: :class:`~lcpfric.errors.SolverError`.
 TIME_LIMIT = "time_limit"
+#: Outcome ``"numerical"``: the solver ran into numerical trouble; raises
+#: :class:`~lcpfric.errors.SolverError`.
 NUMERICAL = "numerical"
+#: Outcome ``"unknown"``: a status the backend's ``STATUS_MAP`` does not list; raises
+#: :class:`~lcpfric.errors.SolverError`.
 UNKNOWN = "unknown"
 
+#: What to do about each outcome other than :data:`SOLVED` (outcome -> advice), appended to the
+#: message of the :class:`~lcpfric.errors.SolverError` it raises.
 ADVICE = {
     INACCURATE: "the solver reached only its reduced accuracy; tighten or rescale, or try "
                 "another backend",
@@ -35,5 +51,18 @@ ADVICE = {
 
 
 def advice(category: str) -> str:
-    """What to do about an outcome (the advice of UNKNOWN for an unknown category)."""
+    """What to do about an outcome (the advice of :data:`UNKNOWN` for an unknown category).
+
+    Parameters
+    ----------
+    category : str
+        One of lcpfric's outcomes (:data:`INACCURATE`, :data:`MAX_ITER`, ...), as a backend's
+        ``STATUS_MAP`` gives it; any other string is treated as :data:`UNKNOWN`.
+
+    Returns
+    -------
+    str
+        The advice, in words, that ends the message of the
+        :class:`~lcpfric.errors.SolverError` of a step with that outcome.
+    """
     return ADVICE.get(category, ADVICE[UNKNOWN])

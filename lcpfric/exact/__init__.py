@@ -99,7 +99,7 @@ vectorized paths alike: the result is within 1e-9 relative of the exact Ŵ, howe
 Where Ŵ is ill-conditioned — next to the border of a zero régime (shakedown, or Q̂1 = P̂1 at
 φ = 0 or π), and next to P̂1 = 1 with Q̂1 ≲ 1e-4, where the minimum of L is below the round-off
 of P̂ — the error is within the change of the exact Ŵ when the inputs move by 16 units of
-round-off (relative for P̂1 and Q̂1, absolute 16 eps max(1, |φ|) for φ): the answer is exact
+round-off (relative for P̂1 and Q̂1, absolute ``16 eps max(1, |φ|)`` for φ): the answer is exact
 for inputs indistinguishable from the given ones. Results in the subnormal range (below
 2.2e-308) carry the absolute error of that range.
 """

@@ -4,6 +4,7 @@ point, with its segments)."""
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -14,6 +15,9 @@ from dataclasses import dataclass
 
 from .. import _checks
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 
 # -- public entry points ------------------------------------------------------------------------
@@ -49,8 +53,11 @@ def _scalar_error(P1, Q1, phi):
     raise AssertionError("unreachable: the fast path refused valid input")  # pragma: no cover
 
 
-def exact_W_hat(P1, Q1, phi):
+def exact_W_hat(P1: ArrayLike, Q1: ArrayLike, phi: ArrayLike) -> float | np.ndarray:
     """Exact steady-state Ŵ for arrays of (P̂1, Q̂1, φ), broadcast together.
+
+    The single node's periodic orbit is entered in one step and its events computed in closed
+    form, all points of a grid together (see :mod:`lcpfric.exact`).
 
     Parameters
     ----------
@@ -59,18 +66,34 @@ def exact_W_hat(P1, Q1, phi):
     phi : float or array_like
         φ in radians, any finite value.
 
-    Raises :class:`~lcpfric.errors.InputError` (naming the parameter) for anything else: NaN,
-    inf, negative amplitudes, strings, booleans.
+    Returns
+    -------
+    float or ndarray
+        Ŵ >= 0, the dissipation per cycle in the units of Eq. (6): a float for scalar input,
+        else an array of the broadcast shape.
 
+    Raises
+    ------
+    lcpfric.errors.InputError
+        Naming the parameter, for anything else: NaN, inf, negative amplitudes, amplitudes
+        over :data:`~lcpfric.exact.MAX_AMPLITUDE`, strings, booleans; or shapes that do not
+        broadcast together.
+
+    Notes
+    -----
     Accuracy: within 1e-9 relative of the exact Ŵ, however small Ŵ is (worst 1.5e-12 measured
     over 20000 points from 1e-20 to 1e20, see the module docstring), except where Ŵ itself is
     ill-conditioned: next to the border of a zero régime (shakedown, or Q̂1 = P̂1 at φ = 0 or π),
     or next to P̂1 = 1 with small Q̂1. There the error is within the change of the exact Ŵ when
     the inputs move by 16 units of round-off.
 
-    Returns
-    -------
-    ndarray (or float for scalar input)
+    Examples
+    --------
+    >>> from lcpfric.exact import exact_W_hat
+    >>> round(exact_W_hat(0.5, 2.0, 0.0), 12)
+    1.866666666667
+    >>> exact_W_hat([0.5, 0.5], 0.0, 0.0).tolist()
+    [0.0, 0.0]
     """
     if type(P1) in _FAST_TYPES and type(Q1) in _FAST_TYPES and type(phi) in _FAST_TYPES:
         try:
@@ -101,8 +124,27 @@ def exact_W_hat(P1, Q1, phi):
 class ExactCycle:
     """The exact steady cycle of one point, as segments in θ = ωt.
 
-    ``segments`` is a tuple of ``(theta_start, theta_end, state, w_start)``; ``W_hat`` the
-    dissipation per cycle.
+    Made by :func:`exact_cycle`, which checks the inputs; the constructor does not.
+
+    Parameters
+    ----------
+    P1, Q1 : float
+        P̂1 and Q̂1.
+    phi : float
+        φ, reduced to ``[0, 2π)``.
+    W_hat : float
+        Ŵ, the dissipation per cycle (>= 0).
+    segments : tuple
+        The segments of the cycle in order, each ``(theta_start, theta_end, state,
+        w_start)``: the angles (rad) where it starts and ends, the node's state
+        (:data:`~lcpfric.exact.STICK`, :data:`~lcpfric.exact.FORWARD`,
+        :data:`~lcpfric.exact.BACKWARD`, :data:`~lcpfric.exact.SEPARATION`) and w at its
+        start (NaN for a separation). Together they cover one period.
+
+    Attributes
+    ----------
+    P1, Q1, phi, W_hat, segments
+        The parameters, as given.
     """
 
     P1: float
@@ -123,12 +165,36 @@ class ExactCycle:
                       self._starts.size - 1)
         return x, idx
 
-    def state(self, theta):
-        """The state (STICK, FORWARD, BACKWARD, SEPARATION) at the angles ``theta``."""
+    def state(self, theta: ArrayLike) -> np.ndarray | np.int8:
+        """The state (STICK, FORWARD, BACKWARD, SEPARATION) at the angles ``theta``.
+
+        Parameters
+        ----------
+        theta : float or array_like
+            Angles θ = ωt in radians, any real values (the cycle repeats with period 2π).
+
+        Returns
+        -------
+        ndarray of int8, or numpy.int8
+            The states, in the shape of ``theta`` (a numpy scalar for a scalar); at a
+            segment's start angle, that segment's state.
+        """
         return self._states[self._locate(theta)[1]]
 
-    def w(self, theta):
-        """w = F̂ - Q̂ = Q̂1 v̂ at the angles ``theta`` (any real values)."""
+    def w(self, theta: ArrayLike) -> np.ndarray:
+        """The tangential displacement ``w = F̂ - Q̂ = Q̂1 v̂`` at the angles ``theta``.
+
+        Parameters
+        ----------
+        theta : float or array_like
+            Angles θ = ωt in radians, any real values (the cycle repeats with period 2π).
+
+        Returns
+        -------
+        ndarray
+            The values of w, in the shape of ``theta`` (a 0-d array for a scalar): constant while the node
+            sticks, ``∓L - Q̂`` while it slips forward / backward, ``-Q̂`` while separated.
+        """
         x, idx = self._locate(theta)
         st = self._states[idx]
         L = np.maximum(1.0 + self.P1 * np.sin(x), 0.0)
@@ -143,6 +209,33 @@ def exact_cycle(P1: float, Q1: float, phi: float) -> ExactCycle:
     """The exact steady cycle of one point, with its segments (for time series and plots).
 
     Inputs are checked as in :func:`exact_W_hat`; one point only.
+
+    Parameters
+    ----------
+    P1, Q1 : float
+        P̂1 and Q̂1, in ``[0, MAX_AMPLITUDE]`` (1e300). With Q̂1 = 0 nothing slips and w stays
+        at 0.
+    phi : float
+        φ in radians, any finite value.
+
+    Returns
+    -------
+    ExactCycle
+        The cycle: Ŵ (as :func:`exact_W_hat`) and its segments.
+
+    Raises
+    ------
+    lcpfric.errors.InputError
+        An input :func:`exact_W_hat` refuses, or arrays of more than one point.
+
+    Examples
+    --------
+    >>> from lcpfric.exact import exact_cycle
+    >>> cyc = exact_cycle(0.5, 2.0, 0.0)
+    >>> round(cyc.W_hat, 12)
+    1.866666666667
+    >>> cyc.state([0.0, 3.0, 4.0]).tolist()  # backward slip, stick, forward slip
+    [2, 0, 1]
     """
     p, q, f, sf, cf, _ = _validated(P1, Q1, phi)
     if p.size != 1:

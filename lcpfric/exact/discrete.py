@@ -30,14 +30,14 @@ LCP (:func:`lcpfric.steppers.rates.slip_rates`, the explicit stepper's too, with
 load rates at the event). The common case, one node changing state, is first tried as a guess
 (the node that reached its limit slips, the node whose rate vanished sticks) and accepted when
 the rates of the new pattern satisfy the LCP's conditions at the event; that is the LCP's unique
-solution, at O(n²) instead of O(|B|³). Degenerate instants, where the first-order rates leave a
+solution, at O(n²) instead of ``O(|B|³)``. Degenerate instants, where the first-order rates leave a
 tie (a node touching its limit with zero margin rate), are resolved by the LCP with the load
 rates a little after the event; an instant that still does not settle raises
 :class:`~lcpfric.errors.SolverError` naming the nodes and their states, never a hang.
 
 The inverse ``G = K_BB⁻¹`` is updated by bordering when a node joins B and by a rank-one
-downdate when it leaves (O(|B|²) each), and refactorized after max(32, |B|) updates or whenever
-the equilibrium residual of the new pattern exceeds 1e-10 of the force scale.
+downdate when it leaves (``O(|B|²)`` each), and refactorized after ``max(32, |B|)`` updates or
+whenever the equilibrium residual of the new pattern exceeds 1e-10 of the force scale.
 
 Tolerances
 ----------
@@ -78,6 +78,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -87,6 +88,9 @@ from ..periodic.measure import cycle_change
 from ..results import State
 from .events import EventSolver
 from .triples import TWO_PI, harmonic_triples, next_entry, segment_dissipation, value
+
+if TYPE_CHECKING:
+    from ..model import ContactSystem
 
 __all__ = ["DiscreteCycle", "harmonic_triples", "next_entry", "segment_dissipation",
            "exact_system_cycle", "check_system"]
@@ -185,26 +189,52 @@ def check_system(system):
     return omega, Qt, Pt
 
 
-def exact_system_cycle(system, samples: int = 2000, *, tol: float = 1e-12,
+def exact_system_cycle(system: ContactSystem, samples: int = 2000, *, tol: float = 1e-12,
                        max_cycles: int = 200, max_events: int | None = None) -> DiscreteCycle:
-    """The exact periodic steady state of a :class:`~lcpfric.model.ContactSystem` (d = 1,
-    harmonic loads of one frequency, independent normal springs).
+    """The exact periodic steady state of a :class:`~lcpfric.model.ContactSystem`.
+
+    For d = 1, harmonic loads of one frequency and independent normal springs. Event by event within a cycle, Newton's method on the cycle map between cycles (see the
+    module docstring). ``steady_state(system, method="exact")`` calls it.
 
     Parameters
     ----------
     system : ContactSystem
+        The system: d = 1, any symmetric positive definite K (dense or sparse),
+        :class:`~lcpfric.model.IndependentSprings` normal model, every tangential and normal
+        load harmonic (``Harmonic`` or a one-term ``Fourier``) at the one frequency ω.
     samples : int
         The steady cycle is sampled at ``samples + 1`` equally spaced instants (W does not
-        depend on it).
+        depend on it), ``samples >= 4``.
     tol : float
-        Periodicity: the start displacements of two successive cycles agree to ``tol`` of the
-        largest displacement range over the cycle (at least ``max |Q1| / min K_ii``), or to the
-        round-off ``100 eps cond(K) max(|u|, max f N / min K_ii)`` if that is larger.
+        Periodicity, > 0: the start displacements of two successive cycles agree to ``tol`` of
+        the largest displacement range over the cycle (at least ``max |Q1| / min K_ii``), or to
+        the round-off ``100 eps cond(K) max(|u|, max f N / min K_ii)`` if that is larger.
     max_cycles : int
-        Cap on the cycles; reaching it raises :class:`~lcpfric.errors.ConvergenceError`.
+        Cap on the cycles, >= 1; reaching it raises
+        :class:`~lcpfric.errors.ConvergenceError`.
     max_events : int, optional
         Cap on the events of one cycle (default 200 n + 1000); reaching it raises
         :class:`~lcpfric.errors.SolverError` naming the state.
+
+    Returns
+    -------
+    DiscreteCycle
+        W per cycle (model units), the W of every cycle run, the cycles and events, and the
+        steady cycle sampled at ``samples + 1`` angles.
+
+    Raises
+    ------
+    lcpfric.errors.InputError
+        A system ``exact`` cannot solve (not a ContactSystem, d = 2, another normal model,
+        loads that are not harmonic or not of one frequency), ``samples``, ``tol`` or
+        ``max_cycles`` out of range, or dense n x n matrices over the memory limit
+        (:mod:`lcpfric.memory`).
+    lcpfric.errors.ConvergenceError
+        No periodic steady state after ``max_cycles`` cycles.
+    lcpfric.errors.SolverError
+        More than ``max_events`` events in one cycle, an instant whose pattern does not
+        settle, a pattern whose equilibrium residual exceeds the tolerance, or a ``K_BB``
+        that is not positive definite.
     """
     start = time.perf_counter()
     omega, Qt, Pt = check_system(system)

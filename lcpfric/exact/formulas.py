@@ -12,7 +12,10 @@ from dataclasses import dataclass
 
 from ..results import State
 
-# node states as plain ints (the scalar loops compare them millions of times)
+#: A node's states as plain ints, the values of :class:`lcpfric.results.State`: ``STICK = 0``,
+#: ``FORWARD = 1`` (forward slip), ``BACKWARD = 2`` (backward slip), ``SEPARATION = 3``; the
+#: states of :class:`~lcpfric.exact.ExactCycle`'s segments (plain ints: the scalar loops compare
+#: them millions of times).
 STICK, FORWARD, BACKWARD, SEPARATION = (int(s) for s in State)
 AFTER_FORWARD, AFTER_BACKWARD, RECONTACT = 0, 1, 2
 
@@ -22,7 +25,9 @@ MAX_EVENTS = 64  # a harmonic cycle has at most ~10 segments; this only guards a
 # event angles are near 10 rad: crossings closer than this to each other are not resolved in θ
 TIE = 8 * np.finfo(float).eps * 4 * math.pi
 S_RANGE = HALF_PI + 1e-6  # the s-form is used for crossings within π/2 of separation
-MAX_AMPLITUDE = 1e300  # P̂1, Q̂1 above this could overflow intermediate products: refused
+#: The largest P̂1 and Q̂1 the exact solution accepts, 1e300: above it intermediate products
+#: could overflow, so larger amplitudes are refused (:class:`~lcpfric.errors.InputError`).
+MAX_AMPLITUDE = 1e300
 
 
 def mod0(x):

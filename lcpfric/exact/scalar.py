@@ -18,7 +18,7 @@ def _slip_integral_scalar(a, b, P1, Q1, phi, sphi, cphi, L_a, L_b, sign, R, alph
     T = abs(one_m_P1) + 4.0 * P1
     direct = (R - Q1) * T * (2.0 * h) < 0.5 * (L_a * L_a + L_b * L_b)
     if direct:
-        phi, sphi, cphi = alpha, salpha, calpha
+        sphi, cphi = salpha, calpha
     m = 0.5 * (a + b) - 1.5 * math.pi
     sh, sm, cm = math.sin(h), math.sin(m), math.cos(m)
     Vh = 2.0 * math.sin(0.5 * h) ** 2

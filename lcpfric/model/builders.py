@@ -12,6 +12,8 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from .. import _checks
@@ -21,12 +23,45 @@ from .normal import IndependentSprings
 from .single_node import SingleNode
 from .system import ContactSystem
 
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    import scipy.sparse
+    from numpy.typing import ArrayLike
+
 __all__ = ["chain", "chain_stiffness", "block_diagonal"]
 
 
 def chain_stiffness(n: int, k_coupling: float = 1.0, k_ground: float = 1.0, dims: int = 1,
-                    sparse: bool = False):
-    """The (n·d x n·d) stiffness of a chain: ``(k_ground I + k_coupling L) ⊗ I_d``."""
+                    sparse: bool = False) -> np.ndarray | scipy.sparse.csc_matrix:
+    """The (n·d x n·d) stiffness of a chain: ``(k_ground I + k_coupling L) ⊗ I_d``.
+
+    L is the path graph's Laplacian (tridiagonal ``[-1, 2, -1]``, 1 at the ends; zero for a
+    single node), so K is symmetric positive definite.
+
+    Parameters
+    ----------
+    n : int
+        Number of nodes, >= 1.
+    k_coupling : float, optional
+        Spring between neighbours, >= 0.
+    k_ground : float, optional
+        Spring from each node to the ground, > 0.
+    dims : int, optional
+        Tangential directions per node, 1 or 2.
+    sparse : bool, optional
+        Return a scipy.sparse CSC matrix instead of a dense array.
+
+    Returns
+    -------
+    ndarray or scipy.sparse.csc_matrix
+        K, (n·d, n·d).
+
+    Raises
+    ------
+    InputError
+        ``n``, ``k_coupling``, ``k_ground`` or ``dims`` out of range.
+    """
     import scipy.sparse as sp
 
     n = _checks.positive_int("n", n)
@@ -46,9 +81,11 @@ def chain_stiffness(n: int, k_coupling: float = 1.0, k_ground: float = 1.0, dims
     return K if sparse else K.toarray()
 
 
-def chain(n: int, *, k_coupling: float = 1.0, k_ground: float = 1.0, friction=1.0,
-          normal_loads=None, tangential_loads=None, P0=1.0, P1=0.0, Q1=0.0, phi=0.0,
-          normal_phase=0.0, omega: float = 1.0, dims: int = 1,
+def chain(n: int, *, k_coupling: float = 1.0, k_ground: float = 1.0,
+          friction: ArrayLike = 1.0, normal_loads: Sequence[Load] | None = None,
+          tangential_loads: Sequence[Load] | None = None, P0: ArrayLike = 1.0,
+          P1: ArrayLike = 0.0, Q1: ArrayLike = 0.0, phi: ArrayLike = 0.0,
+          normal_phase: ArrayLike = 0.0, omega: float = 1.0, dims: int = 1,
           sparse: bool = False) -> ContactSystem:
     """A chain of n contact nodes with coupled tangential stiffness.
 
@@ -70,9 +107,10 @@ def chain(n: int, *, k_coupling: float = 1.0, k_ground: float = 1.0, friction=1.
     tangential_loads : sequence of n·d Load, optional
         Q(t) node by node; replaces Q1, phi.
     P0, P1, Q1, phi, normal_phase : float or array_like
-        Harmonic loads (see above).
+        Harmonic loads (see above): finite; P1 and Q1 >= 0. P0 and P1 a scalar or one value
+        per node; Q1 and phi a scalar, n values or (for d = 2) an (n, 2) array.
     omega : float
-        Angular frequency of the harmonic loads.
+        Angular frequency of the harmonic loads, > 0.
     dims : int
         Tangential directions per node, 1 or 2.
     sparse : bool
@@ -81,6 +119,13 @@ def chain(n: int, *, k_coupling: float = 1.0, k_ground: float = 1.0, friction=1.
     Returns
     -------
     ContactSystem
+        The chain, with :class:`~lcpfric.model.IndependentSprings` normal loads.
+
+    Raises
+    ------
+    InputError
+        A parameter out of range, of the wrong shape, or loads that are not Load objects or do
+        not share one period.
 
     Examples
     --------
@@ -110,7 +155,7 @@ def chain(n: int, *, k_coupling: float = 1.0, k_ground: float = 1.0, friction=1.
     return ContactSystem(K, f, tangential_loads, IndependentSprings(normal_loads), dims=dims)
 
 
-def block_diagonal(nodes) -> ContactSystem:
+def block_diagonal(nodes: Sequence[SingleNode | ContactSystem]) -> ContactSystem:
     """Stack independent systems into one with a block-diagonal K.
 
     Parameters
@@ -123,6 +168,14 @@ def block_diagonal(nodes) -> ContactSystem:
     Returns
     -------
     ContactSystem
+        The stacked system: K block diagonal (dense up to 2000 unknowns, else CSC sparse),
+        the friction coefficients and loads of the systems one after the other.
+
+    Raises
+    ------
+    InputError
+        ``nodes`` empty or not all SingleNode or ContactSystem, systems with different d, or
+        loads that do not share one period.
     """
     import scipy.sparse as sp
 

@@ -16,12 +16,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
 from .. import _checks
 from ..errors import InputError
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 __all__ = ["Load", "Harmonic", "Fourier", "Periodic", "LoadSet"]
 
@@ -34,33 +37,61 @@ class Load:
     Subclasses define ``period``, ``mean``, ``__call__`` (vectorized over ``t``) and
     ``derivative``; the base class provides the amplitude, zero crossings and extrema by sampling
     and root polishing, which subclasses with closed forms override.
+
+    Called with times, a load returns its values in their shape (a float for a scalar time).
+
+    Attributes
+    ----------
+    period, mean : float
+        The period T > 0 and the constant part (P0 or Q0 of Eq. 1).
+    amplitude, is_constant
+        Properties (below).
     """
 
     period: float
     mean: float
     _samples = 4096  # samples per period for the numerical searches; smooth loads need no more
 
-    def __call__(self, t):  # pragma: no cover - abstract
+    def __call__(self, t: ArrayLike) -> float | np.ndarray:  # pragma: no cover - abstract
         raise NotImplementedError
 
-    def derivative(self, t):
-        """dx/dt; by central differences unless a subclass knows it in closed form."""
+    def derivative(self, t: ArrayLike) -> float | np.ndarray:
+        """dx/dt; by central differences unless a subclass knows it in closed form.
+
+        Parameters
+        ----------
+        t : float or array_like
+            Times.
+
+        Returns
+        -------
+        float or ndarray
+            dx/dt at each time, the shape of ``t``.
+        """
         t = np.asarray(t, dtype=float)
         h = 1e-6 * self.period
         return (self(t + h) - self(t - h)) / (2 * h)
 
     @property
     def is_constant(self) -> bool:
+        """Whether the load does not vary: its amplitude is zero."""
         return self.amplitude == 0.0
 
     @property
     def amplitude(self) -> float:
-        """max over a cycle of |x(t) - mean|: the normalization amplitude (Q1, P1 for Eq. 1)."""
+        """Max over a cycle of ``|x(t) - mean|``: the normalization amplitude (Q1, P1 for Eq. 1)."""
         t = np.linspace(0.0, self.period, self._samples, endpoint=False)
         return float(np.max(np.abs(self(t) - self.mean)))
 
     def extrema(self) -> tuple[float, float]:
-        """(min, max) of x over a cycle, polished with a bounded scalar search."""
+        """(min, max) of x over a cycle, polished with a bounded scalar search.
+
+        Returns
+        -------
+        min, max : float
+            The smallest and largest value of x over a cycle (the best of 4096 samples per
+            period, polished by :func:`scipy.optimize.minimize_scalar` around it).
+        """
         from scipy.optimize import minimize_scalar
 
         t = np.linspace(0.0, self.period, self._samples, endpoint=False)
@@ -75,7 +106,19 @@ class Load:
         return float(out[0]), float(out[1])
 
     def zeros(self, t0: float, t1: float) -> np.ndarray:
-        """Instants in (t0, t1) where x changes sign, sorted, to machine precision."""
+        """Instants in (t0, t1) where x changes sign, sorted, to machine precision.
+
+        Parameters
+        ----------
+        t0, t1 : float
+            The open interval searched, ``t0 < t1``.
+
+        Returns
+        -------
+        ndarray
+            The sorted instants, 1-D (sampled, 4096 per period, and polished by Brent's method
+            :func:`scipy.optimize.brentq`; empty when x keeps its sign).
+        """
         n = max(16, int(math.ceil(self._samples * (t1 - t0) / self.period)))
         t = np.linspace(t0, t1, n + 1)
         x = self(t)
@@ -92,8 +135,19 @@ class Load:
                                 rtol=4 * np.finfo(float).eps))
         return np.asarray(sorted(r for r in roots if t0 < r < t1), dtype=float)
 
-    def scaled(self, factor: float) -> "Load":
-        """The load ``factor * x(t)``."""
+    def scaled(self, factor: float) -> Load:
+        """The load ``factor * x(t)``.
+
+        Parameters
+        ----------
+        factor : float
+            The scale factor.
+
+        Returns
+        -------
+        Periodic
+            ``factor * x(t)``, with mean ``factor * mean`` and derivative ``factor * dx/dt``.
+        """
         return Periodic(lambda t, f=self, c=factor: c * f(t), self.period,
                         mean=factor * self.mean,
                         derivative=lambda t, f=self, c=factor: c * f.derivative(t))
@@ -114,6 +168,17 @@ class Fourier(Load):
         ``ψ_k`` in radians, same length as ``amplitudes``.
     omega : float
         The fundamental angular frequency ω > 0; the period is 2π/ω.
+
+    Attributes
+    ----------
+    mean, amplitudes, phases, omega
+        As given (``amplitudes`` and ``phases`` as tuples of float); ``period`` and
+        ``amplitude`` are properties (below).
+
+    Raises
+    ------
+    InputError
+        A value not finite, a negative amplitude, not one phase per amplitude, or ω <= 0.
     """
 
     mean: float = 0.0
@@ -135,9 +200,10 @@ class Fourier(Load):
 
     @property
     def period(self) -> float:
+        """The period 2π/ω."""
         return TWO_PI / self.omega
 
-    def __call__(self, t):
+    def __call__(self, t: ArrayLike) -> float | np.ndarray:
         t = np.asarray(t, dtype=float)
         x = np.full(t.shape, self.mean)
         for k, (a, p) in enumerate(zip(self.amplitudes, self.phases), start=1):
@@ -145,7 +211,19 @@ class Fourier(Load):
                 x = x + a * np.sin(k * self.omega * t + p)
         return x if x.ndim else float(x)
 
-    def derivative(self, t):
+    def derivative(self, t: ArrayLike) -> float | np.ndarray:
+        """dx/dt in closed form, ``sum_k a_k k ω cos(k ω t + ψ_k)``.
+
+        Parameters
+        ----------
+        t : float or array_like
+            Times.
+
+        Returns
+        -------
+        float or ndarray
+            dx/dt at each time, the shape of ``t``.
+        """
         t = np.asarray(t, dtype=float)
         dx = np.zeros(t.shape)
         for k, (a, p) in enumerate(zip(self.amplitudes, self.phases), start=1):
@@ -155,6 +233,7 @@ class Fourier(Load):
 
     @property
     def amplitude(self) -> float:
+        """Max over a cycle of ``|x(t) - mean|``: the one nonzero ``a_k``, else by sampling."""
         nonzero = [a for a in self.amplitudes if a]
         if not nonzero:
             return 0.0
@@ -164,20 +243,44 @@ class Fourier(Load):
 
 
 class Harmonic(Fourier):
-    """The harmonic load of Eq. (1): ``x(t) = mean + amplitude sin(ω t + phase)``."""
+    """The harmonic load of Eq. (1): ``x(t) = mean + amplitude sin(ω t + phase)``.
+
+    Parameters
+    ----------
+    mean : float, optional
+        The constant part (P0 or Q0), finite.
+    amplitude : float, optional
+        The amplitude (P1 or Q1), >= 0.
+    phase : float, optional
+        The phase in radians (φ for Q of Eq. 1), finite.
+    omega : float, optional
+        The angular frequency ω > 0; the period is 2π/ω.
+
+    Attributes
+    ----------
+    mean, amplitude, phase, omega, period : float
+        As given (``period`` = 2π/ω).
+
+    Raises
+    ------
+    InputError
+        A parameter out of range or not finite.
+    """
 
     def __init__(self, mean: float = 0.0, amplitude: float = 0.0, phase: float = 0.0,
-                 omega: float = 1.0):
+                 omega: float = 1.0) -> None:
         amplitude = _checks.nonnegative("amplitude", amplitude)
         super().__init__(mean=mean, amplitudes=(amplitude,), phases=(_checks.finite("phase", phase),),
                          omega=omega)
 
     @property
     def phase(self) -> float:
+        """The phase ψ in radians."""
         return self.phases[0]
 
     @property
     def amplitude(self) -> float:
+        """The amplitude (P1 or Q1)."""
         return self.amplitudes[0]
 
     def __repr__(self) -> str:
@@ -185,10 +288,28 @@ class Harmonic(Fourier):
                 f"phase={self.phase!r}, omega={self.omega!r})")
 
     def extrema(self) -> tuple[float, float]:
+        """(min, max) of x over a cycle, in closed form.
+
+        Returns
+        -------
+        min, max : float
+            ``mean - amplitude`` and ``mean + amplitude``.
+        """
         return self.mean - self.amplitude, self.mean + self.amplitude
 
     def zeros(self, t0: float, t1: float) -> np.ndarray:
-        """Closed-form sign changes: mean + a sin(ωt + ψ) = 0."""
+        """Closed-form sign changes: mean + a sin(ωt + ψ) = 0 (a tangency is not one).
+
+        Parameters
+        ----------
+        t0, t1 : float
+            The open interval searched, ``t0 < t1``.
+
+        Returns
+        -------
+        ndarray
+            The sorted instants in (t0, t1), 1-D (empty when x keeps its sign).
+        """
         a, m = self.amplitude, self.mean
         if a == 0.0 or abs(m) >= a:
             return np.empty(0)  # no crossing (a tangency at |m| == a is not a sign change)
@@ -218,10 +339,21 @@ class Periodic(Load):
         average when omitted.
     derivative : callable, optional
         ``dfunc/dt``; central differences are used when omitted.
+
+    Attributes
+    ----------
+    func, period, mean, derivative_func
+        As given (``derivative_func``: the ``derivative``; ``mean`` computed when omitted).
+
+    Raises
+    ------
+    InputError
+        ``func`` not callable or (when ``mean`` is omitted) not returning finite values of the
+        shape of its argument; ``period`` <= 0; ``mean`` not finite.
     """
 
     def __init__(self, func: Callable, period: float, mean: float | None = None,
-                 derivative: Callable | None = None):
+                 derivative: Callable | None = None) -> None:
         if not callable(func):
             raise InputError("func", "must be a callable func(t) returning an array")
         self.func = func
@@ -239,12 +371,24 @@ class Periodic(Load):
     def __repr__(self) -> str:
         return f"Periodic({self.func!r}, period={self.period!r}, mean={self.mean!r})"
 
-    def __call__(self, t):
+    def __call__(self, t: ArrayLike) -> float | np.ndarray:
         t = np.asarray(t, dtype=float)
         x = np.asarray(self.func(t), dtype=float)
         return x if x.ndim else float(x)
 
-    def derivative(self, t):
+    def derivative(self, t: ArrayLike) -> float | np.ndarray:
+        """dx/dt: the ``derivative`` given, else central differences.
+
+        Parameters
+        ----------
+        t : float or array_like
+            Times.
+
+        Returns
+        -------
+        float or ndarray
+            dx/dt at each time, the shape of ``t``.
+        """
         if self.derivative_func is not None:
             return np.asarray(self.derivative_func(np.asarray(t, dtype=float)), dtype=float)
         return Load.derivative(self, t)

@@ -10,6 +10,7 @@ gives ``Ŵ = J / Q̂1`` (and the limit Ŵ = 0 at Q̂1 = 0).
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -19,14 +20,39 @@ from .loads import Fourier, Harmonic, Load, Periodic
 from .normal import IndependentSprings
 from .system import ContactSystem
 
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from ..results import Normalization
+
 __all__ = ["SingleNode", "W_hat_from_W", "W_from_W_hat"]
 
 _TINY = float(np.finfo(float).tiny)  # the smallest normal double, 2.2e-308
 _HUGE = float(np.finfo(float).max)
 
 
-def W_hat_from_W(W, k11, f, P0, Q1):
-    """Ŵ = k11 W / (f P0 Q1) (Eq. 6); zero where Q1 = 0 (the limit, since W = O(Q1²))."""
+def W_hat_from_W(W: ArrayLike, k11: float, f: float, P0: float,
+                 Q1: ArrayLike) -> float | np.ndarray:
+    """Ŵ = k11 W / (f P0 Q1) (Eq. 6); zero where Q1 = 0 (the limit, since W = O(Q1²)).
+
+    Parameters
+    ----------
+    W : float or array_like
+        Dissipation per cycle, in the units of force x displacement.
+    k11 : float
+        Tangential spring stiffness.
+    f : float
+        Coefficient of friction.
+    P0 : float
+        Mean normal load.
+    Q1 : float or array_like
+        Tangential load amplitude (broadcast against ``W``).
+
+    Returns
+    -------
+    float or ndarray
+        Ŵ (0 where ``f P0 Q1 <= 0``); a float for scalar input.
+    """
     W = np.asarray(W, dtype=float)
     denom = f * P0 * np.asarray(Q1, dtype=float)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -34,15 +60,37 @@ def W_hat_from_W(W, k11, f, P0, Q1):
     return out if out.ndim else float(out)
 
 
-def W_from_W_hat(W_hat, k11, f, P0, Q1):
-    """W = f P0 Q1 Ŵ / k11, the inverse of :func:`W_hat_from_W`."""
+def W_from_W_hat(W_hat: ArrayLike, k11: float, f: float, P0: float,
+                 Q1: ArrayLike) -> float | np.ndarray:
+    """W = f P0 Q1 Ŵ / k11, the inverse of :func:`W_hat_from_W`.
+
+    Parameters
+    ----------
+    W_hat : float or array_like
+        Normalized dissipation per cycle Ŵ.
+    k11 : float
+        Tangential spring stiffness.
+    f : float
+        Coefficient of friction.
+    P0 : float
+        Mean normal load.
+    Q1 : float or array_like
+        Tangential load amplitude (broadcast against ``W_hat``).
+
+    Returns
+    -------
+    float or ndarray
+        W, in the units of force x displacement; a float for scalar input.
+    """
     out = f * P0 * np.asarray(Q1, dtype=float) * np.asarray(W_hat, dtype=float) / k11
     return out if out.ndim else float(out)
 
 
 class SingleNode:
-    """The single-node system of the paper (Fig. 2): tangential spring k11, normal spring k22,
-    Coulomb friction f, loads ``P(t) = P0 + P1 sin ωt`` and ``Q(t) = Q0 + Q1 sin(ωt + φ)``.
+    """The single-node system of the paper (Fig. 2).
+
+    Tangential spring k11, normal spring k22, Coulomb friction f, loads
+    ``P(t) = P0 + P1 sin ωt`` and ``Q(t) = Q0 + Q1 sin(ωt + φ)``.
 
     Parameters
     ----------
@@ -63,7 +111,25 @@ class SingleNode:
         Mean tangential load; it shifts the displacement datum by Q0/k11 and does not affect W.
     normal_load, tangential_load : Load, optional
         Any periodic P(t) and Q(t) (two harmonics, say) in place of the harmonic ones; then
-        P0 is the normal load's mean and Q1 its tangential amplitude (max |Q - Q0|).
+        P0 is the normal load's mean and Q1 its tangential amplitude (``max |Q - Q0|``).
+    dimensional : bool, optional
+        False for the dimensionless system of :meth:`normalized` (it only changes the
+        ``repr``).
+
+    Attributes
+    ----------
+    k11, k22, f, normal_load, tangential_load, dimensional
+        As given (the loads: P(t) and Q(t), harmonic ones built from P0, P1, Q0, Q1, ω, φ).
+    P0, Q0, P1, Q1, period, omega, is_harmonic, phi, P1_hat, Q1_hat
+        Properties (below), as are ``force_unit`` and ``displacement_unit``.
+
+    Raises
+    ------
+    InputError
+        A parameter out of range or not finite (P0 <= 0, a negative amplitude, ...); a load
+        that is not a :class:`~lcpfric.model.loads.Load`; loads of different periods; or units
+        in which the normalized quantities (f P0, f P0 / k11, P̂1, Q̂1, ω) are not finite
+        normal doubles.
 
     Examples
     --------
@@ -81,7 +147,7 @@ class SingleNode:
     def __init__(self, k11: float = 1.0, f: float = 1.0, P0: float = 1.0, P1: float = 0.0,
                  Q1: float = 0.0, omega: float = 1.0, phi: float = 0.0, Q0: float = 0.0,
                  k22: float = 1.0, *, normal_load: Load | None = None,
-                 tangential_load: Load | None = None, dimensional: bool = True):
+                 tangential_load: Load | None = None, dimensional: bool = True) -> None:
         self.k11 = _checks.positive("k11", k11)
         self.k22 = _checks.positive("k22", k22)
         self.f = _checks.positive("f", f)
@@ -151,29 +217,56 @@ class SingleNode:
                                        f"for the unit {unit!r}")
 
     @classmethod
-    def normalized(cls, P1: float, Q1: float, phi: float = 0.0) -> "SingleNode":
-        """The dimensionless system of Eqs. (8)-(10): P̂ = 1 + P̂1 sin ωt, Q̂ = Q̂1 sin(ωt + φ)."""
+    def normalized(cls, P1: float, Q1: float, phi: float = 0.0) -> SingleNode:
+        """The dimensionless system of Eqs. (8)-(10): P̂ = 1 + P̂1 sin ωt, Q̂ = Q̂1 sin(ωt + φ).
+
+        That is k11 = f = P0 = ω = 1, so that its W is ``Q̂1 Ŵ``.
+
+        Parameters
+        ----------
+        P1 : float
+            Normalized normal amplitude P̂1, >= 0.
+        Q1 : float
+            Normalized tangential amplitude Q̂1, >= 0.
+        phi : float, optional
+            Phase φ of Q relative to P, radians.
+
+        Returns
+        -------
+        SingleNode
+            The node, with ``dimensional=False``.
+
+        Raises
+        ------
+        InputError
+            A parameter out of range or not finite.
+        """
         return cls(k11=1.0, f=1.0, P0=1.0, P1=P1, Q1=Q1, omega=1.0, phi=phi, dimensional=False)
 
     # -- the paper's parameters -------------------------------------------------------------------
     @property
     def P0(self) -> float:
+        """The mean normal load (the normal load's mean)."""
         return self.normal_load.mean
 
     @property
     def Q0(self) -> float:
+        """The mean tangential load."""
         return self.tangential_load.mean
 
     @property
     def P1(self) -> float:
+        """The normal load amplitude (max over a cycle of ``|P - P0|``)."""
         return self.normal_load.amplitude
 
     @property
     def Q1(self) -> float:
+        """The tangential load amplitude (max over a cycle of ``|Q - Q0|``)."""
         return self.tangential_load.amplitude
 
     @property
     def period(self) -> float:
+        """The loads' period (of the first that varies; the normal load's if neither does)."""
         for ld in (self.normal_load, self.tangential_load):
             if not ld.is_constant:
                 return ld.period
@@ -181,6 +274,7 @@ class SingleNode:
 
     @property
     def omega(self) -> float:
+        """The angular frequency 2π / period."""
         return 2 * math.pi / self.period
 
     @property
@@ -193,7 +287,11 @@ class SingleNode:
 
     @property
     def phi(self) -> float:
-        """φ of Eq. (1): the tangential load's phase relative to the normal load's."""
+        """φ of Eq. (1): the tangential load's phase relative to the normal load's.
+
+        Raises :class:`~lcpfric.errors.InputError` unless the loads are harmonic of one
+        frequency (:attr:`is_harmonic`).
+        """
         if not self.is_harmonic:
             raise InputError("phi", "is defined only for harmonic loads of one frequency")
         return self.tangential_load.phase - self.normal_load.phase
@@ -209,16 +307,49 @@ class SingleNode:
         return self.Q1 / (self.f * self.P0)
 
     def normalized_parameters(self) -> tuple[float, float, float]:
-        """(P̂1, Q̂1, φ) of this (harmonic) system."""
+        """(P̂1, Q̂1, φ) of this (harmonic) system.
+
+        Returns
+        -------
+        P1_hat, Q1_hat, phi : float
+            P̂1 = P1/P0, Q̂1 = Q1/(f P0) (Eq. 6) and φ in radians.
+
+        Raises
+        ------
+        InputError
+            The loads are not harmonic of one frequency (φ is undefined).
+        """
         return self.P1_hat, self.Q1_hat, self.phi
 
     # -- conversions (Eq. 6) ----------------------------------------------------------------------
-    def W_hat(self, W):
-        """Ŵ = k11 W / (f P0 Q1)."""
+    def W_hat(self, W: ArrayLike) -> float | np.ndarray:
+        """Ŵ = k11 W / (f P0 Q1) (:func:`W_hat_from_W` with this node's parameters).
+
+        Parameters
+        ----------
+        W : float or array_like
+            Dissipation per cycle, in this node's units.
+
+        Returns
+        -------
+        float or ndarray
+            Ŵ (0 when Q1 = 0); a float for scalar input.
+        """
         return W_hat_from_W(W, self.k11, self.f, self.P0, self.Q1)
 
-    def W(self, W_hat):
-        """W = f P0 Q1 Ŵ / k11."""
+    def W(self, W_hat: ArrayLike) -> float | np.ndarray:
+        """W = f P0 Q1 Ŵ / k11 (:func:`W_from_W_hat` with this node's parameters).
+
+        Parameters
+        ----------
+        W_hat : float or array_like
+            Normalized dissipation per cycle Ŵ.
+
+        Returns
+        -------
+        float or ndarray
+            W in this node's units; a float for scalar input.
+        """
         return W_from_W_hat(W_hat, self.k11, self.f, self.P0, self.Q1)
 
     @property
@@ -231,23 +362,50 @@ class SingleNode:
         """f P0 / k11: the unit in which the solvers advance the tangential displacement."""
         return self.f * self.P0 / self.k11
 
-    def normalization(self):
-        """The units of Eq. (6) (:class:`~lcpfric.results.Normalization`): W = f P0 Q1 / k11,
-        v = Q1 / k11, F = f P0, N = P0."""
+    def normalization(self) -> Normalization:
+        """The units of Eq. (6): W = f P0 Q1 / k11, v = Q1 / k11, F = f P0, N = P0.
+
+        Returns
+        -------
+        Normalization
+            The units (:class:`~lcpfric.results.Normalization`).
+        """
         from ..results import Normalization
 
         return Normalization(W=self.force_unit * self.Q1 / self.k11, v=self.Q1 / self.k11,
                              F=self.force_unit, N=self.P0)
 
-    def series(self, u, F, N):
-        """The model's time series (v, F, N) from the solvers' normalized ones (u in f P0/k11,
-        F in f P0, N in P0): v = (f P0 u - Q0) / k11, F = f P0 F, N = P0 N."""
+    def series(self, u: ArrayLike, F: ArrayLike,
+               N: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The model's time series (v, F, N) from the solvers' normalized ones.
+
+        v = (f P0 u - Q0) / k11, F = f P0 F, N = P0 N.
+
+        Parameters
+        ----------
+        u : array_like
+            Tangential displacements in units of f P0 / k11.
+        F : array_like
+            Friction forces in units of f P0.
+        N : array_like
+            Normal reactions in units of P0.
+
+        Returns
+        -------
+        v, F, N : ndarray
+            The same series in this node's units.
+        """
         return ((self.force_unit * u - self.Q0) / self.k11, self.force_unit * F, self.P0 * N)
 
     def system(self) -> ContactSystem:
         """The node as a general :class:`ContactSystem` in normalized units (K = 1, f = 1).
 
-        Its dissipation J per cycle gives Ŵ = J / Q̂1.
+        Its dissipation J per cycle gives Ŵ = J / Q̂1. Built once, on first use.
+
+        Returns
+        -------
+        ContactSystem
+            K = [[1]], f = [1], Q = Q̂ - Q̂0 and :class:`IndependentSprings` with P̂.
         """
         if self._system is None:
             fp0 = self.force_unit

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -35,6 +36,9 @@ from .. import _checks
 from ..errors import InputError
 from .loads import Load, LoadSet
 from .normal import NormalModel, check_normal_model
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 __all__ = ["ContactSystem", "COMPLIANCE_DENSE"]
 
@@ -68,6 +72,40 @@ class ContactSystem:
         Without it, C is computed from K on first use (:meth:`compliance_matrix`). With
         ``stiffness=None`` it is the system's only operator: its products must be finite,
         symmetric and positive (checked on two random vectors).
+    _cache : dict, optional
+        Internal: what the system computes once (its period, factorizations, C); set by the
+        system itself, not to be given.
+
+    Attributes
+    ----------
+    stiffness : ndarray, scipy.sparse.csc_matrix or None
+        K as checked (CSC for a sparse K; None for a matrix-free system).
+    friction : (n,) ndarray
+        The friction coefficients.
+    tangential_loads : tuple of Load
+        Q(t), m loads.
+    normal : NormalModel
+        The normal model.
+    dims : int
+        Tangential directions per node.
+    compliance : ndarray, LinearOperator or None
+        C as given (a dense array once checked against K; the operator of a matrix-free
+        system).
+    n, m : int
+        Nodes and tangential unknowns (m = n·d).
+    period : float
+        The loads' common period (1.0 when nothing varies).
+    matrix_free : bool
+        Whether the system is known by its compliance operator only.
+
+    Raises
+    ------
+    InputError
+        ``dims`` not 1 or 2; a friction coefficient <= 0 or not finite; a normal model that
+        lacks a member of :class:`~lcpfric.model.normal.NormalModel` or has another number of
+        nodes; K not finite, not m x m, not symmetric or not positive definite; not m loads,
+        or loads of different periods; a compliance that is not K⁻¹, or (matrix-free) not a
+        finite, symmetric, positive m x m operator; neither stiffness nor compliance.
     """
 
     #: the driver's defaults (:func:`lcpfric.steady_state`)
@@ -207,10 +245,24 @@ class ContactSystem:
 
     @property
     def period(self) -> float:
+        """The loads' common period (1.0 when nothing varies)."""
         return self._cache["period"]
 
     def compliance_matrix(self) -> np.ndarray:
-        """C = K⁻¹ (dense), computed once."""
+        """C = K⁻¹ (dense), computed once.
+
+        Returns
+        -------
+        ndarray
+            C, (m, m): the compliance given, K⁻¹, or (matrix-free) C formed from m products and
+            symmetrized.
+
+        Raises
+        ------
+        InputError
+            A matrix-free system of more than :data:`COMPLIANCE_DENSE` unknowns (named
+            ``method``: use ``method="active-set"``).
+        """
         if self.matrix_free:
             return self._formed()
         if self.compliance is not None:
@@ -222,6 +274,19 @@ class ContactSystem:
         return self._cache["C"]
 
     def dense_stiffness(self) -> np.ndarray:
+        """K as a dense array (matrix-free: the inverse of C formed, computed once).
+
+        Returns
+        -------
+        ndarray
+            K, (m, m).
+
+        Raises
+        ------
+        InputError
+            A matrix-free system of more than :data:`COMPLIANCE_DENSE` unknowns (named
+            ``method``: use ``method="active-set"``).
+        """
         if self.matrix_free:
             if "K" not in self._cache:
                 self._cache["K"] = np.linalg.inv(self._formed())
@@ -229,14 +294,32 @@ class ContactSystem:
         K = self.stiffness
         return K.toarray() if hasattr(K, "toarray") else np.asarray(K)
 
-    def tangential(self, t) -> np.ndarray:
-        """Q(t) with shape ``t.shape + (m,)``."""
+    def tangential(self, t: ArrayLike) -> np.ndarray:
+        """Q(t) with shape ``t.shape + (m,)``.
+
+        Parameters
+        ----------
+        t : float or array_like
+            Times.
+
+        Returns
+        -------
+        ndarray
+            The tangential loads, shape ``t.shape + (m,)``.
+        """
         if "loads" not in self._cache:
             self._cache["loads"] = LoadSet(self.tangential_loads)
         return self._cache["loads"](t)
 
     def is_diagonal(self) -> bool:
-        """K has no off-diagonal entry (uncoupled unknowns)."""
+        """K has no off-diagonal entry (uncoupled unknowns).
+
+        Returns
+        -------
+        bool
+            True when every off-diagonal entry of K is zero (False for a matrix-free system,
+            treated as coupled).
+        """
         if "diagonal" not in self._cache:
             K = self.stiffness
             if K is None:  # matrix-free: treated as coupled
@@ -250,8 +333,21 @@ class ContactSystem:
         return self._cache["diagonal"]
 
     def solve(self, r: np.ndarray) -> np.ndarray:
-        """``K⁻¹ r`` by a factorization of K kept for the next call (dense Cholesky, or SuperLU
-        for a sparse K): no compliance matrix is formed. Matrix-free: one product with C."""
+        """``K⁻¹ r`` by a factorization of K kept for the next call.
+
+        Dense Cholesky, or SuperLU for a sparse K: no compliance matrix is formed. Matrix-free:
+        one product with C.
+
+        Parameters
+        ----------
+        r : ndarray
+            Right-hand side(s), (m,) or (m, k).
+
+        Returns
+        -------
+        ndarray
+            ``K⁻¹ r``, the shape of ``r`` (matrix-free: (m,) only).
+        """
         if self.matrix_free:
             return np.asarray(self.compliance.matvec(np.asarray(r, dtype=float)), dtype=float)
         fac = self._cache.get("factor")
@@ -270,9 +366,27 @@ class ContactSystem:
         return fac(np.asarray(r, dtype=float))
 
     def stiffness_times(self, u: np.ndarray) -> np.ndarray:
-        """``K u``; for a matrix-free system the solution x of ``C x = u`` (conjugate gradients,
-        :func:`scipy.sparse.linalg.cg`, to 1e-13 relative), used only to start from a given u
-        or to move a start (the steppers carry the forces)."""
+        """``K u``; for a matrix-free system the solution x of ``C x = u``.
+
+        Matrix-free, by conjugate gradients (:func:`scipy.sparse.linalg.cg`, to 1e-13
+        relative), used only to start from a given u or to move a start (the steppers carry
+        the forces).
+
+        Parameters
+        ----------
+        u : ndarray
+            Tangential displacements, (m,).
+
+        Returns
+        -------
+        ndarray
+            ``K u``, (m,).
+
+        Raises
+        ------
+        SolverError
+            Matrix-free: the conjugate gradients did not converge (status ``"maxiter"``).
+        """
         u = np.asarray(u, dtype=float)
         if not self.matrix_free:
             return self.stiffness @ u
@@ -289,10 +403,24 @@ class ContactSystem:
         return x
 
     def compliance_diagonal(self) -> np.ndarray:
-        """The diagonal of C = K⁻¹: formed for a dense or small system; for a large stiffness
-        1/K_ii (a bound from below); for a large matrix-free system the operator's own
-        ``diagonal()`` if it has one, else its mean from 16 random sign probes (a scale for
-        tests and for the pattern iteration, never for an answer)."""
+        """The diagonal of C = K⁻¹, computed once.
+
+        Formed for a dense or small system; for a diagonal or large stiffness 1/K_ii (a bound
+        from below, exact when K is diagonal); for a matrix-free system the operator's own
+        ``diagonal()`` if it has one, else formed up to :data:`COMPLIANCE_DENSE` unknowns, else
+        its mean from 16 random sign probes (a scale for tests and for the pattern iteration,
+        never for an answer).
+
+        Returns
+        -------
+        ndarray
+            (m,), every entry finite and > 0.
+
+        Raises
+        ------
+        InputError
+            The diagonal found is not finite and positive (named ``compliance``).
+        """
         if "cdiag" in self._cache:
             return self._cache["cdiag"]
         m = self.m

@@ -18,6 +18,7 @@ import math
 import time
 import warnings
 from dataclasses import replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -30,9 +31,17 @@ from ..scene import Scene, make_scene
 from .acceleration import FrictionLimits, choose
 from .measure import cycle_change, displacement_change, largest_limit, load_scales
 
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from ..exact.solver import ExactSolver
+    from ..model.continuum import HalfPlaneCylinder, HalfSpace, MDRSphere
+    from ..steppers.base import Stepper
+
 __all__ = ["steady_state", "loose_tolerance", "DRIVER_OPTIONS"]
 
-#: The driver's own keyword options (everything else goes to the method).
+#: The driver's own keyword options: the names of :func:`steady_state`'s keyword arguments that
+#: the driver takes itself (everything else goes to the method).
 DRIVER_OPTIONS = ("steps_per_cycle", "tol", "max_cycles", "on_nonconvergence", "placement", "u0",
                   "history")
 #: steppers with loose early cycles: the increments' tolerance, this times the last cycle's
@@ -46,11 +55,21 @@ _FINAL = 0.1
 _TOL_MIN = 1e-12
 
 
-def steady_state(model, method: str | None = None, steps_per_cycle: int | None = None, *,
-                 tol: float = 1e-10, max_cycles: int | None = None,
-                 on_nonconvergence: str = "raise", placement: str | None = None, u0=None,
-                 history: bool = True, **options) -> SteadyState:
+def steady_state(model: SingleNode | ContactSystem | MDRSphere | HalfPlaneCylinder | HalfSpace
+                 | Scene,
+                 method: str | Stepper | ExactSolver | None = None,
+                 steps_per_cycle: int | None = None, *, tol: float = 1e-10,
+                 max_cycles: int | None = None,
+                 on_nonconvergence: str = "raise", placement: str | None = None,
+                 u0: ArrayLike | None = None, history: bool = True,
+                 **options: Any) -> SteadyState:
     """The periodic steady state and its dissipation per cycle.
+
+    A closed-form method (``"exact"``) returns the steady state directly. A time stepper is
+    run whole cycles at a time on the model's scene until a cycle repeats the previous one
+    within ``tol``, or until ``max_cycles``; between cycles the start may be moved towards the
+    fixed point of the cycle map. Non-convergence is reported (``converged=False``, and an
+    error or a warning by ``on_nonconvergence``), never returned as converged.
 
     Parameters
     ----------
@@ -66,23 +85,28 @@ def steady_state(model, method: str | None = None, steps_per_cycle: int | None =
     steps_per_cycle : int, optional
         Increments per cycle requested (the known separation instants are added: see
         ``steps_used`` of the result); for a closed-form method the number of samples of the
-        returned time series. Default: 2000 for a discrete system, 400 for a contact.
+        returned time series. Default: 2000 for a discrete system, 400 for a contact; at
+        least 4.
     tol : float
-        Convergence test (:mod:`lcpfric.periodic.measure`): the change of the displacements
+        Convergence test, > 0 (:mod:`lcpfric.periodic.measure`): the change of the displacements
         over the cycle, relative to the larger of their range and the loads' displacement
         scale, and the change of W relative to the larger of W and the loads' energy scale,
         both at most ``tol``. A shakedown (nothing slips over the steady cycle, W = 0) is
-        confirmed like any other steady state, and the message says so.
+        confirmed like any other steady state, and the message says so. A stepper whose
+        early cycles are solved loosely (the half-space with d = 2) needs ``tol >= 1e-12``.
     max_cycles : int, optional
-        Cap on the cycles run (default: 100 for a discrete system, 200 for a contact).
+        Cap on the cycles run, at least 1 (default: 100 for a discrete system, 200 for a
+        contact).
     on_nonconvergence : {"raise", "warn", "ignore"}
-        What to do when ``max_cycles`` is reached first: raise :class:`ConvergenceError`, warn
-        with :class:`ConvergenceWarning`, or only set ``converged=False``.
+        What to do when ``max_cycles`` is reached first: raise
+        :class:`~lcpfric.errors.ConvergenceError`, warn with
+        :class:`~lcpfric.errors.ConvergenceWarning`, or only set ``converged=False``.
     placement : {"contact", "uniform"}, optional
         Step placement (see :mod:`lcpfric.scene`); "contact" (a discrete system's default)
         spends no steps where every node is separated; a contact's steps are uniform.
     u0 : array_like, optional
-        A discrete system's initial tangential displacement (default zero).
+        A discrete system's initial tangential displacement, m = n·d finite values (default
+        zero; ignored for a continuum contact).
     history : bool
         Keep every instant of the last cycle in the result (default). ``False`` keeps its
         first and last instants only (``t``, ``v``, ``F``, ``N``, ``state`` then have two rows),
@@ -92,11 +116,71 @@ def steady_state(model, method: str | None = None, steps_per_cycle: int | None =
         others raise InputError.
     **options
         The method's own options (solver tolerances and settings). An option that neither the
-        driver nor the method takes raises :class:`InputError` naming the valid ones.
+        driver nor the method takes raises :class:`~lcpfric.errors.InputError` naming the
+        valid ones.
 
     Returns
     -------
     SteadyState
+        The steady state: ``W``, the dissipation per cycle of the last cycle (and ``W_hat``
+        for a single node), the last cycle's time series, ``converged``, ``cycles``,
+        ``change``, ``message`` and the method's ``solver_stats``
+        (:class:`~lcpfric.results.SteadyState`). With ``on_nonconvergence="warn"`` or
+        ``"ignore"`` an unconverged result is returned with ``converged=False``.
+
+    Raises
+    ------
+    lcpfric.errors.InputError
+        Bad options (``tol``, ``max_cycles``, ``steps_per_cycle``, ``on_nonconvergence``,
+        ``history``, ``u0`` out of range or of the wrong size), an unknown method name or
+        option (naming the valid ones), a model that is none of the above, a model the method
+        cannot treat (naming the methods that can), ``history=False`` with a method that
+        keeps the whole cycle, or a computation over the memory limit
+        (:mod:`lcpfric.memory`).
+    lcpfric.errors.SolverNotFound
+        The method needs an optional package that is not installed (a
+        :class:`~lcpfric.errors.MissingDependency`, so an ImportError; the message names what
+        to install).
+    lcpfric.errors.ConvergenceError
+        ``max_cycles`` was reached before the cycle repeated and ``on_nonconvergence`` is
+        ``"raise"``; its ``result`` is the unconverged SteadyState. The exact solution of a
+        ContactSystem raises it when its own cycles do not settle, whatever
+        ``on_nonconvergence``.
+    lcpfric.errors.SolverError
+        A step failed: a solver's status was not solved or its answer failed lcpfric's
+        residual checks, or an event loop did not settle (the message names the increment).
+
+    Warns
+    -----
+    lcpfric.errors.ConvergenceWarning
+        ``max_cycles`` was reached and ``on_nonconvergence="warn"``.
+    lcpfric.errors.ResolutionWarning
+        A continuum contact's steady cycle in which no element slips while the loads change:
+        a slip zone thinner than an element is not resolved.
+
+    See Also
+    --------
+    lcpfric.methods.methods_for : The methods for a model.
+    lcpfric.exact.exact_W_hat : The single node's Ŵ on parameter grids, in closed form.
+
+    Examples
+    --------
+    The paper's single node in normalized units, by the closed form:
+
+    >>> import lcpfric
+    >>> node = lcpfric.SingleNode.normalized(P1=0.5, Q1=2.0, phi=0.0)
+    >>> result = lcpfric.steady_state(node, method="exact", steps_per_cycle=100)
+    >>> round(result.W_hat, 12)
+    1.866666666667
+    >>> result.converged, result.cycles, result.t.shape
+    (True, 1, (101,))
+
+    Bad input raises :class:`~lcpfric.errors.InputError` naming the parameter:
+
+    >>> lcpfric.steady_state(node, method="exact", tol=0.0)
+    Traceback (most recent call last):
+        ...
+    lcpfric.errors.InputError: tol: must be > 0 (allowed range (0, inf)), got 0.0
     """
     start = time.perf_counter()
     base = _base(model)

@@ -26,7 +26,10 @@ __all__ = ["cycle_change", "displacement_change", "load_scales", "MEASURES"]
 MEASURES = ("cycles", "map")
 
 
-def cycle_change(du, v_span, dW, W, load_span):
+def cycle_change(du: float | np.ndarray, v_span: float | np.ndarray, dW: float | np.ndarray,
+                 W: float | np.ndarray,
+                 load_span: tuple[float | np.ndarray, float | np.ndarray]
+                 ) -> float | np.ndarray:
     """The convergence measure of a cycle (the one criterion of every cycle loop).
 
     ``max(du / s_v, |dW| / s_W)`` with the scales
@@ -50,6 +53,12 @@ def cycle_change(du, v_span, dW, W, load_span):
     load_span : tuple (displacement, force) of floats or ndarrays
         The loads' scales: the range of Q times the compliance, and the largest friction
         limit f N.
+
+    Returns
+    -------
+    float or ndarray
+        The relative change (>= 0; a float when every input is scalar, else per point).
+        Where a scale is 0 a nonzero change is ``inf`` and a zero change 0.
     """
     u_scale, f_scale = (np.asarray(x, dtype=float) for x in load_span)
     s_v = np.maximum(np.asarray(v_span, dtype=float), u_scale)

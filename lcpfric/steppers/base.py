@@ -41,11 +41,19 @@ accepts are the keyword arguments of its constructor; an unknown one raises
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from ..errors import InputError
 from ..methods import methods_for
 from ..results import CycleResult, State, StepState
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from ..model import ContactSystem
+    from ..scene import Scene
 
 __all__ = ["Stepper", "StepState", "TIME_STEPPER", "Recorder", "inside"]
 
@@ -53,7 +61,26 @@ TIME_STEPPER = "time-stepper"
 
 
 class Stepper:
-    """Base class of time-stepping methods (see the module docstring for the contract)."""
+    """Base class of time-stepping methods (see the module docstring for the contract).
+
+    A subclass sets ``name`` and implements :meth:`step` and, for the scenes it cannot treat,
+    :meth:`check_system`; it may override :meth:`init`, :meth:`cycle`, :meth:`restart` and
+    :meth:`stats`, and set ``cycle_measure`` and ``can_restart``. Its options are the keyword
+    arguments of its constructor (the base takes none).
+
+    Attributes
+    ----------
+    name : str
+        The registry name users type (``"explicit"``, ``"clarabel"``, ...).
+    kind : str
+        ``"time-stepper"``.
+    cycle_measure : str
+        ``"cycles"`` (a cycle's recorded instants against the previous cycle's) or ``"map"``
+        (the cycle's end against its start, on the scene's ``held`` unknowns): how the driver
+        measures a cycle's change (:mod:`lcpfric.periodic.measure`).
+    can_restart : bool
+        Whether :meth:`restart` can move a cycle's start (the driver then accelerates).
+    """
 
     name: str = ""
     kind: str = TIME_STEPPER
@@ -61,7 +88,7 @@ class Stepper:
     #: whether :meth:`restart` can move a cycle's start (the driver then accelerates)
     can_restart = True
 
-    def __init__(self):
+    def __init__(self) -> None:
         pass
 
     @property
@@ -69,8 +96,24 @@ class Stepper:
         """The name to report (``"qpsolvers:proxqp"``, where a solver is chosen)."""
         return self.name
 
-    def check(self, scene) -> None:
-        """Raise InputError if this stepper cannot treat the scene's model."""
+    def check(self, scene: Scene) -> None:
+        """Raise InputError if this stepper cannot treat the scene's model.
+
+        Never approximate silently: a cone the stepper cannot express, a stiffness it has no
+        closed form for, a model it does not solve are refused, naming the methods that can.
+        The base refuses continuum contacts (a scene without a ``system``) and passes a
+        discrete system to :meth:`check_system`.
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene to solve.
+
+        Raises
+        ------
+        lcpfric.errors.InputError
+            ``method``: the stepper cannot treat the scene's model.
+        """
         if scene.system is None:
             what = type(scene.model).__name__
             raise InputError("method", f"{self.label!r} solves discrete systems (SingleNode, "
@@ -80,31 +123,139 @@ class Stepper:
                                        f"{self.label!r}) (k_support > 0)")
         self.check_system(scene.system)
 
-    def check_system(self, system) -> None:
-        """Raise InputError if this stepper cannot treat ``system``."""
+    def check_system(self, system: ContactSystem) -> None:
+        """Raise InputError if this stepper cannot treat ``system``.
 
-    def restart(self, scene, state: StepState, u) -> StepState:
-        """The state with the displacements u at the cycle's start, its forces put back inside
-        the friction cone (:func:`inside`)."""
+        The base accepts every discrete system; a stepper overrides it to refuse what it
+        cannot treat.
+
+        Parameters
+        ----------
+        system : ContactSystem
+            The discrete system to solve (a single node's too).
+
+        Raises
+        ------
+        lcpfric.errors.InputError
+            ``method``: the stepper cannot treat the system (never in the base).
+        """
+
+    def restart(self, scene: Scene, state: StepState, u: np.ndarray) -> StepState:
+        """The state with the displacements u at the cycle's start, its forces in the cone.
+
+        The forces are put back inside the friction cone (:func:`inside`). Called where the driver's acceleration moves a cycle's start
+        (:mod:`lcpfric.periodic.acceleration`); a stepper whose state holds more than ``u``
+        and ``F`` overrides it.
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene.
+        state : StepState
+            The state at the cycle's start (not changed).
+        u : (m,) ndarray
+            The displacements (slips) to start from.
+
+        Returns
+        -------
+        StepState
+            ``state`` with ``F = Π(Q + K u)`` and ``u = K⁻¹ (F - Q)`` at ``scene.t[0]``.
+        """
         from dataclasses import replace
 
         u, F = inside(u, scene)
         return replace(state, u=u, F=F)
 
-    def init(self, scene, u0=None) -> StepState:
+    def init(self, scene: Scene, u0: ArrayLike | None = None) -> StepState:
+        """The initial state at ``scene.t[0]``.
+
+        A stepper builds here everything that depends on the scene (solver problems,
+        factorizations) and keeps all of it in ``state.data``: the stepper object itself keeps
+        nothing about a scene, and one instance serves any number of scenes.
+
+        Parameters
+        ----------
+        scene : Scene
+            A discrete system's scene.
+        u0 : (m,) array_like, optional
+            The initial tangential displacements (default zero).
+
+        Returns
+        -------
+        StepState
+            ``u = u0``, ``F = Q(t_0) + K u``, each node sticking (N > 0) or separated, no
+            ``data`` in the base.
+        """
         system = scene.system
         u = np.zeros(system.m) if u0 is None else np.array(u0, dtype=float).reshape(system.m)
         F = scene.Q[0] + system.stiffness_times(u)
         state = np.where(scene.N[0] > 0.0, State.STICK, State.SEPARATION).astype(np.int8)
         return StepState(u=u, F=F, state=state)
 
-    def step(self, scene, k: int, state: StepState) -> StepState:  # pragma: no cover - abstract
+    def step(self, scene: Scene, k: int,
+             state: StepState) -> StepState:  # pragma: no cover - abstract
+        """Increment k: a new state at ``scene.t[k+1]`` from the state at ``scene.t[k]``.
+
+        Each stepper implements it (the base raises :class:`NotImplementedError`), without
+        changing the state passed in. ``dW`` of the new state is the dissipation
+        ``-∫ F · du`` of the increment (:mod:`~lcpfric.steppers.dissipation` for a stepper
+        that knows only the increment's ends), and ``F = Q(t_{k+1}) + K u`` must hold.
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene :meth:`init` was given.
+        k : int
+            The increment, ``0 <= k < scene.steps``.
+        state : StepState
+            The state at ``scene.t[k]``.
+
+        Returns
+        -------
+        StepState
+            The state at ``scene.t[k+1]``.
+
+        Raises
+        ------
+        lcpfric.errors.SolverError
+            A stepper whose increment fails (a solver, an event loop that does not settle).
+        """
         raise NotImplementedError
 
-    def cycle(self, scene, state: StepState,
+    def cycle(self, scene: Scene, state: StepState,
               history: bool = True) -> tuple[StepState, CycleResult]:
-        """Run one cycle from ``state`` at ``scene.t[0]`` (``history=False``: keep its ends
-        and ranges only)."""
+        """Run one cycle from ``state`` at ``scene.t[0]``.
+
+        With ``history=False`` only its ends and ranges are kept.
+
+        The default loops over :meth:`step` for k = 0..N-1; a stepper may override it with a
+        faster loop of the same meaning (tested equal to the step-by-step loop). One that
+        cannot run without the history omits the parameter, and the driver says so.
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene :meth:`init` was given.
+        state : StepState
+            The state at the cycle's start.
+        history : bool
+            Keep every instant (default); False keeps the first and last instants and each
+            unknown's range (O(m) memory, whatever the number of steps; see
+            :class:`~lcpfric.results.CycleResult`).
+
+        Returns
+        -------
+        end : StepState
+            The state at the cycle's end.
+        cycle : CycleResult
+            The cycle's series, its dissipation ``W`` (the sum of the increments' ``dW``) and
+            :meth:`stats` of the end state.
+
+        Raises
+        ------
+        lcpfric.errors.SolverError
+            From :meth:`step`.
+        """
         steps = scene.steps
         record = Recorder(scene, state, history)
         W = 0.0
@@ -114,8 +265,19 @@ class Stepper:
             W += state.dW
         return state, record.result(W, self.stats(state))
 
-    def stats(self, state: StepState) -> dict:
-        """Backend statistics for the result (iterations, refinements, ...)."""
+    def stats(self, state: StepState) -> dict[str, Any]:
+        """Backend statistics for the result (iterations, refinements, ...).
+
+        Parameters
+        ----------
+        state : StepState
+            A state this stepper made.
+
+        Returns
+        -------
+        dict
+            The statistics to report (solves, events), from the state; empty in the base.
+        """
         return {}
 
 

@@ -27,6 +27,7 @@ histories.
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -36,6 +37,12 @@ from .base import Stepper
 from .dissipation import increment_dissipation, scalar_share
 from .rates import EPS8, REL, limit_crossings, slip_rates
 
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from ..model import ContactSystem
+    from ..scene import Scene
+
 __all__ = ["ExplicitStepper"]
 
 STICK, FORWARD, BACKWARD, SEPARATION = (State.STICK, State.FORWARD, State.BACKWARD,
@@ -43,24 +50,93 @@ STICK, FORWARD, BACKWARD, SEPARATION = (State.STICK, State.FORWARD, State.BACKWA
 
 
 class ExplicitStepper(Stepper):
-    """State-based stepper with exact event location within each increment (d = 1)."""
+    """State-based stepper with exact event location within each increment (d = 1).
+
+    ``method="explicit"``: the paper's stepper (see the module docstring), for any symmetric
+    positive definite K with d = 1. It takes no options.
+
+    Attributes
+    ----------
+    name : str
+        ``"explicit"``.
+    """
 
     name = "explicit"
 
-    def check_system(self, system) -> None:
+    def check_system(self, system: ContactSystem) -> None:
+        """Refuse a system with d = 2.
+
+        Parameters
+        ----------
+        system : ContactSystem
+            The discrete system to solve.
+
+        Raises
+        ------
+        lcpfric.errors.InputError
+            ``method``: d = 2 (the message names the methods that can).
+        """
         if system.dims != 1:
             raise InputError("method", "'explicit' handles d = 1 (one tangential direction per "
                                        "node); for d = 2 use 'clarabel', 'cvxpy:CLARABEL' or "
                                        "'projection' (diagonal K)")
 
-    def init(self, scene, u0=None) -> StepState:
+    def init(self, scene: Scene, u0: ArrayLike | None = None) -> StepState:
+        """The initial state at ``scene.t[0]``, with the dense K.
+
+        Parameters
+        ----------
+        scene : Scene
+            A discrete system's scene (d = 1).
+        u0 : (m,) array_like, optional
+            The initial tangential displacements (default zero).
+
+        Returns
+        -------
+        StepState
+            As :meth:`Stepper.init <lcpfric.steppers.base.Stepper.init>`, with ``data`` the
+            dict ``{"K": dense K, "substeps": 0, "events": 0}``.
+
+        Raises
+        ------
+        lcpfric.errors.InputError
+            ``method``: d = 2.
+        """
         self.check_system(scene.system)
         state = super().init(scene, u0)
         data = {"K": scene.system.dense_stiffness(), "substeps": 0, "events": 0}
         return replace(state, data=data)
 
     # ------------------------------------------------------------------------------------------
-    def step(self, scene, k, state):
+    def step(self, scene: Scene, k: int, state: StepState) -> StepState:
+        """Increment k, split at every instant where a node's state changes.
+
+        With the states fixed the loads, forces and margins are linear in the fraction τ of
+        the increment: the first limit crossing is located exactly, the slip rates after it
+        solve the rate LCP, and so on to the end of the increment.
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene :meth:`init` was given.
+        k : int
+            The increment, ``0 <= k < scene.steps``.
+        state : StepState
+            The state at ``scene.t[k]`` (not changed).
+
+        Returns
+        -------
+        StepState
+            The state at ``scene.t[k+1]``; ``dW`` the sum of the sub-increments'
+            ``-½ (F_a + F_b)·(u_b - u_a)``, ``data`` with the counts of substeps and events.
+
+        Raises
+        ------
+        lcpfric.errors.SolverError
+            ``status="too_many_events"``: more than 4 n + 16 state changes in the increment
+            (the loads may be inconsistent); also a slip-rate LCP that does not settle, or
+            slip directions at re-contact that cannot be decided.
+        """
         data = state.data
         K = data["K"]
         f = scene.system.friction
@@ -114,12 +190,53 @@ class ExplicitStepper(Stepper):
         return StepState(u, F, node_state, W, data)
 
     # ------------------------------------------------------------------------------------------
-    def cycle(self, scene, state, history: bool = True):
+    def cycle(self, scene: Scene, state: StepState,
+              history: bool = True) -> tuple[StepState, CycleResult]:
+        """One cycle from ``state`` at ``scene.t[0]``.
+
+        :meth:`Stepper.cycle <lcpfric.steppers.base.Stepper.cycle>`; one unknown with the
+        history runs the same algorithm in scalar arithmetic (a rate LCP of size 1 is a sign
+        test).
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene :meth:`init` was given.
+        state : StepState
+            The state at the cycle's start.
+        history : bool
+            Keep every instant (default), or only the ends and each unknown's range.
+
+        Returns
+        -------
+        end : StepState
+            The state at the cycle's end.
+        cycle : CycleResult
+            The cycle's series, dissipation and :meth:`stats`.
+
+        Raises
+        ------
+        lcpfric.errors.SolverError
+            From :meth:`step`.
+        """
         if scene.system.m != 1 or not history:
             return super().cycle(scene, state, history)
         return _single_node_cycle(scene, state)
 
-    def stats(self, state):
+    def stats(self, state: StepState) -> dict[str, Any]:
+        """The substeps and events so far.
+
+        Parameters
+        ----------
+        state : StepState
+            A state this stepper made.
+
+        Returns
+        -------
+        dict
+            ``substeps`` (pieces of increments solved) and ``events`` (state changes located
+            inside increments), counted since :meth:`init`.
+        """
         return {"substeps": state.data["substeps"], "events": state.data["events"]}
 
 

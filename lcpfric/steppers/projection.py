@@ -11,6 +11,7 @@ names the backends that can.
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -19,6 +20,12 @@ from ..results import CycleResult, State, StepState
 from .base import Stepper
 from .dissipation import increment_dissipation, scalar_share
 
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from ..model import ContactSystem
+    from ..scene import Scene
+
 __all__ = ["ProjectionStepper"]
 
 STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
@@ -26,11 +33,33 @@ STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
 
 
 class ProjectionStepper(Stepper):
-    """Closed-form projection for diagonal (per node isotropic) K."""
+    """Closed-form projection for diagonal (per node isotropic) K.
+
+    ``method="projection"``: each increment clamps (d = 1) or radially scales (d = 2) the
+    trial force node by node (see the module docstring). It takes no options.
+
+    Attributes
+    ----------
+    name : str
+        ``"projection"``.
+    """
 
     name = "projection"
 
-    def check_system(self, system) -> None:
+    def check_system(self, system: ContactSystem) -> None:
+        """Refuse a coupled K, or a d = 2 K that is not isotropic within each node.
+
+        Parameters
+        ----------
+        system : ContactSystem
+            The discrete system to solve.
+
+        Raises
+        ------
+        lcpfric.errors.InputError
+            ``method``: K is not diagonal, or (d = 2) a node's two tangential stiffnesses
+            differ (relative 1e-12); the message names the methods that can.
+        """
         if not system.is_diagonal():
             raise InputError("method", "'projection' needs a diagonal tangential stiffness "
                                        "(uncoupled nodes); for a coupled K use 'clarabel', 'osqp', "
@@ -42,12 +71,49 @@ class ProjectionStepper(Stepper):
                                            "tangential directions of each node; use 'clarabel' or "
                                            "'cvxpy:CLARABEL'")
 
-    def init(self, scene, u0=None) -> StepState:
+    def init(self, scene: Scene, u0: ArrayLike | None = None) -> StepState:
+        """The initial state at ``scene.t[0]``, with K's diagonal.
+
+        Parameters
+        ----------
+        scene : Scene
+            A discrete system's scene.
+        u0 : (m,) array_like, optional
+            The initial tangential displacements (default zero).
+
+        Returns
+        -------
+        StepState
+            As :meth:`Stepper.init <lcpfric.steppers.base.Stepper.init>`, with ``data`` the
+            diagonal of K, an (m,) ndarray.
+
+        Raises
+        ------
+        lcpfric.errors.InputError
+            ``method``: as :meth:`check_system`.
+        """
         self.check_system(scene.system)
         state = super().init(scene, u0)
         return replace(state, data=np.diag(scene.system.dense_stiffness()).copy())
 
-    def step(self, scene, k, state):
+    def step(self, scene: Scene, k: int, state: StepState) -> StepState:
+        """Increment k: the projection of the trial force ``Q(t_{k+1}) + K u_k``.
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene :meth:`init` was given.
+        k : int
+            The increment, ``0 <= k < scene.steps``.
+        state : StepState
+            The state at ``scene.t[k]`` (not changed).
+
+        Returns
+        -------
+        StepState
+            The state at ``scene.t[k+1]`` (for d = 2 a slipping node is marked ``FORWARD``,
+            whatever its direction); ``dW`` the increment's dissipation.
+        """
         system = scene.system
         kdiag = state.data
         f_tr = scene.Q[k + 1] + kdiag * state.u
@@ -67,11 +133,33 @@ class ProjectionStepper(Stepper):
         dW = increment_dissipation(state.F, F, u - state.u, system.dims)
         return StepState(u, F, node_state, dW, kdiag)
 
-    def cycle(self, scene, state, history: bool = True):
+    def cycle(self, scene: Scene, state: StepState,
+              history: bool = True) -> tuple[StepState, CycleResult]:
+        """One cycle from ``state`` at ``scene.t[0]``.
+
+        :meth:`Stepper.cycle <lcpfric.steppers.base.Stepper.cycle>`; one unknown (d = 1) with
+        the history runs the same clamp in scalar arithmetic (about 20x faster than numpy on
+        one-element arrays).
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene :meth:`init` was given.
+        state : StepState
+            The state at the cycle's start.
+        history : bool
+            Keep every instant (default), or only the ends and each unknown's range.
+
+        Returns
+        -------
+        end : StepState
+            The state at the cycle's end.
+        cycle : CycleResult
+            The cycle's series and dissipation (no stats).
+        """
         if scene.system.m != 1 or not history:
             return super().cycle(scene, state, history)
-        # One node, d = 1: the same clamp in scalar arithmetic (about 20x faster than numpy on
-        # one-element arrays).
+        # One node, d = 1: the same clamp in scalar arithmetic
         k = float(state.data[0])
         fr = float(scene.system.friction[0])
         Q = scene.Q[:, 0].tolist()

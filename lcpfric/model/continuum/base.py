@@ -32,6 +32,7 @@ and the steppers use nothing else):
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -40,13 +41,64 @@ from ...errors import InputError
 from ..loads import Harmonic, Load
 from .closed_forms import moduli
 
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from ..system import ContactSystem
+
 __all__ = ["ContactModel", "LevelNormal", "gross_sliding", "load"]
 
 
 class ContactModel:
-    """What every continuum model shares: two identical bodies (E, ν), friction μ, the loads
-    P(t) and Q(t) (one period), the support stiffness and the number of nodes (the protocol of
-    the module docstring). Subclasses add the geometry and the normal problem."""
+    """What every continuum model shares (the protocol of the module docstring).
+
+    Two identical bodies (E, ν), friction μ, the loads P(t) and Q(t) (one period), the support
+    stiffness and the number of nodes. Subclasses add the geometry and the normal problem.
+
+    Parameters
+    ----------
+    E : float
+        Each body's Young's modulus, > 0.
+    nu : float
+        Each body's Poisson's ratio, ``0 <= ν < 0.5``.
+    mu : float
+        Friction coefficient, > 0.
+    P, Q : Load or float
+        Normal and tangential loads; floats are constant loads. Their mean P0 must be > 0, and
+        the two must share one period.
+    k_support : float
+        Tangential stiffness of the support in parallel with the contact, >= 0 (0: pure load
+        control).
+    nodes : int
+        Number of nodes, from 1 to ``max_nodes``.
+
+    Attributes
+    ----------
+    E, nu, mu, k_support : float
+        As given.
+    moduli : dict
+        ``{"E*", "G*", "G", "eta"}`` (:func:`~lcpfric.model.continuum.closed_forms.moduli`).
+    P, Q : Load
+        The loads.
+    period : float
+        The loads' period (1.0 when neither varies).
+    P0, P_max : float
+        The mean normal load and the largest over the cycle (at least P0).
+    nodes : int
+        Number of nodes (the unknowns: ``nodes · dims`` tangential ones).
+    dims : int
+        Tangential directions per node.
+    k_t0 : float or None
+        The initial tangential stiffness at P0 (None for a plane contact).
+    default_method : str
+        The registry name of the stepper that solves its increments.
+
+    Raises
+    ------
+    InputError
+        A parameter out of range or not finite, a load that is neither a Load nor a number,
+        P and Q of different periods, or P0 <= 0.
+    """
 
     max_nodes = 200_000
     dims = 1
@@ -59,7 +111,8 @@ class ContactModel:
     #: what to do where no element slips (the driver's ResolutionWarning)
     refine_hint = "refine the grid"
 
-    def __init__(self, E, nu, mu, P, Q, k_support, nodes):
+    def __init__(self, E: float, nu: float, mu: float, P: Load | float, Q: Load | float,
+                 k_support: float, nodes: int) -> None:
         self.E = _checks.positive("E", E)
         self.mu = _checks.positive("mu", mu)
         self.moduli = moduli(self.E, nu)
@@ -79,26 +132,93 @@ class ContactModel:
         ts = np.linspace(0.0, self.period, 4097)
         self.P_max = float(max(np.max(self.P(ts)), self.P0))
 
-    def normal_problem(self):  # pragma: no cover - abstract
-        """A solver of the normal problem (module docstring)."""
+    def normal_problem(self) -> Any:  # pragma: no cover - abstract
+        """A solver of the normal problem (module docstring).
+
+        Returns
+        -------
+        object
+            An object whose ``solution(t)`` gives ``(limits, sizes, stats)``; each subclass
+            returns its own.
+        """
         raise NotImplementedError
 
-    def normal_solution(self, t):
-        """``(limits, sizes, stats)`` at the instants t, by a new :meth:`normal_problem`."""
+    def normal_solution(self, t: ArrayLike) -> tuple[np.ndarray, np.ndarray, dict]:
+        """``(limits, sizes, stats)`` at the instants t, by a new :meth:`normal_problem`.
+
+        Parameters
+        ----------
+        t : float or array_like
+            Instants of the cycle.
+
+        Returns
+        -------
+        limits : ndarray
+            The friction limits ``μ N_i`` of the nodes, ``(len(t), nodes)``.
+        sizes : ndarray
+            The contact size (radius or half-width) at each instant, ``(len(t),)``.
+        stats : dict
+            The normal solves' statistics (empty for a closed form).
+
+        Raises
+        ------
+        SolverError
+            An iterative normal problem failed
+            (:class:`~lcpfric.model.continuum.halfplane.HalfPlaneCylinder`,
+            :class:`~lcpfric.model.continuum.halfspace.HalfSpace`).
+        """
         return self.normal_problem().solution(t)
 
     def load_scales(self, Q: Load) -> tuple[float, float]:
-        """``(displacement, force)`` scales with the tangential load Q: its amplitude (or
-        mean, if constant) over the initial tangential stiffness, and the largest friction
-        limit μ P_max."""
+        """``(displacement, force)`` scales with the tangential load Q.
+
+        The displacement scale is its amplitude (or mean, if constant) over the initial
+        tangential stiffness, the force scale the largest friction limit μ P_max (for the
+        cycles' convergence measure, :func:`lcpfric.periodic.measure.cycle_change`).
+
+        Parameters
+        ----------
+        Q : Load
+            The tangential load.
+
+        Returns
+        -------
+        displacement, force : float
+            The two scales.
+        """
         q = Q.amplitude if not Q.is_constant else abs(Q.mean)
         return q / self.k_t0, self.mu * self.P_max
 
     def normalization(self) -> tuple[str, float]:
+        """The normalized dissipation: ``W_normalized = factor · W``.
+
+        Returns
+        -------
+        name : str
+            Its formula, ``"W k_t0/(mu^2 P0^2)"``.
+        factor : float
+            ``k_t0 / (μ P0)²``.
+        """
         return "W k_t0/(mu^2 P0^2)", self.k_t0 / (self.mu * self.P0) ** 2
 
-    def with_support(self, k_support: float) -> "ContactModel":
-        """The same contact held by a support of stiffness ``k_support`` (a copy)."""
+    def with_support(self, k_support: float) -> ContactModel:
+        """The same contact held by a support of stiffness ``k_support`` (a copy).
+
+        Parameters
+        ----------
+        k_support : float
+            Tangential stiffness of the support, >= 0 (0: pure load control).
+
+        Returns
+        -------
+        ContactModel
+            A shallow copy of this model (the same class) with the new support.
+
+        Raises
+        ------
+        InputError
+            ``k_support`` negative or not finite.
+        """
         import copy
 
         out = copy.copy(self)
@@ -106,15 +226,42 @@ class ContactModel:
         return out
 
     # -- as an lcpfric system ---------------------------------------------------------------
-    def normal_model(self) -> "LevelNormal":
-        """The nodes' normal forces as an lcpfric normal model
-        (:class:`~lcpfric.model.normal.NormalModel`)."""
+    def normal_model(self) -> LevelNormal:
+        """The nodes' normal forces as an lcpfric normal model.
+
+        Node i is in contact while P(t) exceeds its entry load (``entry_loads()``).
+
+        Returns
+        -------
+        LevelNormal
+            A :class:`~lcpfric.model.normal.NormalModel` of the nodes.
+
+        Raises
+        ------
+        InputError
+            The model cannot give its entry loads
+            (:class:`~lcpfric.model.continuum.halfspace.HalfSpace` beyond its dense limit).
+        """
         return LevelNormal(self)
 
-    def system(self):
-        """This contact as a matrix-free :class:`~lcpfric.model.ContactSystem`, for the
-        discrete methods (:func:`lcpfric.model.continuum.bridge.contact_system`; needs
-        ``k_support > 0``)."""
+    def system(self) -> ContactSystem:
+        """This contact as a matrix-free :class:`~lcpfric.model.ContactSystem`.
+
+        For the discrete methods (:func:`lcpfric.model.continuum.bridge.contact_system`; needs
+        ``k_support > 0``).
+
+        Returns
+        -------
+        ContactSystem
+            The nodes' slips as its unknowns, known by its compliance operator (the body on its
+            support), with :meth:`normal_model` as its normal model.
+
+        Raises
+        ------
+        InputError
+            ``k_support`` is 0 (under pure load control the stiffness is singular), or the
+            model cannot give its entry loads (:meth:`normal_model`).
+        """
         from .bridge import contact_system
 
         return contact_system(self)

@@ -23,6 +23,7 @@ one out of range.
 from __future__ import annotations
 
 import math
+from typing import Callable
 
 from ..._checks import positive
 from ...errors import InputError
@@ -64,7 +65,26 @@ def _ratio(x: float) -> float:
 
 
 def moduli(E: float, nu: float) -> dict:
-    """``{"E*", "G*", "G", "eta"}`` for two identical bodies of modulus E and ratio ν."""
+    """``{"E*", "G*", "G", "eta"}`` for two identical bodies of modulus E and ratio ν.
+
+    Parameters
+    ----------
+    E : float
+        Each body's Young's modulus, > 0.
+    nu : float
+        Each body's Poisson's ratio, ``0 <= ν < 0.5``.
+
+    Returns
+    -------
+    dict
+        ``"E*"``: E / (2(1 - ν²)); ``"G*"``: 2G / (2 - ν); ``"G"``: E / (2(1 + ν));
+        ``"eta"``: G*/E* (floats).
+
+    Raises
+    ------
+    InputError
+        ``E`` or ``nu`` out of range.
+    """
     E, nu = positive("E", E), _poisson(nu)
     G = E / (2.0 * (1.0 + nu))
     Es, Gs = E / (2.0 * (1.0 - nu * nu)), 2.0 * G / (2.0 - nu)
@@ -72,8 +92,30 @@ def moduli(E: float, nu: float) -> dict:
 
 
 def hertz_contact(P: float, R: float, E: float, nu: float) -> dict:
-    """Sphere: ``{"a", "p0", "d", "k_t0"}`` at normal load P (contact radius, peak pressure,
-    approach, initial tangential stiffness of the whole contact)."""
+    """Sphere: ``{"a", "p0", "d", "k_t0"}`` at normal load P.
+
+    Parameters
+    ----------
+    P : float
+        Normal load, > 0.
+    R : float
+        Effective radius, > 0.
+    E : float
+        Each body's Young's modulus, > 0.
+    nu : float
+        Each body's Poisson's ratio, ``0 <= ν < 0.5``.
+
+    Returns
+    -------
+    dict
+        ``"a"``: contact radius; ``"p0"``: peak pressure; ``"d"``: approach; ``"k_t0"``:
+        initial tangential stiffness of the whole contact (floats).
+
+    Raises
+    ------
+    InputError
+        A parameter out of range.
+    """
     P, R = positive("P", P), positive("R", R)
     m = moduli(E, nu)
     a = (3.0 * P * R / (4.0 * m["E*"])) ** (1.0 / 3.0)
@@ -82,15 +124,54 @@ def hertz_contact(P: float, R: float, E: float, nu: float) -> dict:
 
 
 def cylinder_contact(P: float, R: float, E: float, nu: float) -> dict:
-    """Cylinder in plane strain, P per unit length: ``{"a", "p0"}`` (half-width, peak
-    pressure)."""
+    """Cylinder in plane strain, P per unit length: ``{"a", "p0"}``.
+
+    Parameters
+    ----------
+    P : float
+        Normal load per unit length, > 0.
+    R : float
+        Effective radius, > 0.
+    E : float
+        Each body's Young's modulus, > 0.
+    nu : float
+        Each body's Poisson's ratio, ``0 <= ν < 0.5``.
+
+    Returns
+    -------
+    dict
+        ``"a"``: half-width; ``"p0"``: peak pressure (floats).
+
+    Raises
+    ------
+    InputError
+        A parameter out of range.
+    """
     P, R = positive("P", P), positive("R", R)
     a = math.sqrt(4.0 * P * R / (math.pi * moduli(E, nu)["E*"]))
     return {"a": a, "p0": 2.0 * P / (math.pi * a)}
 
 
 def cattaneo_stick_ratio(x: float, geometry: str = "sphere") -> float:
-    """``c/a`` of the Cattaneo-Mindlin stick zone at ``x = Q/(μP)`` (Q rising from 0)."""
+    """``c/a`` of the Cattaneo-Mindlin stick zone at ``x = Q/(μP)`` (Q rising from 0).
+
+    Parameters
+    ----------
+    x : float
+        The load ratio Q/(μP), in [0, 1].
+    geometry : {"sphere", "cylinder"}, optional
+        ``(1 - x)^(1/3)`` for the sphere, ``√(1 - x)`` for the cylinder.
+
+    Returns
+    -------
+    float
+        The stick radius (or half-width) over the contact's.
+
+    Raises
+    ------
+    InputError
+        ``x`` outside [0, 1] (named ``Q``) or an unknown ``geometry``.
+    """
     x = _ratio(x)
     if geometry == "sphere":
         return (1.0 - x) ** (1.0 / 3.0)
@@ -100,7 +181,32 @@ def cattaneo_stick_ratio(x: float, geometry: str = "sphere") -> float:
 
 
 def mindlin_deresiewicz_W(P: float, Q_amp: float, mu: float, k_t0: float) -> float:
-    """Sphere at constant P, Q between ±Q_amp: the dissipation per cycle (k_t0 at that P)."""
+    """Sphere at constant P, Q between ±Q_amp: the dissipation per cycle (k_t0 at that P).
+
+    ``W = (36/5) (μP)²/k_t0 [1 - (1 - x)^(5/3) - (5x/6)(1 + (1 - x)^(2/3))]``, ``x =
+    Q_amp/(μP)``; for x < 0.25 the bracket, which vanishes as x³, is summed as a series.
+
+    Parameters
+    ----------
+    P : float
+        Normal load, > 0.
+    Q_amp : float
+        Tangential amplitude Q*, with ``0 <= Q_amp/(μP) <= 1``.
+    mu : float
+        Friction coefficient, > 0.
+    k_t0 : float
+        Initial tangential stiffness at P, > 0 (``hertz_contact(P, ...)["k_t0"]``).
+
+    Returns
+    -------
+    float
+        The dissipation per cycle.
+
+    Raises
+    ------
+    InputError
+        A parameter out of range (``Q_amp/(μP)`` outside [0, 1] is named ``Q``).
+    """
     P, mu, k_t0 = positive("P", P), positive("mu", mu), positive("k_t0", k_t0)
     x = _ratio(Q_amp / (mu * P))
     if x < _SERIES:  # the bracket is (5/162) x³ (1 + 2x/3 + ...): summed, not cancelled
@@ -112,7 +218,34 @@ def mindlin_deresiewicz_W(P: float, Q_amp: float, mu: float, k_t0: float) -> flo
 
 
 def cylinder_W(P: float, Q_amp: float, mu: float, E: float, nu: float) -> float:
-    """Cylinder (plane strain) at constant P, Q between ±Q_amp, per cycle and unit length."""
+    """Cylinder (plane strain) at constant P, Q between ±Q_amp, per cycle and unit length.
+
+    ``W = 4μ²P²/(πE*) [(1 - x) ln(1 - x) + x - x²/2]``, ``x = Q_amp/(μP)``; for x < 0.25
+    the bracket, which vanishes as x³, is summed as a series.
+
+    Parameters
+    ----------
+    P : float
+        Normal load per unit length, > 0.
+    Q_amp : float
+        Tangential amplitude Q* per unit length, with ``0 <= Q_amp/(μP) <= 1``.
+    mu : float
+        Friction coefficient, > 0.
+    E : float
+        Each body's Young's modulus, > 0.
+    nu : float
+        Each body's Poisson's ratio, ``0 <= ν < 0.5``.
+
+    Returns
+    -------
+    float
+        The dissipation per cycle and unit length.
+
+    Raises
+    ------
+    InputError
+        A parameter out of range (``Q_amp/(μP)`` outside [0, 1] is named ``Q``).
+    """
     P, mu = positive("P", P), positive("mu", mu)
     x = _ratio(Q_amp / (mu * P))
     Es = moduli(E, nu)["E*"]
@@ -125,10 +258,36 @@ def cylinder_W(P: float, Q_amp: float, mu: float, E: float, nu: float) -> float:
     return 4.0 * mu * mu * P * P / (math.pi * Es) * bracket
 
 
-def ciavarella_jager_W(approach, P: float, Q_amp: float, mu: float, eta: float) -> float:
-    """Any uncoupled profile at constant P: ``(8μ²/η)`` times the area between the approach
-    curve ``C(p)`` (a callable, normal approach against load) and its chord over ``[P -
-    Q_amp/μ, P]``, by adaptive quadrature (:func:`scipy.integrate.quad`)."""
+def ciavarella_jager_W(approach: Callable[[float], float], P: float, Q_amp: float, mu: float,
+                       eta: float) -> float:
+    """Any uncoupled profile at constant P, Q between ±Q_amp: the dissipation per cycle.
+
+    ``(8μ²/η)`` times the area between the approach curve ``C(p)`` and its chord over
+    ``[P - Q_amp/μ, P]``, by adaptive quadrature (:func:`scipy.integrate.quad`).
+
+    Parameters
+    ----------
+    approach : callable
+        ``C(p)``: the normal approach against the normal load, a scalar function.
+    P : float
+        Normal load, > 0.
+    Q_amp : float
+        Tangential amplitude Q*, with ``0 <= Q_amp/(μP) <= 1``.
+    mu : float
+        Friction coefficient, > 0.
+    eta : float
+        ``G*/E*`` (:func:`moduli`), > 0.
+
+    Returns
+    -------
+    float
+        The dissipation per cycle.
+
+    Raises
+    ------
+    InputError
+        A parameter out of range (``Q_amp/(μP)`` outside [0, 1] is named ``Q``).
+    """
     from scipy.integrate import quad
 
     P, mu, eta = positive("P", P), positive("mu", mu), positive("eta", eta)

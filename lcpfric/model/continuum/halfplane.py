@@ -37,6 +37,7 @@ The tangential problem is the ``halfplane-pdas`` stepper's
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
@@ -45,6 +46,11 @@ from ...errors import InputError, SolverError
 from ...linalg import DenseBlock
 from .base import ContactModel
 from .closed_forms import cylinder_contact
+
+if TYPE_CHECKING:
+    from scipy.sparse.linalg import LinearOperator
+
+    from ..loads import Load
 
 __all__ = ["HalfPlaneCylinder", "NormalProblem", "MAX_NODES", "log_kernel", "entry_loads"]
 
@@ -67,8 +73,9 @@ def log_kernel(offsets: np.ndarray, width: float, Estar: float, datum: float) ->
 
 
 class HalfPlaneCylinder(ContactModel):
-    """Two identical cylinders in plane strain, by half-plane boundary elements (see the module
-    docstring).
+    """Two identical cylinders in plane strain, by half-plane boundary elements.
+
+    See the module docstring.
 
     Parameters
     ----------
@@ -89,18 +96,38 @@ class HalfPlaneCylinder(ContactModel):
     ----------
     nodes : int
         Every element of the grid (the unknowns; ``nodes_across`` is the ``nodes`` given).
+    nodes_across : int
+        The ``nodes`` given.
+    total : int
+        Every element of the grid (``nodes``).
     x, dx : ndarray, float
         Element centres and width.
+    h : ndarray
+        The gap profile at the element centres.
     A, C : ndarray
         The influence matrix (displacement per unit traction) and the compliance per unit
         force on an element, ``A / Δ``.
+    cdiag : ndarray
+        The diagonal of C.
+    a_max, a0 : float
+        The largest half-width over the cycle and the half-width at P0 (Hertz's).
+    force_scale : float
+        An element's force scale (the increments' tolerances are relative to it).
+
+    Raises
+    ------
+    InputError
+        A parameter out of range (:class:`~lcpfric.model.continuum.base.ContactModel`); more
+        than 6000 elements in the grid (the influence matrix is dense); a profile that is not
+        finite.
     """
 
     max_nodes = MAX_NODES
     default_method = "halfplane-pdas"
 
-    def __init__(self, R, E, nu, mu, P, Q, *, k_support: float = 0.0, nodes: int = 400,
-                 profile=None):
+    def __init__(self, R: float, E: float, nu: float, mu: float, P: Load | float,
+                 Q: Load | float, *, k_support: float = 0.0, nodes: int = 400,
+                 profile: Callable | None = None) -> None:
         super().__init__(E, nu, mu, P, Q, k_support, nodes)
         self.R = _checks.positive("R", R)
         self.a_max = cylinder_contact(self.P_max, self.R, self.E, self.nu)["a"]
@@ -128,25 +155,84 @@ class HalfPlaneCylinder(ContactModel):
         self.nodes = N                                 # the unknowns of the grid
 
     # -- the normal problem ---------------------------------------------------------------------
-    def normal_problem(self) -> "NormalProblem":
-        """A solver of the frictionless normal problem, its contact set warm-started from the
-        last load it solved (:class:`NormalProblem`)."""
+    def normal_problem(self) -> NormalProblem:
+        """A solver of the frictionless normal problem.
+
+        Its contact set is warm-started from the last load it solved.
+
+        Returns
+        -------
+        NormalProblem
+            A new solver (:class:`NormalProblem`), whose ``solution(t)`` is
+            ``(limits, sizes, stats)``.
+        """
         return NormalProblem(self)
 
     def pressure(self, P: float) -> np.ndarray:
-        """The frictionless contact pressures under the load P (per unit length)."""
+        """The frictionless contact pressures under the load P (per unit length).
+
+        Parameters
+        ----------
+        P : float
+            Normal load per unit length (P <= 0: separation, zero pressures).
+
+        Returns
+        -------
+        ndarray
+            The pressure on each element, ``(nodes,)``.
+
+        Raises
+        ------
+        SolverError
+            The active-set iteration cycles or finds no contact set in 400 iterations.
+        """
         return self.normal_problem().pressure(P)
 
-    def load_scales(self, Q) -> tuple[float, float]:
+    def load_scales(self, Q: Load) -> tuple[float, float]:
+        """``(displacement, force)`` scales with the tangential load Q.
+
+        The displacement scale is its amplitude (or mean, if constant) times ``4 / (π E*)``
+        (a plane contact has no initial tangential stiffness), the force scale the largest
+        friction limit μ P_max.
+
+        Parameters
+        ----------
+        Q : Load
+            The tangential load.
+
+        Returns
+        -------
+        displacement, force : float
+            The two scales.
+        """
         q = Q.amplitude if not Q.is_constant else abs(Q.mean)
         return q * 4.0 / (math.pi * self.moduli["E*"]), self.mu * self.P_max
 
     def normalization(self) -> tuple[str, float]:
+        """The normalized dissipation: ``W_normalized = factor · W``.
+
+        Returns
+        -------
+        name : str
+            Its formula, ``"W pi E*/(mu^2 P0^2)"``.
+        factor : float
+            ``π E* / (μ P0)²``.
+        """
         return "W pi E*/(mu^2 P0^2)", math.pi * self.moduli["E*"] / (self.mu * self.P0) ** 2
 
     # -- as an lcpfric system (ContactModel.system) -------------------------------------------
-    def springs(self):
-        """``(compliance operator, C⁻¹ 1, diag C)`` of the elements with the body held fixed."""
+    def springs(self) -> tuple[LinearOperator, np.ndarray, np.ndarray]:
+        """The elements with the body held fixed, for :meth:`ContactModel.system`.
+
+        Returns
+        -------
+        compliance : LinearOperator
+            C.
+        C_inv_ones : ndarray
+            ``C⁻¹ 1``, ``(nodes,)``.
+        diagonal : ndarray
+            The diagonal of C.
+        """
         from scipy.linalg import cho_factor, cho_solve
         from scipy.sparse.linalg import aslinearoperator
 
@@ -154,8 +240,13 @@ class HalfPlaneCylinder(ContactModel):
         return aslinearoperator(self.C), w, self.cdiag.copy()
 
     def entry_loads(self) -> np.ndarray:
-        """Per element, the normal load at which it comes into contact (inf: not below the
-        largest load of the cycle): :func:`entry_loads`."""
+        """Per element, the normal load at which it comes into contact (:func:`entry_loads`).
+
+        Returns
+        -------
+        ndarray
+            ``(nodes,)`` loads; inf: not below the largest load of the cycle.
+        """
         return entry_loads(self.A, self.h, self.dx, self.P_max)
 
 

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 import time
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -35,6 +36,12 @@ from .base import ContactModel
 from .closed_forms import hertz_contact, moduli
 from .influence import Convolution, Counted
 from .normal3d import normal_contact
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+    from scipy.sparse.linalg import LinearOperator
+
+    from ..loads import Load
 
 __all__ = ["HalfSpace", "NormalProblem", "MAX_GRID", "MIN_ACROSS", "MEMORY_PER_POINT",
            "compliance"]
@@ -67,6 +74,10 @@ class HalfSpace(ContactModel):
         Tangential directions: 1 (tractions along the load) or 2 (in the plane).
     k_support : float
         Tangential support stiffness in parallel with the contact (0: pure load control).
+    _a0 : float or None, optional
+        Internal (:meth:`sphere`): the contact radius at P0 for the normalization.
+    geometry : str, optional
+        Internal: ``"heightmap"``, or ``"sphere"`` / ``"punch"`` from those constructors.
 
     Attributes
     ----------
@@ -89,6 +100,17 @@ class HalfSpace(ContactModel):
     normal_seed : (dict, ndarray)
         The pressures at P_max and P0, solved at construction: every normal solve
         (:class:`NormalProblem`) starts from them.
+    x, xy : ndarray
+        Each node's distance from the grid's centre ``(N²,)``, and its coordinates ``(N², 2)``.
+
+    Raises
+    ------
+    InputError
+        A parameter out of range (as for the base class; heights a finite square N x N array,
+        4 <= N <= 2048), arrays over the memory limit (:mod:`lcpfric.memory`), or a contact
+        that spans fewer than 8 elements at P0 or reaches the grid's edge at P_max.
+    SolverError
+        The normal problem at P_max or P0 failed.
     """
 
     max_nodes = MAX_GRID * MAX_GRID
@@ -96,9 +118,9 @@ class HalfSpace(ContactModel):
     #: what to do where no element slips (``steady_state``'s ResolutionWarning)
     refine_hint = "refine the grid or use the MDR model for a sphere"
 
-
-    def __init__(self, E, nu, mu, P, Q, *, heights, spacing, dims: int = 1,
-                 k_support: float = 0.0, _a0=None, geometry="heightmap"):
+    def __init__(self, E: float, nu: float, mu: float, P: Load | float, Q: Load | float, *,
+                 heights: ArrayLike, spacing: float, dims: int = 1, k_support: float = 0.0,
+                 _a0: float | None = None, geometry: str = "heightmap") -> None:
         g0 = _checks.finite_array("heights", heights)
         if g0.ndim != 2 or g0.shape[0] != g0.shape[1] or g0.shape[0] < 4:
             raise InputError("heights", f"must be a square 2-D array (N x N, N >= 4), got "
@@ -145,14 +167,40 @@ class HalfSpace(ContactModel):
         self.a0 = float(_a0) if _a0 is not None else self.a_eq0
         self.k_t0 = 2.0 * self.a0 * self.moduli["G*"]
 
-
     # -- constructors ---------------------------------------------------------------------------
     @classmethod
-    def sphere(cls, R, E, nu, mu, P, Q, *, grid: int = 40, dims: int = 1,
-               k_support: float = 0.0):
-        """Two spheres (effective radius R): ``g0 = r²/(2R)`` on a grid of ``grid`` elements
-        across the largest Hertz contact diameter, plus 3 % (at least two elements) on each
-        side. ``a0`` and ``k_t0`` are Hertz's (the normalization of the other models)."""
+    def sphere(cls, R: float, E: float, nu: float, mu: float, P: Load | float,
+               Q: Load | float, *, grid: int = 40, dims: int = 1,
+               k_support: float = 0.0) -> HalfSpace:
+        """Two spheres (effective radius R): ``g0 = r²/(2R)``.
+
+        On a grid of ``grid`` elements across the largest Hertz contact diameter, plus 3 % (at
+        least two elements) on each side. ``a0`` and ``k_t0`` are Hertz's (the normalization
+        of the other models).
+
+        Parameters
+        ----------
+        R : float
+            Effective radius, > 0.
+        E, nu, mu, P, Q
+            As for :class:`HalfSpace`.
+        grid : int, optional
+            Elements across the largest contact diameter, >= 8 (<= 2048 with the margins).
+        dims, k_support : optional
+            As for :class:`HalfSpace`.
+
+        Returns
+        -------
+        HalfSpace
+            The model, with the attributes ``R``, ``a_max`` and ``grid_across`` added.
+
+        Raises
+        ------
+        InputError
+            ``R`` or ``grid`` out of range, or as for :class:`HalfSpace`.
+        SolverError
+            As for :class:`HalfSpace`.
+        """
         R = _checks.positive("R", R)
         probe = ContactModel(E, nu, mu, P, Q, k_support, 1)
         a_max = hertz_contact(probe.P_max, R, E, nu)["a"]
@@ -165,12 +213,34 @@ class HalfSpace(ContactModel):
         return model
 
     @classmethod
-    def punch(cls, R, radius, E, nu, mu, P, Q, *, grid: int = 40, dims: int = 1,
-              k_support: float = 0.0):
-        """A flat punch of radius ``radius`` with edges rounded to the radius R:
+    def punch(cls, R: float, radius: float, E: float, nu: float, mu: float, P: Load | float,
+              Q: Load | float, *, grid: int = 40, dims: int = 1,
+              k_support: float = 0.0) -> HalfSpace:
+        """A flat punch of radius ``radius`` with edges rounded to the radius R.
+
         ``g0 = max(0, r − radius)²/(2R)``; the grid spans the largest contact (its radius by
         the method of dimensionality reduction, exact for axisymmetric bodies) as for
-        :meth:`sphere`."""
+        :meth:`sphere`.
+
+        Parameters
+        ----------
+        R, radius : float
+            Radius of the rounded edges and of the flat face, > 0.
+        E, nu, mu, P, Q, grid, dims, k_support
+            As for :meth:`sphere`.
+
+        Returns
+        -------
+        HalfSpace
+            The model, with ``R``, ``flat_radius``, ``a_max`` and ``grid_across`` added.
+
+        Raises
+        ------
+        InputError
+            ``R``, ``radius`` or ``grid`` out of range, or as for :class:`HalfSpace`.
+        SolverError
+            As for :class:`HalfSpace`.
+        """
         from .profiles import Axisymmetric
 
         R, b = _checks.positive("R", R), _checks.positive("radius", radius)
@@ -195,11 +265,18 @@ class HalfSpace(ContactModel):
         return (np.arange(N) - (N - 1) / 2.0) * h, N, h
 
     def memory_estimate(self) -> int:
-        """Bytes the model's arrays take at their peak (kernels, spectra, the solvers' work
-        arrays, on the FFT's padded grid of M x M): ``MEMORY_PER_POINT[d] × M²``, measured
-        (``tracemalloc``'s peak over a short solve, grids 40 to 120: at most 211 and 447 bytes
-        per point for d = 1 and 2, checked by a test). The cycle's records are the driver's,
-        which checks them itself."""
+        """Bytes the model's arrays take at their peak: ``MEMORY_PER_POINT[d] × M²``.
+
+        Kernels, spectra, the solvers' work arrays, on the FFT's padded grid of M x M;
+        measured (``tracemalloc``'s peak over a short solve, grids 40 to 120: at most 211 and
+        447 bytes per point for d = 1 and 2, checked by a test). The cycle's records are the
+        driver's, which checks them itself.
+
+        Returns
+        -------
+        int
+            The estimate in bytes.
+        """
         M = Convolution.padded_size(self.N)
         return MEMORY_PER_POINT[self.dims] * M * M
 
@@ -211,21 +288,49 @@ class HalfSpace(ContactModel):
 
 
     # -- the normal problem ---------------------------------------------------------------------
-    def normal_problem(self) -> "NormalProblem":
-        """A solver of the frictionless normal problem, started from the pressures solved at
-        construction (:attr:`normal_seed`)."""
+    def normal_problem(self) -> NormalProblem:
+        """A solver of the frictionless normal problem, started from :attr:`normal_seed`.
+
+        Returns
+        -------
+        NormalProblem
+            Its ``solution(t)`` is ``(limits, sizes, stats)`` (:class:`NormalProblem`).
+        """
         return NormalProblem(self, self.normal_seed)
 
     def pressure(self, P: float) -> np.ndarray:
-        """The frictionless contact pressures ``(N²,)`` under the load P."""
+        """The frictionless contact pressures ``(N²,)`` under the load P.
+
+        Parameters
+        ----------
+        P : float
+            Total normal load (P <= 0: separation, zero pressures).
+
+        Returns
+        -------
+        ndarray
+            The pressure on each element, ``(N²,)``.
+
+        Raises
+        ------
+        SolverError
+            The constrained conjugate gradients did not converge.
+        """
         return self.normal_problem().pressure(P)
 
     # -- as an lcpfric system (ContactModel.system) ---------------------------------------------
-    def springs(self):
-        """``(compliance operator, C⁻¹ B, diag C)`` with the body held fixed, for
-        :meth:`ContactModel.system`: the operator is the FFT product (matrix-free: the
+    def springs(self) -> tuple[LinearOperator, np.ndarray, np.ndarray]:
+        """``(compliance operator, C⁻¹ B, diag C)`` with the body held fixed.
+
+        For :meth:`ContactModel.system`: the operator is the FFT product (matrix-free: the
         ``active-set`` backend solves d = 1 with products only, the other methods form C from
-        products on small grids), ``C⁻¹ B`` by preconditioned conjugate gradients to 1e-13."""
+        products on small grids), ``C⁻¹ B`` by preconditioned conjugate gradients to 1e-13.
+
+        Returns
+        -------
+        tuple of (LinearOperator, ndarray, ndarray)
+            C ``(m, m)``, m = N² d; ``C⁻¹ B`` ``(m,)`` (d = 1) or ``(m, 2)``; diag C ``(m,)``.
+        """
         from scipy.sparse.linalg import LinearOperator
 
         n, d = self.nodes, self.dims
@@ -248,8 +353,21 @@ class HalfSpace(ContactModel):
         return op, (W[:, 0] if d == 1 else W), np.full(m, self.c)
 
     def entry_loads(self) -> np.ndarray:
-        """Per element, the normal load at which it enters the contact (dense: small grids):
-        :func:`~lcpfric.model.continuum.halfplane.entry_loads`, exact for the discrete problem."""
+        """Per element, the normal load at which it enters the contact (dense: small grids).
+
+        By :func:`~lcpfric.model.continuum.halfplane.entry_loads`, exact for the discrete
+        problem.
+
+        Returns
+        -------
+        ndarray
+            ``(N²,)`` loads; inf: not below the largest load of the cycle.
+
+        Raises
+        ------
+        InputError
+            More than 2000 elements (named ``grid``).
+        """
         from .halfplane import entry_loads
 
         if self.nodes > DENSE_MAX:

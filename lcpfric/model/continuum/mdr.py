@@ -29,10 +29,10 @@ b_i)``, ``b_i = μ N_i(t_{j+1})`` (lcpfric's sign: ``F_i = k_i (v_i - u)`` is th
 force, and the slip opposes it). The bar's equilibrium ``h(u) = Σ F_i(u) - k_support u + Q = 0``
 is one monotone piecewise-linear equation in u, solved exactly (:func:`bar_root`: a safeguarded
 Newton iteration from the previous u, exact once a step keeps every spring on its side of its
-breakpoints ``v_i ∓ b_i/k_i``; usually two or three O(n) passes); the rank-one coupling of the springs through
-the bar is never formed as a matrix. With ``k_support = 0`` the equation has a root only when
-``|Q| <= μ P`` (else the whole contact slides): such loads are refused before any work, naming
-the instants and the fix (a support stiffness).
+breakpoints ``v_i ∓ b_i/k_i``; usually two or three O(n) passes); the rank-one coupling of the
+springs through the bar is never formed as a matrix. With ``k_support = 0`` the equation has a
+root only when ``|Q| <= μ P`` (else the whole contact slides): such loads are refused before
+any work, naming the instants and the fix (a support stiffness).
 
 The increments are the ``mdr-bar`` stepper's (:mod:`lcpfric.steppers.mdr_bar`); the cycles are
 run by :func:`lcpfric.steady_state`.
@@ -50,6 +50,7 @@ by Gauss-Legendre quadrature). The contact radius at a load solves ``P = 2 E* (a
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -58,6 +59,13 @@ from ...errors import InputError
 from .base import ContactModel
 from .profiles import Sphere
 
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+    from scipy.sparse.linalg import LinearOperator
+
+    from ..loads import Load
+    from .profiles import Axisymmetric, PowerLaw
+
 __all__ = ["MDRSphere", "MAX_NODES"]
 
 #: largest number of springs (the arrays are nodes x steps)
@@ -65,14 +73,15 @@ MAX_NODES = 200_000
 
 
 class MDRSphere(ContactModel):
-    """The Hertz contact of two identical spheres, by dimensionality reduction (see the module
-    docstring).
+    """The Hertz contact of two identical spheres, by dimensionality reduction.
+
+    See the module docstring.
 
     Parameters
     ----------
     R, E, nu, mu : float
         Effective radius, each body's Young's modulus and Poisson's ratio (``0 <= ν < 0.5``),
-        friction coefficient.
+        friction coefficient. R may be None when a ``profile`` is given.
     P, Q : Load or float
         Normal and tangential loads (total forces); floats are constant loads. P(t) <= 0 is
         complete separation.
@@ -81,13 +90,41 @@ class MDRSphere(ContactModel):
         control, where ``|Q| > μP`` at any instant is refused).
     nodes : int
         Springs on ``[0, a_max]``, a_max the largest contact radius over the cycle.
+    profile : Sphere, PowerLaw, Axisymmetric or None, optional
+        Another axisymmetric body in place of the sphere of radius R (module docstring): any
+        object with the methods ``g(x)``, ``G(x)`` and ``radius(P, Estar)`` of
+        :mod:`lcpfric.model.continuum.profiles`.
+
+    Attributes
+    ----------
+    R : float or None
+        The effective radius.
+    profile : Sphere, PowerLaw or Axisymmetric
+        The body's 1-D profile.
+    a_max, a0 : float
+        The largest contact radius over the cycle, and the contact radius at P0.
+    k_t0 : float
+        The initial tangential stiffness at P0, ``2 a0 G*``.
+    dx : float
+        The springs' spacing, ``a_max / nodes``.
+    x : (nodes,) ndarray
+        The springs' positions (cell centres).
+    k : (nodes,) ndarray
+        The springs' tangential stiffnesses ``2 G* Δx``.
+
+    Raises
+    ------
+    InputError
+        A parameter out of range (:class:`~lcpfric.model.continuum.base.ContactModel`); no R
+        and no profile; a profile that lacks ``g``, ``G`` or ``radius``.
     """
 
     max_nodes = MAX_NODES
     default_method = "mdr-bar"
 
-    def __init__(self, R, E, nu, mu, P, Q, *, k_support: float = 0.0, nodes: int = 2000,
-                 profile=None):
+    def __init__(self, R: float | None, E: float, nu: float, mu: float, P: Load | float,
+                 Q: Load | float, *, k_support: float = 0.0, nodes: int = 2000,
+                 profile: Sphere | PowerLaw | Axisymmetric | None = None) -> None:
         super().__init__(E, nu, mu, P, Q, k_support, nodes)
         self.R = None if R is None else _checks.positive("R", R)
         if profile is None:
@@ -108,20 +145,54 @@ class MDRSphere(ContactModel):
         self.k = np.full(self.nodes, 2.0 * self.moduli["G*"] * self.dx)
 
     # -- the normal problem ---------------------------------------------------------------------
-    def radius(self, t) -> np.ndarray:
-        """Contact radius a(t) (0 in separation): Hertz's for the sphere."""
+    def radius(self, t: ArrayLike) -> np.ndarray:
+        """Contact radius a(t) (0 in separation): Hertz's for the sphere.
+
+        Parameters
+        ----------
+        t : float or array_like
+            Instants of the cycle.
+
+        Returns
+        -------
+        ndarray
+            a at each instant, the shape of ``t``.
+        """
         P = np.maximum(np.asarray(self.P(np.asarray(t, dtype=float)), dtype=float), 0.0)
         return np.asarray(self.profile.radius(P, self.moduli["E*"]), dtype=float).reshape(P.shape)
 
-    def approach(self, P) -> np.ndarray:
-        """The normal approach d = g(a(P)) (the C(P) of the Ciavarella-Jäger form)."""
+    def approach(self, P: ArrayLike) -> float | np.ndarray:
+        """The normal approach d = g(a(P)) (the C(P) of the Ciavarella-Jäger form).
+
+        Parameters
+        ----------
+        P : float or array_like
+            Normal loads.
+
+        Returns
+        -------
+        float or ndarray
+            d at each load, the shape of ``P`` (a float for a scalar).
+        """
         P = np.asarray(P, dtype=float)
         d = np.asarray(self.profile.g(self.profile.radius(P, self.moduli["E*"])), dtype=float)
         return float(d.ravel()[0]) if P.ndim == 0 else d.reshape(P.shape)
 
-    def normal_forces(self, t) -> np.ndarray:
-        """``(len(t), nodes)`` spring normal forces: each cell's exact share of the pressure of
-        the 1-D profile (their sum is P(t))."""
+    def normal_forces(self, t: ArrayLike) -> np.ndarray:
+        """``(len(t), nodes)`` spring normal forces.
+
+        Each cell's exact share of the pressure of the 1-D profile (their sum is P(t)).
+
+        Parameters
+        ----------
+        t : float or array_like
+            Instants of the cycle (a scalar counts as one).
+
+        Returns
+        -------
+        ndarray
+            The springs' normal forces N_i, ``(len(t), nodes)``.
+        """
         a = self.radius(np.atleast_1d(t))[:, None]
         lo = self.x[None, :] - 0.5 * self.dx
         hi = np.minimum(self.x[None, :] + 0.5 * self.dx, a)
@@ -129,13 +200,25 @@ class MDRSphere(ContactModel):
         share = d * (hi - lo) - (G(np.maximum(hi, lo)) - G(lo))   # ∫_cell (d - g) dx
         return np.where(hi > lo, 2.0 * self.moduli["E*"] * share, 0.0)
 
-    def tractions(self, F) -> np.ndarray:
-        """The 3-D shear traction at the spring positions (as radii) from spring forces F: the
-        inverse MDR transform ``τ(r) = -(1/π) ∫_r^a q'(x) / √(x² - r²) dx`` of the line load
+    def tractions(self, F: ArrayLike) -> np.ndarray:
+        """The 3-D shear traction at the spring positions (as radii) from spring forces F.
+
+        The inverse MDR transform ``τ(r) = -(1/π) ∫_r^a q'(x) / √(x² - r²) dx`` of the line load
         ``q = F / (2 Δx)``, taken piecewise linear between the spring positions (flat at the
         centre, zero half a cell beyond the last spring), so that each piece integrates in
         closed form: ``∫ dx / √(x² - r²) = ln(x + √(x² - r²))``. lcpfric's force sign: the
-        traction transmitted is ``-τ``; from the normal forces it gives the pressure."""
+        traction transmitted is ``-τ``; from the normal forces it gives the pressure.
+
+        Parameters
+        ----------
+        F : (nodes,) array_like
+            Spring forces.
+
+        Returns
+        -------
+        ndarray
+            τ at the radii ``x``, ``(nodes,)``.
+        """
         q = np.append(np.asarray(F, dtype=float) / (2.0 * self.dx), 0.0)
         X = np.append(self.x, self.x[-1] + 0.5 * self.dx)
         slope = np.diff(q) / np.diff(X)                          # on [X_k, X_k+1]
@@ -150,27 +233,61 @@ class MDRSphere(ContactModel):
         return -(piece @ slope) / math.pi
 
     # -- as an lcpfric system ---------------------------------------------------------------
-    def load_at_radius(self, a) -> np.ndarray:
-        """The normal load whose contact radius is a: ``2 E* (a g(a) - ∫_0^a g)``."""
+    def load_at_radius(self, a: ArrayLike) -> np.ndarray:
+        """The normal load whose contact radius is a: ``2 E* (a g(a) - ∫_0^a g)``.
+
+        Parameters
+        ----------
+        a : float or array_like
+            Contact radii.
+
+        Returns
+        -------
+        ndarray
+            The normal loads, the shape of ``a``.
+        """
         a = np.asarray(a, dtype=float)
         return 2.0 * self.moduli["E*"] * (a * self.profile.g(a) - self.profile.G(a))
 
     def entry_loads(self) -> np.ndarray:
-        """Per spring, the normal load at which it comes into contact (the contact radius
-        reaches its cell's inner edge)."""
+        """Per spring, the normal load at which it comes into contact.
+
+        That is where the contact radius reaches its cell's inner edge.
+
+        Returns
+        -------
+        ndarray
+            ``(nodes,)`` loads.
+        """
         return np.asarray(self.load_at_radius(self.x - 0.5 * self.dx), dtype=float)
 
-    def springs(self):
-        """``(compliance operator, C⁻¹ 1)`` of the springs alone (the bar held fixed):
-        ``diag(1/k)`` and ``k``, for :meth:`ContactModel.system`."""
+    def springs(self) -> tuple[LinearOperator, np.ndarray, np.ndarray]:
+        """The springs alone (the bar held fixed), for :meth:`ContactModel.system`.
+
+        Returns
+        -------
+        compliance : LinearOperator
+            ``diag(1/k)``.
+        C_inv_ones : ndarray
+            ``C⁻¹ 1 = k``, ``(nodes,)``.
+        diagonal : ndarray
+            The diagonal of C, ``1/k``.
+        """
         from scipy.sparse.linalg import aslinearoperator
         import scipy.sparse as sp
 
         return aslinearoperator(sp.diags(1.0 / self.k)), self.k.copy(), 1.0 / self.k
 
     # -- the continuum model protocol (lcpfric.model.continuum.base) ---------------------------
-    def normal_problem(self) -> "ClosedFormNormal":
-        """The normal problem in closed form (:class:`ClosedFormNormal`)."""
+    def normal_problem(self) -> ClosedFormNormal:
+        """The normal problem in closed form (:class:`ClosedFormNormal`).
+
+        Returns
+        -------
+        ClosedFormNormal
+            Its ``solution(t)`` is ``(limits, sizes, stats)``: the friction limits
+            ``μ N_i(t)``, the contact radius and no statistics.
+        """
         return ClosedFormNormal(self)
 
 
