@@ -111,21 +111,51 @@ PACKAGES = {
 }
 
 
+def _where(package, name: str) -> str:
+    """A value (a constant) under the module that defines it, where its ``#:`` comment is (the
+    autodoc reads it there); a class or function under the package."""
+    import importlib
+    import inspect
+    import pkgutil
+    import re
+
+    obj = getattr(package, name)
+    if inspect.isclass(obj) or inspect.isroutine(obj) or inspect.ismodule(obj):
+        return name
+    paths = getattr(package, "__path__", None) or []
+    for info in pkgutil.iter_modules(paths, package.__name__ + "."):
+        sub = importlib.import_module(info.name)
+        if getattr(sub, name, None) is obj and re.search(
+                rf"^{re.escape(name)}\s*[:=]", inspect.getsource(sub), re.M):
+            return f"{info.name[len(package.__name__) + 1:]}.{name}"
+    return name
+
+
 def _write_api_index() -> None:
     import importlib
 
     lines = ["API reference", "=============", "",
              "Every public name: those of ``lcpfric`` and of each subpackage's ``__all__``",
              "(modules deeper in the tree are documented by their own docstrings in the source).",
+             "A name that a subpackage shares with an earlier section links to its page there.",
              ""]
+    documented = set()
     for package, title in PACKAGES.items():
         module = importlib.import_module(package)
         names = [n for n in module.__all__ if n != "__version__"]
+        new = [n for n in names if id(getattr(module, n)) not in documented
+               or not hasattr(getattr(module, n), "__module__")]
+        shared = [n for n in names if n not in new]
+        documented.update(id(getattr(module, n)) for n in new)
         lines += [f"``{package}``", "-" * (len(package) + 4), "", title + ".", "",
-                  f".. currentmodule:: {package}", "", ".. autosummary::",
-                  "   :toctree: generated", "   :nosignatures:", ""]
-        lines += [f"   {n}" for n in names] + [""]
+                  f".. currentmodule:: {package}", ""]
+        if new:
+            lines += [".. autosummary::", "   :toctree: generated", "   :nosignatures:", ""]
+            lines += [f"   {_where(module, n)}" for n in new] + [""]
+        if shared:
+            lines += ["Also here: " + ", ".join(f"``{n}``" for n in shared) + ".", ""]
     out = Path(__file__).resolve().parent / "api" / "index.rst"
+    out.parent.mkdir(exist_ok=True)
     text = "\n".join(lines)
     if not out.exists() or out.read_text() != text:
         out.write_text(text)

@@ -2,7 +2,6 @@
 wide, no text below 7 pt, TrueType fonts in the PDFs, every mark in a legend; the traction
 vectors need dims = 2; the animation refuses what it cannot write before any work."""
 
-import dataclasses
 
 import numpy as np
 import lcpfric

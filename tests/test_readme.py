@@ -10,7 +10,7 @@ import pytest
 from support import need_modules
 
 ROOT = Path(__file__).resolve().parents[1]
-PAGES = [p for p in [ROOT / "README.md", ROOT / "docs" / "getting-started.md",
+PAGES = [p for p in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md")),
                      *sorted((ROOT / "docs" / "guide").glob("*.md"))]
          if "```python" in p.read_text()]
 

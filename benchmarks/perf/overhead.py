@@ -31,6 +31,7 @@ _ROOT = _Path(__file__).resolve().parents[2]
 _sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
                  str(_ROOT / "tests")]
 
+from _report import results_file  # noqa: E402 (benchmarks/ on the path above)
 import argparse
 import json
 import sys
@@ -129,25 +130,29 @@ def main(argv=None) -> int:
     parser.add_argument("--repeat", type=int, default=15)
     parser.add_argument("--steps", type=int, default=0,
                         help="steps per cycle (default: per backend, see STEPS)")
+    parser.add_argument("--out", default=str(_ROOT / "benchmarks" / "results" / "overhead.md"),
+                    help="the results file (default: %(default)s; \"-\": print only)")
     args = parser.parse_args(argv)
-    have = set(available_methods())
-    sizes = [int(s) for s in args.sizes.split(",")]
-    ratios = {}
-    print(f"{'backend':18s} {'n':>4s} {'steps':>6s} {'lcpfric us/solve':>17s} "
-          f"{'raw us/solve':>13s} {'ratio':>6s}")
-    for method in args.backends.split(","):
-        if method not in have:
-            print(f"{method:18s} not installed: skipped")
-            continue
-        steps = args.steps or STEPS[method.split(":")[0]]
-        for i, size in enumerate(sizes):
-            r = measure(method, size, steps, args.repeat)
-            print(f"{method:18s} {size:4d} {r['steps']:6d} {r['lcpfric_us']:17.1f} "
-                  f"{r['raw_us']:13.1f} {r['ratio']:6.2f}", flush=True)
-            ratios[method if i == 0 else f"{method}@n={size}"] = round(r["ratio"], 3)
-    if args.json:
-        print(json.dumps(ratios))
-    return 0
+    with results_file(None if args.out == "-" else args.out, "The convex backends' overhead over the raw solver call",
+                      "perf/overhead.py" + "".join(f" {a}" for a in (sys.argv[1:] if argv is None else argv))):
+        have = set(available_methods())
+        sizes = [int(s) for s in args.sizes.split(",")]
+        ratios = {}
+        print(f"{'backend':18s} {'n':>4s} {'steps':>6s} {'lcpfric us/solve':>17s} "
+              f"{'raw us/solve':>13s} {'ratio':>6s}")
+        for method in args.backends.split(","):
+            if method not in have:
+                print(f"{method:18s} not installed: skipped")
+                continue
+            steps = args.steps or STEPS[method.split(":")[0]]
+            for i, size in enumerate(sizes):
+                r = measure(method, size, steps, args.repeat)
+                print(f"{method:18s} {size:4d} {r['steps']:6d} {r['lcpfric_us']:17.1f} "
+                      f"{r['raw_us']:13.1f} {r['ratio']:6.2f}", flush=True)
+                ratios[method if i == 0 else f"{method}@n={size}"] = round(r["ratio"], 3)
+        if args.json:
+            print(json.dumps(ratios))
+        return 0
 
 
 if __name__ == "__main__":

@@ -23,13 +23,13 @@ _ROOT = _Path(__file__).resolve().parents[2]
 _sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
                  str(_ROOT / "tests")]
 
+from _report import results_file  # noqa: E402 (benchmarks/ on the path above)
 import argparse
 import json
 import math
 import platform
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -107,101 +107,105 @@ def main(argv=None):
                         help="points in the explicit per-point loop (default 200; quick 20)")
     parser.add_argument("--repeat", type=int, default=3, help="timing repeats (best is kept)")
     parser.add_argument("--no-dask", action="store_true", help="skip the Dask measurement")
+    parser.add_argument("--out", default=str(_ROOT / "benchmarks" / "results" / "sweep-speed.md"),
+                    help="the results file (default: %(default)s; \"-\": print only)")
     args = parser.parse_args(argv)
-    quick = args.quick
-    n = 41 if quick else 101
-    sample = args.sample or (20 if quick else 200)
-    grid = np.linspace(0.0, 10.0, n)
-    phases = np.arange(11) * math.pi / 10
-    rng = np.random.default_rng(2024)
-    sweep([1.0], [1.0], [0.0], progress=False)  # import xarray & co. outside the timings
+    with results_file(None if args.out == "-" else args.out, "The paper's maps: sweep speed and accuracy",
+                      "perf/sweep_speed.py" + "".join(f" {a}" for a in (sys.argv[1:] if argv is None else argv))):
+        quick = args.quick
+        n = 41 if quick else 101
+        sample = args.sample or (20 if quick else 200)
+        grid = np.linspace(0.0, 10.0, n)
+        phases = np.arange(11) * math.pi / 10
+        rng = np.random.default_rng(2024)
+        sweep([1.0], [1.0], [0.0], progress=False)  # import xarray & co. outside the timings
 
-    serial_t, ds = best_time(lambda: sweep(grid, grid, phases, processes=1, progress=False),
-                             args.repeat)
-    pool_t, ds_pool = best_time(lambda: sweep(grid, grid, phases, processes=2,
-                                              chunk_size=n * n, progress=False), args.repeat)
-    serial = {"seconds": serial_t, "ds": ds}
-    W = ds["W_hat"]
+        serial_t, ds = best_time(lambda: sweep(grid, grid, phases, processes=1, progress=False),
+                                 args.repeat)
+        pool_t, ds_pool = best_time(lambda: sweep(grid, grid, phases, processes=2,
+                                                  chunk_size=n * n, progress=False), args.repeat)
+        serial = {"seconds": serial_t, "ds": ds}
+        W = ds["W_hat"]
 
-    # accuracy
-    ref0 = jang_barber(grid[:, None], grid[None, :])
-    err0 = np.abs(W.sel(phi=0.0).values - ref0)
-    rel0 = float(np.max(err0[ref0 > 1e-12] / ref0[ref0 > 1e-12]))
-    shifted = sweep(grid, grid, phases + math.pi, progress=False)["W_hat"].values
-    sym = np.abs(shifted - W.values)
-    pts = sample_points(ds, 10 if quick else 40, rng, positive=True, band=True)
-    fine, _ = per_point(pts, 20000)
-    rel_fine = np.abs(pts[3] - fine) / np.abs(fine)
+        # accuracy
+        ref0 = jang_barber(grid[:, None], grid[None, :])
+        err0 = np.abs(W.sel(phi=0.0).values - ref0)
+        rel0 = float(np.max(err0[ref0 > 1e-12] / ref0[ref0 > 1e-12]))
+        shifted = sweep(grid, grid, phases + math.pi, progress=False)["W_hat"].values
+        sym = np.abs(shifted - W.values)
+        pts = sample_points(ds, 10 if quick else 40, rng, positive=True, band=True)
+        fine, _ = per_point(pts, 20000)
+        rel_fine = np.abs(pts[3] - fine) / np.abs(fine)
 
-    # the per-point loop
-    loop_pts = sample_points(ds, sample, rng)
-    loop_W, per_point_s = per_point(loop_pts, 2000)
-    loop_rel = np.abs(loop_W - loop_pts[3])[loop_pts[3] > 1e-9] / loop_pts[3][loop_pts[3] > 1e-9]
-    extrapolated = per_point_s * W.size
+        # the per-point loop
+        loop_pts = sample_points(ds, sample, rng)
+        loop_W, per_point_s = per_point(loop_pts, 2000)
+        loop_rel = np.abs(loop_W - loop_pts[3])[loop_pts[3] > 1e-9] / loop_pts[3][loop_pts[3] > 1e-9]
+        extrapolated = per_point_s * W.size
 
-    result = {
-        "grid": f"{len(phases)} phases x {n} x {n} (P1, Q1 in [0, 10])", "points": int(W.size),
-        "machine": {"cores": lcpfric.analysis.runners.default_workers(), "python": platform.python_version(),
-                    "platform": platform.platform()},
-        "sweep_serial_seconds": serial_t,
-        "sweep_pool2_seconds": pool_t,
-        "pool_identical": bool(np.array_equal(ds_pool["W_hat"].values, W.values)),
-        "accuracy": {
-            "phi0_vs_eq11_12_max_abs": float(err0.max()), "phi0_vs_eq11_12_max_rel": rel0,
-            "symmetry_phi_plus_pi_max_abs": float(sym.max()),
-            "symmetry_points_off_by_1e-9": int(np.sum(sym > 1e-9)),
-            "explicit_20000_steps_sample": int(rel_fine.size),
-            "explicit_20000_steps_max_rel_diff": float(rel_fine.max()),
-            "explicit_20000_steps_median_rel_diff": float(np.median(rel_fine)),
-        },
-        "explicit_loop": {
-            "sample_points": int(loop_pts[0].size), "steps_per_cycle": 2000,
-            "seconds_per_point": per_point_s, "extrapolated_seconds": extrapolated,
-            "ratio_to_sweep": extrapolated / serial_t,
-            "explicit_2000_max_rel_error": float(loop_rel.max()) if loop_rel.size else 0.0,
-        },
-        "goals": {"seconds_le_30": serial_t <= 30.0},
-    }
-    if not args.no_dask:
-        try:
-            result["dask"] = dask_run(grid, phases, serial, quick)
-        except ImportError as exc:
-            result["dask"] = {"skipped": str(exc)}
-    argv_text = " ".join(["--quick"] * quick + ([f"--sample {args.sample}"] if args.sample else [])
-                         + ["--no-dask"] * args.no_dask)
-    result["reproduce"] = f"PYTHONPATH=. python benchmarks/perf/sweep_speed.py {argv_text}".strip()
+        result = {
+            "grid": f"{len(phases)} phases x {n} x {n} (P1, Q1 in [0, 10])", "points": int(W.size),
+            "machine": {"cores": lcpfric.analysis.runners.default_workers(), "python": platform.python_version(),
+                        "platform": platform.platform()},
+            "sweep_serial_seconds": serial_t,
+            "sweep_pool2_seconds": pool_t,
+            "pool_identical": bool(np.array_equal(ds_pool["W_hat"].values, W.values)),
+            "accuracy": {
+                "phi0_vs_eq11_12_max_abs": float(err0.max()), "phi0_vs_eq11_12_max_rel": rel0,
+                "symmetry_phi_plus_pi_max_abs": float(sym.max()),
+                "symmetry_points_off_by_1e-9": int(np.sum(sym > 1e-9)),
+                "explicit_20000_steps_sample": int(rel_fine.size),
+                "explicit_20000_steps_max_rel_diff": float(rel_fine.max()),
+                "explicit_20000_steps_median_rel_diff": float(np.median(rel_fine)),
+            },
+            "explicit_loop": {
+                "sample_points": int(loop_pts[0].size), "steps_per_cycle": 2000,
+                "seconds_per_point": per_point_s, "extrapolated_seconds": extrapolated,
+                "ratio_to_sweep": extrapolated / serial_t,
+                "explicit_2000_max_rel_error": float(loop_rel.max()) if loop_rel.size else 0.0,
+            },
+            "goals": {"seconds_le_30": serial_t <= 30.0},
+        }
+        if not args.no_dask:
+            try:
+                result["dask"] = dask_run(grid, phases, serial, quick)
+            except ImportError as exc:
+                result["dask"] = {"skipped": str(exc)}
+        argv_text = " ".join(["--quick"] * quick + ([f"--sample {args.sample}"] if args.sample else [])
+                             + ["--no-dask"] * args.no_dask)
+        result["reproduce"] = f"PYTHONPATH=. python benchmarks/perf/sweep_speed.py {argv_text}".strip()
 
-    if args.json:
-        print(json.dumps(result, indent=1))
+        if args.json:
+            print(json.dumps(result, indent=1))
+            return 0
+        acc, loop = result["accuracy"], result["explicit_loop"]
+        print(f"# Fig. 3 + Fig. 4 set: {result['grid']} = {result['points']} points, "
+              f"{result['machine']['cores']} cores")
+        print(f"sweep (exact), serial:            {serial_t:.3f} s")
+        print(f"sweep (exact), 2 processes:       {pool_t:.3f} s (identical: "
+              f"{result['pool_identical']})")
+        print(f"accuracy, φ = 0 vs Eqs. (11)-(12), all {n * n} points: max abs "
+              f"{acc['phi0_vs_eq11_12_max_abs']:.1e}, max rel {acc['phi0_vs_eq11_12_max_rel']:.1e}")
+        print(f"accuracy, Ŵ(φ+π) = Ŵ(φ) on all points: max abs "
+              f"{acc['symmetry_phi_plus_pi_max_abs']:.1e} ({acc['symmetry_points_off_by_1e-9']} "
+              "points off by more than 1e-9)")
+        print(f"accuracy, vs explicit at 20000 steps/cycle on {acc['explicit_20000_steps_sample']} "
+              f"random points with Ŵ > 0 (half near P̂1 = 1): max rel diff "
+              f"{acc['explicit_20000_steps_max_rel_diff']:.1e} (median "
+              f"{acc['explicit_20000_steps_median_rel_diff']:.1e})")
+        print(f"per-point explicit loop (2000 steps/cycle), {loop['sample_points']} random points: "
+              f"{1e3 * loop['seconds_per_point']:.2f} ms/point -> {loop['extrapolated_seconds']:.0f} s "
+              f"for the set; the sweep is {loop['ratio_to_sweep']:.0f}x faster "
+              f"(explicit's own max rel error there: {loop['explicit_2000_max_rel_error']:.1e})")
+        d = result.get("dask")
+        if d and "skipped" not in d:
+            print(f"Dask LocalCluster ({d['cluster']}): start-up {d['startup_seconds']:.2f} s, sweep "
+                  f"{d['sweep_seconds']:.3f} s in {d['tasks']} tasks (overhead vs serial "
+                  f"{d['overhead_seconds']:+.3f} s), identical to serial: {d['identical_to_serial']}")
+        elif d:
+            print(f"Dask: skipped ({d['skipped']})")
+        print(f"reproduce: {result['reproduce']}")
         return 0
-    acc, loop = result["accuracy"], result["explicit_loop"]
-    print(f"# Fig. 3 + Fig. 4 set: {result['grid']} = {result['points']} points, "
-          f"{result['machine']['cores']} cores")
-    print(f"sweep (exact), serial:            {serial_t:.3f} s")
-    print(f"sweep (exact), 2 processes:       {pool_t:.3f} s (identical: "
-          f"{result['pool_identical']})")
-    print(f"accuracy, φ = 0 vs Eqs. (11)-(12), all {n * n} points: max abs "
-          f"{acc['phi0_vs_eq11_12_max_abs']:.1e}, max rel {acc['phi0_vs_eq11_12_max_rel']:.1e}")
-    print(f"accuracy, Ŵ(φ+π) = Ŵ(φ) on all points: max abs "
-          f"{acc['symmetry_phi_plus_pi_max_abs']:.1e} ({acc['symmetry_points_off_by_1e-9']} "
-          "points off by more than 1e-9)")
-    print(f"accuracy, vs explicit at 20000 steps/cycle on {acc['explicit_20000_steps_sample']} "
-          f"random points with Ŵ > 0 (half near P̂1 = 1): max rel diff "
-          f"{acc['explicit_20000_steps_max_rel_diff']:.1e} (median "
-          f"{acc['explicit_20000_steps_median_rel_diff']:.1e})")
-    print(f"per-point explicit loop (2000 steps/cycle), {loop['sample_points']} random points: "
-          f"{1e3 * loop['seconds_per_point']:.2f} ms/point -> {loop['extrapolated_seconds']:.0f} s "
-          f"for the set; the sweep is {loop['ratio_to_sweep']:.0f}x faster "
-          f"(explicit's own max rel error there: {loop['explicit_2000_max_rel_error']:.1e})")
-    d = result.get("dask")
-    if d and "skipped" not in d:
-        print(f"Dask LocalCluster ({d['cluster']}): start-up {d['startup_seconds']:.2f} s, sweep "
-              f"{d['sweep_seconds']:.3f} s in {d['tasks']} tasks (overhead vs serial "
-              f"{d['overhead_seconds']:+.3f} s), identical to serial: {d['identical_to_serial']}")
-    elif d:
-        print(f"Dask: skipped ({d['skipped']})")
-    print(f"reproduce: {result['reproduce']}")
-    return 0
 
 
 if __name__ == "__main__":

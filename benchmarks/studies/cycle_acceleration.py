@@ -36,7 +36,6 @@ _sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks"
 
 import argparse
 import math
-import sys
 import time
 from pathlib import Path
 
@@ -180,8 +179,9 @@ def figure(out: Path):
 
     runs = {}
     for g in (40, 56):
-        factory = (lambda g=g: (sphere(0.0, 0.5, 0.0, nu=0.3, grid=g, dims=2),
-                                {"steps_per_cycle": 200}))
+        def factory(g=g):
+            return sphere(0.0, 0.5, 0.0, nu=0.3, grid=g, dims=2), {"steps_per_cycle": 200}
+
         for depth, memory, name in ((10, True, "memory + Anderson (default)"),
                                     (10, False, "Anderson alone"),
                                     (None, True, "memory alone"), (None, False, "neither")):

@@ -27,7 +27,6 @@ _sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks"
                  str(_ROOT / "tests")]
 
 import argparse
-import sys
 import time
 from pathlib import Path
 

@@ -36,7 +36,6 @@ _sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks"
 
 import argparse
 import math
-import sys
 import time
 from pathlib import Path
 

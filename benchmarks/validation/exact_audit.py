@@ -31,7 +31,6 @@ _sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks"
                  str(_ROOT / "tests")]
 
 import argparse
-import math
 import os
 import sys
 import time

@@ -22,7 +22,9 @@ _ROOT = _Path(__file__).resolve().parents[2]
 _sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
                  str(_ROOT / "tests")]
 
+from _report import results_file  # noqa: E402 (benchmarks/ on the path above)
 import argparse
+import sys
 import math
 
 import numpy as np
@@ -44,16 +46,20 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--method", default="clarabel")
     ap.add_argument("--steps", type=int, nargs="+", default=[200, 400, 800, 1600, 3200])
+    ap.add_argument("--out", default=str(_ROOT / "benchmarks" / "results" / "order-d2.md"),
+                    help="the results file (default: %(default)s; \"-\": print only)")
     args = ap.parse_args(argv)
-    print(f"| case | {' | '.join(f'|W({2 * s}) - W({s})|' for s in args.steps[:-1])} "
-          f"| order |")
-    print("|---" * (len(args.steps) + 1) + "|")
-    for name, system in cases():
-        W = [lcpfric.steady_state(system, method=args.method, steps_per_cycle=s, tol=1e-12).W
-             for s in args.steps]
-        d = np.abs(np.diff(W))
-        order = -np.polyfit(np.log(args.steps[:-1]), np.log(d), 1)[0] if np.all(d > 0) else 0
-        print(f"| {name} | {' | '.join(f'{x:.2e}' for x in d)} | {order:.2f} |", flush=True)
+    with results_file(None if args.out == "-" else args.out, "Two tangential directions: the order in the steps",
+                      "validation/order_d2.py" + "".join(f" {a}" for a in (sys.argv[1:] if argv is None else argv)), markdown=True):
+        cols = " | ".join(f"\\|W({2 * s}) - W({s})\\|" for s in args.steps[:-1])
+        print(f"| case | {cols} | order |")
+        print("|---" * (len(args.steps) + 1) + "|")
+        for name, system in cases():
+            W = [lcpfric.steady_state(system, method=args.method, steps_per_cycle=s, tol=1e-12).W
+                 for s in args.steps]
+            d = np.abs(np.diff(W))
+            order = -np.polyfit(np.log(args.steps[:-1]), np.log(d), 1)[0] if np.all(d > 0) else 0
+            print(f"| {name} | {' | '.join(f'{x:.2e}' for x in d)} | {order:.2f} |", flush=True)
 
 
 if __name__ == "__main__":

@@ -1,8 +1,9 @@
-"""Print the paper's quantitative claims next to what lcpfric computes (markdown table).
+"""The paper's quantitative claims next to what lcpfric computes (a markdown table).
 
-    PYTHONPATH=. python benchmarks/validation/paper_claims.py [--quick] [--json]
+    python benchmarks/validation/paper_claims.py [--quick] [--json] [--out FILE]
 
-Same as ``lcpfric paper-claims``.
+The same table as ``lcpfric paper-claims`` (its other options pass through), kept in
+``benchmarks/results/paper-claims.md`` (``--out -``: print only).
 """
 
 import sys as _sys
@@ -14,15 +15,25 @@ _ROOT = _Path(__file__).resolve().parents[2]
 _sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
                  str(_ROOT / "tests")]
 
+import argparse
 import sys
-from pathlib import Path
 
+from _report import results_file
 
-from lcpfric.cli import main as cli  # noqa: E402
+from lcpfric.cli import main as cli
+
+OUT = _ROOT / "benchmarks" / "results" / "paper-claims.md"
 
 
 def main(argv=None) -> int:
-    return cli(["paper-claims", *(sys.argv[1:] if argv is None else argv)])
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0], add_help=False)
+    parser.add_argument("--out", default=str(OUT))
+    args, rest = parser.parse_known_args(argv)
+    out = None if args.out == "-" or "--help" in rest or "-h" in rest else args.out
+    command = "validation/paper_claims.py" + "".join(f" {a}" for a in argv)
+    with results_file(out, "The paper's claims, recomputed", command, markdown=True):
+        return cli(["paper-claims", *rest])
 
 
 if __name__ == "__main__":

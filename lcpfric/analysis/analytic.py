@@ -1,6 +1,6 @@
 """Analytical results: the φ = 0 dissipation of Jang and Barber (2011), Eqs. (11)-(12).
 
-Eq. (11) is misprinted in the paper; the corrected form (shared/paper/NOTES.md) is
+Eq. (11) is misprinted in the paper; the corrected form (``docs/paper-notes.md``) is
 ``Ŵ = 4 (Q̂1 - 1)(Q̂1 - P̂1²) / (Q̂1² - P̂1²)`` for ``P̂1 < 1 < Q̂1``.
 """
 
