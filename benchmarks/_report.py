@@ -14,10 +14,16 @@ from pathlib import Path
 def stamp(command: str) -> str:
     """``\\`OPENBLAS_NUM_THREADS=1 python benchmarks/<command>\\` at <commit>, <UTC time>``: a
     results file's provenance (the commit of the checkout it ran in)."""
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
-                            text=True, cwd=Path(__file__).parent).stdout.strip()
-    return (f"`OPENBLAS_NUM_THREADS=1 python benchmarks/{command}` at {commit}, "
-            f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
+    commit = subprocess.run(
+        ["git", "rev-parse", "--short", "HEAD"],
+        capture_output=True,
+        text=True,
+        cwd=Path(__file__).parent,
+    ).stdout.strip()
+    return (
+        f"`OPENBLAS_NUM_THREADS=1 python benchmarks/{command}` at {commit}, "
+        f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}"
+    )
 
 
 class Report(list):
@@ -61,6 +67,9 @@ def results_file(path, title: str, command: str, markdown: bool = False):
     with contextlib.redirect_stdout(_Tee(sys.stdout, buffer)):
         yield
     fence = "" if markdown else "```\n"
-    path.write_text(f"# {title}\n\n{stamp(command)}; its standard output:\n\n{fence}"
-                    f"{buffer.getvalue().rstrip()}\n{fence}", encoding="utf-8")
+    path.write_text(
+        f"# {title}\n\n{stamp(command)}; its standard output:\n\n{fence}"
+        f"{buffer.getvalue().rstrip()}\n{fence}",
+        encoding="utf-8",
+    )
     print(f"wrote {path}")

@@ -37,15 +37,21 @@ extensions = [
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build", "auto_examples/*.ipynb", "auto_examples/*.py",
-                    "auto_examples/*.zip", "auto_examples/*.json", "auto_examples/*.md5"]
+exclude_patterns = [
+    "_build",
+    "auto_examples/*.ipynb",
+    "auto_examples/*.py",
+    "auto_examples/*.zip",
+    "auto_examples/*.json",
+    "auto_examples/*.md5",
+]
 root_doc = "index"
 
 # -- API reference ------------------------------------------------------------------------------
 autosummary_generate = True
 autosummary_imported_members = True
 autodoc_default_options = {"members": False, "inherited-members": False}
-autodoc_typehints = "none"          # the numpydoc sections carry the types
+autodoc_typehints = "none"  # the numpydoc sections carry the types
 numpydoc_show_class_members = True
 numpydoc_class_members_toctree = False
 numpydoc_show_inherited_class_members = False
@@ -70,7 +76,7 @@ myst_heading_anchors = 3
 sphinx_gallery_conf = {
     "examples_dirs": str(ROOT / "examples"),
     "gallery_dirs": "auto_examples",
-    "filename_pattern": r".*\.py",          # every example runs (and its output is shown)
+    "filename_pattern": r".*\.py",  # every example runs (and its output is shown)
     "ignore_pattern": r"__init__\.py",
     "download_all_examples": False,
     "remove_config_comments": True,
@@ -126,29 +132,45 @@ def _where(package, name: str) -> str:
     for info in pkgutil.iter_modules(paths, package.__name__ + "."):
         sub = importlib.import_module(info.name)
         if getattr(sub, name, None) is obj and re.search(
-                rf"^{re.escape(name)}\s*[:=]", inspect.getsource(sub), re.M):
-            return f"{info.name[len(package.__name__) + 1:]}.{name}"
+            rf"^{re.escape(name)}\s*[:=]", inspect.getsource(sub), re.M
+        ):
+            return f"{info.name[len(package.__name__) + 1 :]}.{name}"
     return name
 
 
 def _write_api_index() -> None:
     import importlib
 
-    lines = ["API reference", "=============", "",
-             "Every public name: those of ``lcpfric`` and of each subpackage's ``__all__``",
-             "(modules deeper in the tree are documented by their own docstrings in the source).",
-             "A name that a subpackage shares with an earlier section links to its page there.",
-             ""]
+    lines = [
+        "API reference",
+        "=============",
+        "",
+        "Every public name: those of ``lcpfric`` and of each subpackage's ``__all__``",
+        "(modules deeper in the tree are documented by their own docstrings in the source).",
+        "A name that a subpackage shares with an earlier section links to its page there.",
+        "",
+    ]
     documented = set()
     for package, title in PACKAGES.items():
         module = importlib.import_module(package)
         names = [n for n in module.__all__ if n != "__version__"]
-        new = [n for n in names if id(getattr(module, n)) not in documented
-               or not hasattr(getattr(module, n), "__module__")]
+        new = [
+            n
+            for n in names
+            if id(getattr(module, n)) not in documented
+            or not hasattr(getattr(module, n), "__module__")
+        ]
         shared = [n for n in names if n not in new]
         documented.update(id(getattr(module, n)) for n in new)
-        lines += [f"``{package}``", "-" * (len(package) + 4), "", title + ".", "",
-                  f".. currentmodule:: {package}", ""]
+        lines += [
+            f"``{package}``",
+            "-" * (len(package) + 4),
+            "",
+            title + ".",
+            "",
+            f".. currentmodule:: {package}",
+            "",
+        ]
         if new:
             lines += [".. autosummary::", "   :toctree: generated", "   :nosignatures:", ""]
             lines += [f"   {_where(module, n)}" for n in new] + [""]

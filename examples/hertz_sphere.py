@@ -23,14 +23,17 @@ import lcpfric
 from lcpfric import Harmonic
 from lcpfric.model.continuum import mindlin_deresiewicz_W
 
-R, E, NU, MU, P0 = 10.0, 200e3, 0.3, 0.5, 100.0   # mm, N/mm², -, -, N
+R, E, NU, MU, P0 = 10.0, 200e3, 0.3, 0.5, 100.0  # mm, N/mm², -, -, N
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description="The Hertz sphere: W against the phase")
-    parser.add_argument("--points", type=int,
-                        default=int(os.environ.get("LCPFRIC_EXAMPLE_POINTS", 13)),
-                        help="phases in [0, π]")
+    parser.add_argument(
+        "--points",
+        type=int,
+        default=int(os.environ.get("LCPFRIC_EXAMPLE_POINTS", 13)),
+        help="phases in [0, π]",
+    )
     args = parser.parse_args(argv)
 
     k_t0 = lcpfric.MDRSphere(R, E, NU, MU, P0, 0.0, nodes=1).k_t0
@@ -38,20 +41,32 @@ def main(argv=None):
     still = lcpfric.MDRSphere(R, E, NU, MU, P0, Harmonic(0.0, Q1), nodes=2000)
     W = lcpfric.steady_state(still, steps_per_cycle=400).W
     ref = mindlin_deresiewicz_W(P0, Q1, MU, k_t0)
-    print(f"constant P: W = {W:.6g} N mm per cycle, Mindlin-Deresiewicz {ref:.6g} "
-          f"(relative difference {W / ref - 1:+.1e})")
+    print(
+        f"constant P: W = {W:.6g} N mm per cycle, Mindlin-Deresiewicz {ref:.6g} "
+        f"(relative difference {W / ref - 1:+.1e})"
+    )
 
     phases = np.linspace(0.0, math.pi, args.points)
     curves = {}
     for p1 in (0.3, 0.6, 0.9):
         curves[p1] = []
         for phi in phases:
-            m = lcpfric.MDRSphere(R, E, NU, MU, Harmonic(P0, p1 * P0), Harmonic(0.0, Q1, phi),
-                                  nodes=400, k_support=k_t0)
+            m = lcpfric.MDRSphere(
+                R,
+                E,
+                NU,
+                MU,
+                Harmonic(P0, p1 * P0),
+                Harmonic(0.0, Q1, phi),
+                nodes=400,
+                k_support=k_t0,
+            )
             curves[p1].append(lcpfric.steady_state(m, steps_per_cycle=200).W_normalized)
         best = phases[int(np.argmax(curves[p1]))] / math.pi
-        print(f"P1/P0 = {p1}: W k_t0/(μ² P0²) from {min(curves[p1]):.4f} to "
-              f"{max(curves[p1]):.4f}, largest at φ ≈ {best:.2f}π")
+        print(
+            f"P1/P0 = {p1}: W k_t0/(μ² P0²) from {min(curves[p1]):.4f} to "
+            f"{max(curves[p1]):.4f}, largest at φ ≈ {best:.2f}π"
+        )
 
     import matplotlib.pyplot as plt
 

@@ -31,31 +31,45 @@ def node(P2: float, Q2: float) -> SingleNode:
 
 DESCRIPTION = "Loads with two harmonics"
 
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=DESCRIPTION)
-    parser.add_argument("--steps", type=int,
-                        default=int(os.environ.get("LCPFRIC_EXAMPLE_STEPS", 4000)),
-                        help="steps per cycle of the time-stepping methods")
+    parser.add_argument(
+        "--steps",
+        type=int,
+        default=int(os.environ.get("LCPFRIC_EXAMPLE_STEPS", 4000)),
+        help="steps per cycle of the time-stepping methods",
+    )
     args = parser.parse_args(argv)
 
     exact = lcpfric.exact_W_hat(P1 / P0, Q1, PHI)
     print(f"one harmonic (P1 = {P1}, Q1 = {Q1}, φ = 0.6π): exact W_hat = {exact:.8f}")
     for method in ("explicit", "projection"):
         res = lcpfric.steady_state(node(0.0, 0.0), method=method, steps_per_cycle=args.steps)
-        print(f"  {method:>10}: W_hat = {res.W_hat:.8f} (relative error "
-              f"{abs(res.W_hat - exact) / exact:.1e}, {res.cycles} cycles)")
+        print(
+            f"  {method:>10}: W_hat = {res.W_hat:.8f} (relative error "
+            f"{abs(res.W_hat - exact) / exact:.1e}, {res.cycles} cycles)"
+        )
 
-    print(f"\nsecond harmonics switched on ({args.steps} steps per cycle; W is the energy "
-          "dissipated per cycle, in units of f P0² / k11 = 1 here):")
-    print(f"{'P2':>5} {'Q2':>5} {'shakedown':>10} {'explicit W':>12} {'projection W':>13} "
-          f"{'separation':>11}")
+    print(
+        f"\nsecond harmonics switched on ({args.steps} steps per cycle; W is the energy "
+        "dissipated per cycle, in units of f P0² / k11 = 1 here):"
+    )
+    print(
+        f"{'P2':>5} {'Q2':>5} {'shakedown':>10} {'explicit W':>12} {'projection W':>13} "
+        f"{'separation':>11}"
+    )
     for P2, Q2 in ((0.0, 0.0), (0.3, 0.0), (0.0, 0.5), (0.3, 0.5), (0.6, 1.0)):
         n = node(P2, Q2)
-        res = {m: lcpfric.steady_state(n, method=m, steps_per_cycle=args.steps)
-               for m in ("explicit", "projection")}
+        res = {
+            m: lcpfric.steady_state(n, method=m, steps_per_cycle=args.steps)
+            for m in ("explicit", "projection")
+        }
         sep = float((res["explicit"].state == lcpfric.State.SEPARATION).mean())
-        print(f"{P2:5.2f} {Q2:5.2f} {str(lcpfric.shakedown(n).shakedown):>10} "
-              f"{res['explicit'].W:12.6f} {res['projection'].W:13.6f} {100 * sep:10.1f}%")
+        print(
+            f"{P2:5.2f} {Q2:5.2f} {str(lcpfric.shakedown(n).shakedown):>10} "
+            f"{res['explicit'].W:12.6f} {res['projection'].W:13.6f} {100 * sep:10.1f}%"
+        )
 
 
 if __name__ == "__main__":

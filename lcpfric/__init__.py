@@ -24,9 +24,18 @@ from __future__ import annotations
 
 import importlib
 
-from .errors import (ConvergenceError, ConvergenceWarning, InputError, LcpfricError,
-                     MissingDependency, MissingExtra, ResolutionWarning, SolverError,
-                     SolverNotFound, UndefinedQuantity)
+from .errors import (
+    ConvergenceError,
+    ConvergenceWarning,
+    InputError,
+    LcpfricError,
+    MissingDependency,
+    MissingExtra,
+    ResolutionWarning,
+    SolverError,
+    SolverNotFound,
+    UndefinedQuantity,
+)
 
 __version__ = "0.2.0"
 
@@ -34,28 +43,52 @@ __version__ = "0.2.0"
 _LAZY = {
     "analytic": "lcpfric.analysis.analytic",
     "exact_W_hat": "lcpfric.exact",
-    "Fourier": "lcpfric.model", "Harmonic": "lcpfric.model", "Periodic": "lcpfric.model",
-    "ContactSystem": "lcpfric.model", "IndependentSprings": "lcpfric.model",
-    "NormalModel": "lcpfric.model", "SingleNode": "lcpfric.model",
-    "MDRSphere": "lcpfric.model.continuum", "HalfPlaneCylinder": "lcpfric.model.continuum",
+    "Fourier": "lcpfric.model",
+    "Harmonic": "lcpfric.model",
+    "Periodic": "lcpfric.model",
+    "ContactSystem": "lcpfric.model",
+    "IndependentSprings": "lcpfric.model",
+    "NormalModel": "lcpfric.model",
+    "SingleNode": "lcpfric.model",
+    "MDRSphere": "lcpfric.model.continuum",
+    "HalfPlaneCylinder": "lcpfric.model.continuum",
     "HalfSpace": "lcpfric.model.continuum",
-    "W_from_W_hat": "lcpfric.model", "W_hat_from_W": "lcpfric.model",
-    "chain": "lcpfric.model", "block_diagonal": "lcpfric.model",
-    "available_methods": "lcpfric.methods", "get_stepper": "lcpfric.methods",
+    "W_from_W_hat": "lcpfric.model",
+    "W_hat_from_W": "lcpfric.model",
+    "chain": "lcpfric.model",
+    "block_diagonal": "lcpfric.model",
+    "available_methods": "lcpfric.methods",
+    "get_stepper": "lcpfric.methods",
     "get_method": "lcpfric.methods",
     "steady_state": "lcpfric.periodic.driver",
-    "CycleResult": "lcpfric.results", "State": "lcpfric.results",
-    "SteadyState": "lcpfric.results", "StepState": "lcpfric.results",
-    "BatchResult": "lcpfric.results", "ContactExtras": "lcpfric.results",
-    "Scene": "lcpfric.scene", "make_scene": "lcpfric.scene",
-    "with_tangential_load": "lcpfric.scene", "methods_for": "lcpfric.methods",
-    "Shakedown": "lcpfric.analysis.shakedown", "shakedown": "lcpfric.analysis.shakedown",
+    "CycleResult": "lcpfric.results",
+    "State": "lcpfric.results",
+    "SteadyState": "lcpfric.results",
+    "StepState": "lcpfric.results",
+    "BatchResult": "lcpfric.results",
+    "ContactExtras": "lcpfric.results",
+    "Scene": "lcpfric.scene",
+    "make_scene": "lcpfric.scene",
+    "with_tangential_load": "lcpfric.scene",
+    "methods_for": "lcpfric.methods",
+    "Shakedown": "lcpfric.analysis.shakedown",
+    "shakedown": "lcpfric.analysis.shakedown",
 }
 
-__all__ = ["ConvergenceError", "ConvergenceWarning", "InputError", "LcpfricError",
-           "MissingDependency", "MissingExtra", "ResolutionWarning", "SolverError",
-           "SolverNotFound",
-           "UndefinedQuantity", "__version__", *_LAZY]
+__all__ = [
+    "ConvergenceError",
+    "ConvergenceWarning",
+    "InputError",
+    "LcpfricError",
+    "MissingDependency",
+    "MissingExtra",
+    "ResolutionWarning",
+    "SolverError",
+    "SolverNotFound",
+    "UndefinedQuantity",
+    "__version__",
+    *_LAZY,
+]
 
 
 def __getattr__(name: str):

@@ -49,8 +49,10 @@ def parse_angle(text, name: str = "phi") -> float:
         value = float(s)
     except ValueError:
         raise InputError(
-            name, f"cannot parse {text!r}; give radians (e.g. 1.885) or a multiple of pi "
-                  "(e.g. 0.6pi, pi/2)") from None
+            name,
+            f"cannot parse {text!r}; give radians (e.g. 1.885) or a multiple of pi "
+            "(e.g. 0.6pi, pi/2)",
+        ) from None
     return finite(name, value)
 
 
@@ -72,13 +74,19 @@ def finite(name: str, value) -> float:
     through :func:`parse_number` or :func:`parse_angle`.
     """
     if _not_a_number(value) or isinstance(value, (complex, np.complexfloating)):
-        raise InputError(name, f"expected a finite real number (int or float), got {value!r} "
-                               f"of type {type(value).__name__}")
+        raise InputError(
+            name,
+            f"expected a finite real number (int or float), got {value!r} "
+            f"of type {type(value).__name__}",
+        )
     try:
         x = float(value)
     except OverflowError:
-        raise InputError(name, f"must be a finite number within the double range "
-                               f"(|x| <= {np.finfo(float).max:.4g}), got {_short(value)}") from None
+        raise InputError(
+            name,
+            f"must be a finite number within the double range "
+            f"(|x| <= {np.finfo(float).max:.4g}), got {_short(value)}",
+        ) from None
     except (TypeError, ValueError):
         raise InputError(name, f"expected a finite real number, got {value!r}") from None
     if not math.isfinite(x):
@@ -112,8 +120,10 @@ def byte_budget(name: str, value, minimum: float = 1.0) -> float:
         except (TypeError, ValueError):
             pass
     if not x >= minimum:  # NaN fails too
-        raise InputError(name, f"must be a number of bytes in [{minimum:g}, inf] (inf: no "
-                               f"bound), got {_short(value)}")
+        raise InputError(
+            name,
+            f"must be a number of bytes in [{minimum:g}, inf] (inf: no bound), got {_short(value)}",
+        )
     return x
 
 
@@ -122,8 +132,7 @@ def boolean(name: str, value) -> bool:
     ``"yes"``, 1 or None."""
     if isinstance(value, (bool, np.bool_)):
         return bool(value)
-    raise InputError(name, f"must be True or False, got {value!r} of type "
-                           f"{type(value).__name__}")
+    raise InputError(name, f"must be True or False, got {value!r} of type {type(value).__name__}")
 
 
 def positive_int(name: str, value, minimum: int = 1) -> int:
@@ -165,8 +174,9 @@ def amplitude(name: str, value, upper: float) -> float:
     return x
 
 
-def finite_array(name: str, values, *, nonneg: bool = False, upper: float | None = None
-                 ) -> np.ndarray:
+def finite_array(
+    name: str, values, *, nonneg: bool = False, upper: float | None = None
+) -> np.ndarray:
     """Return ``values`` as a float array, checking every entry is a finite real (and >= 0,
     and <= ``upper`` if given).
 
@@ -184,25 +194,36 @@ def finite_array(name: str, values, *, nonneg: bool = False, upper: float | None
         if any(_not_a_number(v) or isinstance(v, (complex, np.complexfloating)) for v in flat):
             raise InputError(name, f"expected real numbers (int or float), got {shown}")
     elif kind not in "fiu":
-        raise InputError(name, f"expected real numbers (int or float), got {shown} "
-                               f"(dtype {raw.dtype})")
+        raise InputError(
+            name, f"expected real numbers (int or float), got {shown} (dtype {raw.dtype})"
+        )
     try:
         arr = np.asarray(raw, dtype=float)
     except OverflowError:
-        raise InputError(name, f"every value must be within the double range (|x| <= "
-                               f"{np.finfo(float).max:.4g})") from None
+        raise InputError(
+            name, f"every value must be within the double range (|x| <= {np.finfo(float).max:.4g})"
+        ) from None
     except (TypeError, ValueError):
         raise InputError(name, f"expected real numbers, got {values!r}") from None
     if not np.all(np.isfinite(arr)):
         bad = arr[~np.isfinite(arr)].flat[0]
-        raise InputError(name, f"every value must be a finite number (allowed range "
-                               f"{_range(nonneg, upper)}); found {bad}")
+        raise InputError(
+            name,
+            f"every value must be a finite number (allowed range "
+            f"{_range(nonneg, upper)}); found {bad}",
+        )
     if nonneg and np.any(arr < 0):
-        raise InputError(name, f"every value must be >= 0 (allowed range {_range(nonneg, upper)}"
-                               f"); smallest given is {arr.min()}")
+        raise InputError(
+            name,
+            f"every value must be >= 0 (allowed range {_range(nonneg, upper)}"
+            f"); smallest given is {arr.min()}",
+        )
     if upper is not None and np.any(arr > upper):
-        raise InputError(name, f"every value must be <= {upper:g} (allowed range "
-                               f"{_range(nonneg, upper)}); largest given is {arr.max()}")
+        raise InputError(
+            name,
+            f"every value must be <= {upper:g} (allowed range "
+            f"{_range(nonneg, upper)}); largest given is {arr.max()}",
+        )
     return arr
 
 
@@ -215,6 +236,7 @@ def driver_options(tol, max_cycles, on_nonconvergence) -> tuple[float, int, str]
     tol = positive("tol", tol)
     max_cycles = positive_int("max_cycles", max_cycles, minimum=1)
     if on_nonconvergence not in NONCONVERGENCE:
-        raise InputError("on_nonconvergence", f"must be one of {NONCONVERGENCE}, "
-                                              f"got {on_nonconvergence!r}")
+        raise InputError(
+            "on_nonconvergence", f"must be one of {NONCONVERGENCE}, got {on_nonconvergence!r}"
+        )
     return tol, max_cycles, on_nonconvergence

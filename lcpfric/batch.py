@@ -37,8 +37,7 @@ from .results import BatchResult
 from .scene import PLACEMENTS, increments
 from .steppers.dissipation import node_shares
 
-__all__ = ["projection_W_hat", "batched_W_hat", "projection_steady_states",
-           "batched_steady_states"]
+__all__ = ["projection_W_hat", "batched_W_hat", "projection_steady_states", "batched_steady_states"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -79,8 +78,11 @@ class _Grids:
             o3 = np.where(near, 0, 1)
         else:  # "contact": every step in contact, one increment over the separation
             length = th_s - start
-            kc = np.where(sep, increments(np.where(sep, steps * length, 1.0)
-                                          / np.where(sep, length, 1.0)), steps)
+            kc = np.where(
+                sep,
+                increments(np.where(sep, steps * length, 1.0) / np.where(sep, length, 1.0)),
+                steps,
+            )
             s1 = np.where(sep, length / kc, s1)
             n1 = np.where(sep, kc, steps)
             n2 = np.where(sep, kc + 1, steps)
@@ -92,10 +94,15 @@ class _Grids:
 
     def at(self, j: int):
         """(θ, Q, N) of every point at instant j."""
-        theta = np.where(j < self.n1, self.a1 + j * self.s1,
-                         np.where(j < self.n2, self.th_s,
-                                  np.where(j < self.n3, self.a3 + (j - self.o3) * self.s3,
-                                           self.end)))
+        theta = np.where(
+            j < self.n1,
+            self.a1 + j * self.s1,
+            np.where(
+                j < self.n2,
+                self.th_s,
+                np.where(j < self.n3, self.a3 + (j - self.o3) * self.s3, self.end),
+            ),
+        )
         N = np.maximum(1.0 + self.P1 * np.sin(theta), 0.0)
         N[self.sep & (j >= self.n1) & (j < self.n2)] = 0.0  # exactly zero at separation
         N[N <= self.zero] = 0.0  # round-off at re-contact is no contact (as make_scene)
@@ -110,18 +117,25 @@ def _inputs(P1, Q1, phi, steps_per_cycle, placement, tol, max_cycles, on_nonconv
     try:
         P1, Q1, phi = np.broadcast_arrays(P1, Q1, phi)
     except ValueError:
-        raise InputError("P1", f"P1, Q1 and phi must broadcast together; got shapes "
-                               f"{np.shape(P1)}, {np.shape(Q1)}, {np.shape(phi)}") from None
+        raise InputError(
+            "P1",
+            f"P1, Q1 and phi must broadcast together; got shapes "
+            f"{np.shape(P1)}, {np.shape(Q1)}, {np.shape(phi)}",
+        ) from None
     steps = _checks.positive_int("steps_per_cycle", steps_per_cycle, minimum=4)
     if placement not in PLACEMENTS:
         raise InputError("placement", f"must be one of {PLACEMENTS}, got {placement!r}")
-    tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
-                                                                on_nonconvergence)
+    tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles, on_nonconvergence)
     shape = P1.shape
     if P1.size == 0:
         raise InputError("P1", "needs at least one point")
-    grids = _Grids(P1.ravel().astype(float), Q1.ravel().astype(float),
-                   phi.ravel().astype(float), steps, placement)
+    grids = _Grids(
+        P1.ravel().astype(float),
+        Q1.ravel().astype(float),
+        phi.ravel().astype(float),
+        steps,
+        placement,
+    )
     return grids, shape, tol, max_cycles
 
 
@@ -161,8 +175,17 @@ class _Points:
         return qhi - qlo, nmax
 
 
-def _periodic(grids: _Grids, advance, tol: float, max_cycles: int, on_nonconvergence: str,
-              shape, method: str, steps: int, start: float) -> BatchResult:
+def _periodic(
+    grids: _Grids,
+    advance,
+    tol: float,
+    max_cycles: int,
+    on_nonconvergence: str,
+    shape,
+    method: str,
+    steps: int,
+    start: float,
+) -> BatchResult:
     """Whole cycles of every point (:func:`lcpfric.periodic.batched.run`; the clamp is
     non-expansive, so the largest change of v over a cycle is the change of its starting
     value: the cycles compare their starts)."""
@@ -171,16 +194,32 @@ def _periodic(grids: _Grids, advance, tol: float, max_cycles: int, on_nonconverg
     def W_hat(J):
         return np.where(Q1 > 0, J / np.where(Q1 > 0, Q1, 1.0), 0.0)
 
-    return batched.run(_Points(grids, advance), tol=tol, max_cycles=max_cycles,
-                       on_nonconvergence=on_nonconvergence, measure="cycles",
-                       quantity="W_hat", values=W_hat, method=method, steps_requested=steps,
-                       shape=shape, start=start)
+    return batched.run(
+        _Points(grids, advance),
+        tol=tol,
+        max_cycles=max_cycles,
+        on_nonconvergence=on_nonconvergence,
+        measure="cycles",
+        quantity="W_hat",
+        values=W_hat,
+        method=method,
+        steps_requested=steps,
+        shape=shape,
+        start=start,
+    )
 
 
-def projection_steady_states(P1, Q1, phi, steps_per_cycle: int = 2000,
-                             placement: str = "uniform", *, tol: float = 1e-10,
-                             max_cycles: int = 100,
-                             on_nonconvergence: str = "raise") -> BatchResult:
+def projection_steady_states(
+    P1,
+    Q1,
+    phi,
+    steps_per_cycle: int = 2000,
+    placement: str = "uniform",
+    *,
+    tol: float = 1e-10,
+    max_cycles: int = 100,
+    on_nonconvergence: str = "raise",
+) -> BatchResult:
     """Steady states of many points by the closed-form projection, vectorized over the points.
 
     Parameters
@@ -201,21 +240,39 @@ def projection_steady_states(P1, Q1, phi, steps_per_cycle: int = 2000,
         Ŵ, convergence, cycles and change per point.
     """
     start = time.perf_counter()
-    grids, shape, tol, max_cycles = _inputs(P1, Q1, phi, steps_per_cycle, placement, tol,
-                                            max_cycles, on_nonconvergence)
+    grids, shape, tol, max_cycles = _inputs(
+        P1, Q1, phi, steps_per_cycle, placement, tol, max_cycles, on_nonconvergence
+    )
 
     def advance(j, Q, N, u, F):
         f_tr = Q + u
         F1 = np.minimum(np.maximum(f_tr, -N), N)  # the clamp, Eq. (3) with K = f = 1
         return u + (F1 - f_tr), F1
 
-    return _periodic(grids, advance, tol, max_cycles, on_nonconvergence, shape, "projection",
-                     int(steps_per_cycle), start)
+    return _periodic(
+        grids,
+        advance,
+        tol,
+        max_cycles,
+        on_nonconvergence,
+        shape,
+        "projection",
+        int(steps_per_cycle),
+        start,
+    )
 
 
-def projection_W_hat(P1, Q1, phi, steps_per_cycle: int = 2000, placement: str = "uniform", *,
-                     tol: float = 1e-10, max_cycles: int = 100,
-                     on_nonconvergence: str = "raise"):
+def projection_W_hat(
+    P1,
+    Q1,
+    phi,
+    steps_per_cycle: int = 2000,
+    placement: str = "uniform",
+    *,
+    tol: float = 1e-10,
+    max_cycles: int = 100,
+    on_nonconvergence: str = "raise",
+):
     """Ŵ of :func:`projection_steady_states` (ndarray, or float for scalar input).
 
     Examples
@@ -225,15 +282,31 @@ def projection_W_hat(P1, Q1, phi, steps_per_cycle: int = 2000, placement: str = 
     >>> W.shape
     (2,)
     """
-    return projection_steady_states(P1, Q1, phi, steps_per_cycle, placement, tol=tol,
-                                    max_cycles=max_cycles,
-                                    on_nonconvergence=on_nonconvergence).W_hat
+    return projection_steady_states(
+        P1,
+        Q1,
+        phi,
+        steps_per_cycle,
+        placement,
+        tol=tol,
+        max_cycles=max_cycles,
+        on_nonconvergence=on_nonconvergence,
+    ).W_hat
 
 
-def batched_steady_states(P1, Q1, phi, method: str = "clarabel", steps_per_cycle: int = 2000,
-                          placement: str = "uniform", *, tol: float = 1e-10,
-                          max_cycles: int = 100, on_nonconvergence: str = "raise",
-                          **options) -> BatchResult:
+def batched_steady_states(
+    P1,
+    Q1,
+    phi,
+    method: str = "clarabel",
+    steps_per_cycle: int = 2000,
+    placement: str = "uniform",
+    *,
+    tol: float = 1e-10,
+    max_cycles: int = 100,
+    on_nonconvergence: str = "raise",
+    **options,
+) -> BatchResult:
     """Steady states of many points, all advanced by one solver call per step (a
     block-diagonal problem (P)).
 
@@ -257,17 +330,22 @@ def batched_steady_states(P1, Q1, phi, method: str = "clarabel", steps_per_cycle
     from .methods import get_stepper
 
     start = time.perf_counter()
-    grids, shape, tol, max_cycles = _inputs(P1, Q1, phi, steps_per_cycle, placement, tol,
-                                            max_cycles, on_nonconvergence)
+    grids, shape, tol, max_cycles = _inputs(
+        P1, Q1, phi, steps_per_cycle, placement, tol, max_cycles, on_nonconvergence
+    )
     stepper = get_stepper(method, **options)
     if not isinstance(stepper, ConvexStepper):
-        raise InputError("method", f"batched_steady_states needs a convex-solver backend such "
-                                   f"as 'clarabel' or 'osqp', got {method!r}; for the closed "
-                                   f"form use projection_steady_states")
+        raise InputError(
+            "method",
+            f"batched_steady_states needs a convex-solver backend such "
+            f"as 'clarabel' or 'osqp', got {method!r}; for the closed "
+            f"form use projection_steady_states",
+        )
     npts = grids.P1.size
     idx = np.arange(npts)
-    prob = IncrementProblem(idx, idx, 1, sp.identity(npts, format="csc"), None, diagonal=True,
-                            full=True)
+    prob = IncrementProblem(
+        idx, idx, 1, sp.identity(npts, format="csc"), None, diagonal=True, full=True
+    )
     prob.handle = stepper.guarded(stepper.build, prob, stepper.settings_for(1))
     fs = max(1.0 + float(np.max(grids.P1, initial=0.0)), float(np.max(grids.Q1, initial=0.0)))
     label = f"batched {stepper.label}"
@@ -278,16 +356,31 @@ def batched_steady_states(P1, Q1, phi, method: str = "clarabel", steps_per_cycle
         b = np.where(contact, N, 1.0)
         x, status, ok = stepper.guarded(stepper.solve, prob, q, stepper.bounds(prob, b))
         if not ok:
-            raise SolverError(f"{label}: step {j} ended with solver status {status!s} "
-                              f"({stepper.status_category(status)})", backend=stepper.label,
-                              status=str(status))
-        F1, stick, res, _kind = accept(prob, np.array(x, dtype=float), q, b,
-                                       refine=stepper.refine, active_tol=stepper.active_tol,
-                                       check_tol=stepper.check_tol, fscale=fs, cscale=1.0)
+            raise SolverError(
+                f"{label}: step {j} ended with solver status {status!s} "
+                f"({stepper.status_category(status)})",
+                backend=stepper.label,
+                status=str(status),
+            )
+        F1, stick, res, _kind = accept(
+            prob,
+            np.array(x, dtype=float),
+            q,
+            b,
+            refine=stepper.refine,
+            active_tol=stepper.active_tol,
+            check_tol=stepper.check_tol,
+            fscale=fs,
+            cscale=1.0,
+        )
         if F1 is None:
-            raise SolverError(f"{label}: step {j}: the solver reported {status!s} but its "
-                              f"answer fails lcpfric's residual check {res}",
-                              backend=stepper.label, status=str(status), residuals=res)
+            raise SolverError(
+                f"{label}: step {j}: the solver reported {status!s} but its "
+                f"answer fails lcpfric's residual check {res}",
+                backend=stepper.label,
+                status=str(status),
+                residuals=res,
+            )
         F1 = F1.copy()
         F1[~contact] = 0.0
         u1 = F1 - Q
@@ -296,14 +389,42 @@ def batched_steady_states(P1, Q1, phi, method: str = "clarabel", steps_per_cycle
             u1[stick] = u[stick]
         return u1, F1
 
-    return _periodic(grids, advance, tol, max_cycles, on_nonconvergence, shape,
-                     f"batched {stepper.label}", int(steps_per_cycle), start)
+    return _periodic(
+        grids,
+        advance,
+        tol,
+        max_cycles,
+        on_nonconvergence,
+        shape,
+        f"batched {stepper.label}",
+        int(steps_per_cycle),
+        start,
+    )
 
 
-def batched_W_hat(P1, Q1, phi, method: str = "clarabel", steps_per_cycle: int = 2000,
-                  placement: str = "uniform", *, tol: float = 1e-10, max_cycles: int = 100,
-                  on_nonconvergence: str = "raise", **options):
+def batched_W_hat(
+    P1,
+    Q1,
+    phi,
+    method: str = "clarabel",
+    steps_per_cycle: int = 2000,
+    placement: str = "uniform",
+    *,
+    tol: float = 1e-10,
+    max_cycles: int = 100,
+    on_nonconvergence: str = "raise",
+    **options,
+):
     """Ŵ of :func:`batched_steady_states` (ndarray, or float for scalar input)."""
-    return batched_steady_states(P1, Q1, phi, method, steps_per_cycle, placement, tol=tol,
-                                 max_cycles=max_cycles, on_nonconvergence=on_nonconvergence,
-                                 **options).W_hat
+    return batched_steady_states(
+        P1,
+        Q1,
+        phi,
+        method,
+        steps_per_cycle,
+        placement,
+        tol=tol,
+        max_cycles=max_cycles,
+        on_nonconvergence=on_nonconvergence,
+        **options,
+    ).W_hat

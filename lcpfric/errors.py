@@ -82,16 +82,19 @@ class SolverError(LcpfricError, RuntimeError):
         (empty otherwise).
     """
 
-    def __init__(self, message: str, *, backend: str = "", status: str = "",
-                 residuals: dict | None = None) -> None:
+    def __init__(
+        self, message: str, *, backend: str = "", status: str = "", residuals: dict | None = None
+    ) -> None:
         self.backend = backend
         self.status = status
         self.residuals = dict(residuals or {})
         super().__init__(message)
 
     def __reduce__(self):
-        return (_rebuild_solver_error, (type(self), self.args[0], self.backend, self.status,
-                                        self.residuals))
+        return (
+            _rebuild_solver_error,
+            (type(self), self.args[0], self.backend, self.status, self.residuals),
+        )
 
 
 class MissingDependency(LcpfricError, ImportError):
@@ -128,8 +131,10 @@ class MissingExtra(MissingDependency):
     def __init__(self, feature: str, extra: str, module: str = "") -> None:
         self.feature = feature
         self.extra = extra
-        super().__init__(f"{feature} need the optional package {module or extra!r}, which is "
-                         f'not installed; install it with: pip install "lcpfric[{extra}]"')
+        super().__init__(
+            f"{feature} need the optional package {module or extra!r}, which is "
+            f'not installed; install it with: pip install "lcpfric[{extra}]"'
+        )
         self.name = module or None
 
     def __reduce__(self):  # keep the arguments when a worker process sends it back
@@ -166,22 +171,31 @@ class SolverNotFound(MissingDependency):
         The package to install instead of the extra, when there is one.
     """
 
-    def __init__(self, method: str, extra: str | None, installed: list[str] | None = None,
-                 package: str | None = None) -> None:
+    def __init__(
+        self,
+        method: str,
+        extra: str | None,
+        installed: list[str] | None = None,
+        package: str | None = None,
+    ) -> None:
         self.method = method
         self.extra = extra
         self.installed = installed
         self.package = package
         how = f"pip install {package}" if package else f'pip install "lcpfric[{extra}]"'
-        msg = (f"method {method!r} needs an optional dependency that is not installed; "
-               f"install it with: {how}")
+        msg = (
+            f"method {method!r} needs an optional dependency that is not installed; "
+            f"install it with: {how}"
+        )
         if installed is not None:
             msg += f" (methods available now: {', '.join(installed)})"
         super().__init__(msg)
 
     def __reduce__(self):
-        return (_rebuild_not_found, (type(self), self.method, self.extra, self.installed,
-                                     self.package))
+        return (
+            _rebuild_not_found,
+            (type(self), self.method, self.extra, self.installed, self.package),
+        )
 
 
 class ConvergenceError(LcpfricError, RuntimeError):

@@ -18,14 +18,44 @@ from contextlib import contextmanager
 
 from .errors import InputError
 
-__all__ = ["MEMORY_ENV", "parse_size", "format_bytes", "physical_memory", "default_limit", "limit",
-           "steady_state_bytes", "continuum_bytes", "map_bytes", "check", "fits"]
+__all__ = [
+    "MEMORY_ENV",
+    "parse_size",
+    "format_bytes",
+    "physical_memory",
+    "default_limit",
+    "limit",
+    "steady_state_bytes",
+    "continuum_bytes",
+    "map_bytes",
+    "check",
+    "fits",
+]
 
 MEMORY_ENV = "LCPFRIC_MAX_MEMORY"
 _DEFAULT_FRACTION = 0.5
-_UNITS = {"": 1, "b": 1, "k": 1e3, "kb": 1e3, "kib": 2**10, "m": 1e6, "mb": 1e6, "mib": 2**20,
-          "g": 1e9, "gb": 1e9, "gib": 2**30, "t": 1e12, "tb": 1e12, "tib": 2**40,
-          "p": 1e15, "pb": 1e15, "pib": 2**50, "e": 1e18, "eb": 1e18, "eib": 2**60}
+_UNITS = {
+    "": 1,
+    "b": 1,
+    "k": 1e3,
+    "kb": 1e3,
+    "kib": 2**10,
+    "m": 1e6,
+    "mb": 1e6,
+    "mib": 2**20,
+    "g": 1e9,
+    "gb": 1e9,
+    "gib": 2**30,
+    "t": 1e12,
+    "tb": 1e12,
+    "tib": 2**40,
+    "p": 1e15,
+    "pb": 1e15,
+    "pib": 2**50,
+    "e": 1e18,
+    "eb": 1e18,
+    "eib": 2**60,
+}
 _SIZE = re.compile(r"^\s*(\d+(?:\.\d*)?|\.\d+)(?:[eE]([+-]?\d+))?\s*([A-Za-z]*)\s*$")
 
 #: float64 values held per time step (per tangential degree of freedom) by a steady state: the
@@ -51,8 +81,11 @@ def parse_size(text, name: str) -> float:
     m = _SIZE.match(s)
     unit = m.group(3).lower() if m else None
     if m is None or unit not in _UNITS:
-        raise InputError(name, f"cannot parse {text!r} as a memory size; give e.g. 8G, 500M, "
-                               "2GiB, or none for no limit")
+        raise InputError(
+            name,
+            f"cannot parse {text!r} as a memory size; give e.g. 8G, 500M, "
+            "2GiB, or none for no limit",
+        )
     value = float(m.group(1)) * 10.0 ** int(m.group(2) or 0) * _UNITS[unit]
     if not math.isfinite(value) or value <= 0:
         raise InputError(name, f"must be a positive size, got {text!r}")
@@ -62,8 +95,14 @@ def parse_size(text, name: str) -> float:
 def format_bytes(n: float) -> str:
     if math.isinf(n):
         return "unlimited"
-    for unit, size in (("EB", 1e18), ("PB", 1e15), ("TB", 1e12), ("GB", 1e9), ("MB", 1e6),
-                       ("kB", 1e3)):
+    for unit, size in (
+        ("EB", 1e18),
+        ("PB", 1e15),
+        ("TB", 1e12),
+        ("GB", 1e9),
+        ("MB", 1e6),
+        ("kB", 1e3),
+    ):
         if n >= size:
             return f"{n / size:.3g} {unit}"
     return f"{int(n)} B"
@@ -78,8 +117,12 @@ def physical_memory() -> int | None:
 
 def steady_state_bytes(steps: int, method: str = "exact", dofs: int = 1) -> float:
     """Estimated peak bytes of one steady state with ``steps`` steps per cycle."""
-    return 8.0 * _entry(method, "floats_per_step", _FLOATS_PER_STEP_SOLVER) * \
-        (float(steps) + 1.0) * max(1, dofs)
+    return (
+        8.0
+        * _entry(method, "floats_per_step", _FLOATS_PER_STEP_SOLVER)
+        * (float(steps) + 1.0)
+        * max(1, dofs)
+    )
 
 
 def continuum_bytes(nodes: int, dims: int, steps: int, history: bool = True) -> float:
@@ -99,8 +142,14 @@ def _entry(method, attr: str, default):
         return default
 
 
-def map_bytes(points: float, axes: float = 0.0, method: str = "exact", steps: int | None = None,
-              chunk_size: int | None = None, workers: int = 1) -> float:
+def map_bytes(
+    points: float,
+    axes: float = 0.0,
+    method: str = "exact",
+    steps: int | None = None,
+    chunk_size: int | None = None,
+    workers: int = 1,
+) -> float:
     """Estimated peak bytes of a map of ``points`` grid points (``axes``: the total length of
     its coordinate axes) run with ``workers`` chunks in flight at once."""
     points = float(points)
@@ -146,14 +195,23 @@ def fits(need: float) -> bool:
     return need <= default_limit()[0]
 
 
-def check(need: float, parameter: str, what: str, limit: tuple[float, str] | None = None,
-          how: str | None = None) -> None:
+def check(
+    need: float,
+    parameter: str,
+    what: str,
+    limit: tuple[float, str] | None = None,
+    how: str | None = None,
+) -> None:
     """Raise InputError naming ``parameter`` when ``need`` bytes exceed the limit."""
     limit_bytes, source = default_limit() if limit is None else limit
     if need <= limit_bytes:
         return
     size = format_bytes(need * 1.25).replace(" ", "")
     how = how or f"set the environment variable {MEMORY_ENV}={size}"
-    raise InputError(parameter, (
-        f"{what} needs about {format_bytes(need)} of memory, over the limit of "
-        f"{format_bytes(limit_bytes)} ({source}); ask for less, or raise the limit: {how}"))
+    raise InputError(
+        parameter,
+        (
+            f"{what} needs about {format_bytes(need)} of memory, over the limit of "
+            f"{format_bytes(limit_bytes)} ({source}); ask for less, or raise the limit: {how}"
+        ),
+    )

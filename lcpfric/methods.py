@@ -43,9 +43,21 @@ from typing import Any
 
 from .errors import InputError, SolverNotFound
 
-__all__ = ["Method", "CLOSED_FORM", "TIME_STEPPER", "METHODS", "register", "unregister",
-           "get_method", "get_stepper", "available_methods", "grid_function", "methods_for",
-           "check_options", "DISCRETE"]
+__all__ = [
+    "Method",
+    "CLOSED_FORM",
+    "TIME_STEPPER",
+    "METHODS",
+    "register",
+    "unregister",
+    "get_method",
+    "get_stepper",
+    "available_methods",
+    "grid_function",
+    "methods_for",
+    "check_options",
+    "DISCRETE",
+]
 
 CLOSED_FORM = "closed-form"
 TIME_STEPPER = "time-stepper"
@@ -125,8 +137,7 @@ class Method:
 
     def installed_solvers(self) -> list[str]:
         """The solvers of a ``:<solver>`` method whose packages are installed (not imported)."""
-        return [s for s, pkg in self.solvers.items()
-                if importlib.util.find_spec(pkg) is not None]
+        return [s for s, pkg in self.solvers.items() if importlib.util.find_spec(pkg) is not None]
 
     def load(self):
         """The implementation class (imports its module)."""
@@ -137,11 +148,24 @@ class Method:
 
 
 # qpsolvers solver name -> the package it imports
-_QPSOLVERS = {"clarabel": "clarabel", "cvxopt": "cvxopt", "daqp": "daqp", "ecos": "ecos",
-              "gurobi": "gurobipy", "highs": "highspy", "hpipm": "hpipm_python",
-              "mosek": "mosek", "osqp": "osqp", "piqp": "piqp", "proxqp": "proxsuite",
-              "qpalm": "qpalm", "qpoases": "qpoases", "qpswift": "qpSWIFT",
-              "quadprog": "quadprog", "scs": "scs"}
+_QPSOLVERS = {
+    "clarabel": "clarabel",
+    "cvxopt": "cvxopt",
+    "daqp": "daqp",
+    "ecos": "ecos",
+    "gurobi": "gurobipy",
+    "highs": "highspy",
+    "hpipm": "hpipm_python",
+    "mosek": "mosek",
+    "osqp": "osqp",
+    "piqp": "piqp",
+    "proxqp": "proxsuite",
+    "qpalm": "qpalm",
+    "qpoases": "qpoases",
+    "qpswift": "qpSWIFT",
+    "quadprog": "quadprog",
+    "scs": "scs",
+}
 # cvxpy solvers lcpfric offers (those that fit problem (P)) -> their package
 _CVXPY = {"CLARABEL": "clarabel", "ECOS": "ecos", "SCS": "scs", "OSQP": "osqp"}
 
@@ -165,44 +189,117 @@ def unregister(name: str) -> None:
 
 
 for _m in (
-    Method("exact", CLOSED_FORM, "closed-form event-by-event steady state",
-           "lcpfric.exact.solver:ExactSolver", dims=(1,),
-           accepts="harmonic loads of one frequency: SingleNode, or ContactSystem (d = 1, "
-                   "IndependentSprings)",
-           grid="lcpfric.exact:exact_W_hat", seconds_per_point=1.2e-6, floats_per_step=12),
-    Method("explicit", TIME_STEPPER, "the paper's state-based stepper, events located",
-           "lcpfric.steppers.explicit:ExplicitStepper", dims=(1,),
-           seconds_per_point_step=3e-6, floats_per_step=32),
-    Method("projection", TIME_STEPPER, "closed-form maximum-dissipation projection per step",
-           "lcpfric.steppers.projection:ProjectionStepper", dims=(1, 2),
-           accepts="diagonal K (uncoupled nodes; isotropic per node for d = 2)",
-           grid="lcpfric.batch:projection_W_hat", seconds_per_point_step=3e-7,
-           floats_per_step=32),
-    Method("clarabel", TIME_STEPPER, "problem (P) by Clarabel's direct API, updated in place",
-           "lcpfric.backends.clarabel_:ClarabelStepper", dims=(1, 2), extra="clarabel",
-           requires="clarabel", seconds_per_point_step=3e-5),
-    Method("osqp", TIME_STEPPER, "problem (P) by OSQP, set up once and warm-started",
-           "lcpfric.backends.osqp_:OSQPStepper", dims=(1,), extra="osqp", requires="osqp",
-           seconds_per_point_step=3e-5),
-    Method("active-set", TIME_STEPPER, "problem (P) on K by a primal-dual active-set method "
-           "(many nodes, stiff K)", "lcpfric.steppers.active_set:ActiveSetStepper",
-           dims=(1, 2), seconds_per_point_step=3e-6, floats_per_step=32),
-    Method("qpsolvers", TIME_STEPPER, "problem (P) by any QP solver qpsolvers has installed",
-           "lcpfric.backends.qpsolvers_:QpsolversStepper", dims=(1,), extra="qpsolvers",
-           requires="qpsolvers", solvers=_QPSOLVERS, seconds_per_point_step=5e-4),
-    Method("cvxpy", TIME_STEPPER, "problem (P) as one DPP-parametrized cvxpy problem",
-           "lcpfric.backends.cvxpy_:CvxpyStepper", dims=(1, 2), extra="cvxpy",
-           requires="cvxpy", solvers=_CVXPY, default_solver="CLARABEL",
-           seconds_per_point_step=1.5e-3),
-    Method("mdr-bar", TIME_STEPPER, "the MDR sphere's bar equation, exact per increment (no "
-           "solver)", "lcpfric.steppers.mdr_bar:MDRBarStepper", dims=(1,),
-           accepts="MDRSphere", models=("MDRSphere",)),
-    Method("halfplane-pdas", TIME_STEPPER, "the half-plane cylinder's primal-dual active set "
-           "on the stick set", "lcpfric.steppers.halfplane_pdas:HalfPlanePDASStepper",
-           dims=(1,), accepts="HalfPlaneCylinder", models=("HalfPlaneCylinder",)),
-    Method("newton-cg", TIME_STEPPER, "the half-space's semismooth Newton, conjugate "
-           "gradients on FFT products", "lcpfric.steppers.newton_cg:NewtonCGStepper",
-           dims=(1, 2), accepts="HalfSpace", models=("HalfSpace",)),
+    Method(
+        "exact",
+        CLOSED_FORM,
+        "closed-form event-by-event steady state",
+        "lcpfric.exact.solver:ExactSolver",
+        dims=(1,),
+        accepts="harmonic loads of one frequency: SingleNode, or ContactSystem (d = 1, "
+        "IndependentSprings)",
+        grid="lcpfric.exact:exact_W_hat",
+        seconds_per_point=1.2e-6,
+        floats_per_step=12,
+    ),
+    Method(
+        "explicit",
+        TIME_STEPPER,
+        "the paper's state-based stepper, events located",
+        "lcpfric.steppers.explicit:ExplicitStepper",
+        dims=(1,),
+        seconds_per_point_step=3e-6,
+        floats_per_step=32,
+    ),
+    Method(
+        "projection",
+        TIME_STEPPER,
+        "closed-form maximum-dissipation projection per step",
+        "lcpfric.steppers.projection:ProjectionStepper",
+        dims=(1, 2),
+        accepts="diagonal K (uncoupled nodes; isotropic per node for d = 2)",
+        grid="lcpfric.batch:projection_W_hat",
+        seconds_per_point_step=3e-7,
+        floats_per_step=32,
+    ),
+    Method(
+        "clarabel",
+        TIME_STEPPER,
+        "problem (P) by Clarabel's direct API, updated in place",
+        "lcpfric.backends.clarabel_:ClarabelStepper",
+        dims=(1, 2),
+        extra="clarabel",
+        requires="clarabel",
+        seconds_per_point_step=3e-5,
+    ),
+    Method(
+        "osqp",
+        TIME_STEPPER,
+        "problem (P) by OSQP, set up once and warm-started",
+        "lcpfric.backends.osqp_:OSQPStepper",
+        dims=(1,),
+        extra="osqp",
+        requires="osqp",
+        seconds_per_point_step=3e-5,
+    ),
+    Method(
+        "active-set",
+        TIME_STEPPER,
+        "problem (P) on K by a primal-dual active-set method (many nodes, stiff K)",
+        "lcpfric.steppers.active_set:ActiveSetStepper",
+        dims=(1, 2),
+        seconds_per_point_step=3e-6,
+        floats_per_step=32,
+    ),
+    Method(
+        "qpsolvers",
+        TIME_STEPPER,
+        "problem (P) by any QP solver qpsolvers has installed",
+        "lcpfric.backends.qpsolvers_:QpsolversStepper",
+        dims=(1,),
+        extra="qpsolvers",
+        requires="qpsolvers",
+        solvers=_QPSOLVERS,
+        seconds_per_point_step=5e-4,
+    ),
+    Method(
+        "cvxpy",
+        TIME_STEPPER,
+        "problem (P) as one DPP-parametrized cvxpy problem",
+        "lcpfric.backends.cvxpy_:CvxpyStepper",
+        dims=(1, 2),
+        extra="cvxpy",
+        requires="cvxpy",
+        solvers=_CVXPY,
+        default_solver="CLARABEL",
+        seconds_per_point_step=1.5e-3,
+    ),
+    Method(
+        "mdr-bar",
+        TIME_STEPPER,
+        "the MDR sphere's bar equation, exact per increment (no solver)",
+        "lcpfric.steppers.mdr_bar:MDRBarStepper",
+        dims=(1,),
+        accepts="MDRSphere",
+        models=("MDRSphere",),
+    ),
+    Method(
+        "halfplane-pdas",
+        TIME_STEPPER,
+        "the half-plane cylinder's primal-dual active set on the stick set",
+        "lcpfric.steppers.halfplane_pdas:HalfPlanePDASStepper",
+        dims=(1,),
+        accepts="HalfPlaneCylinder",
+        models=("HalfPlaneCylinder",),
+    ),
+    Method(
+        "newton-cg",
+        TIME_STEPPER,
+        "the half-space's semismooth Newton, conjugate gradients on FFT products",
+        "lcpfric.steppers.newton_cg:NewtonCGStepper",
+        dims=(1, 2),
+        accepts="HalfSpace",
+        models=("HalfSpace",),
+    ),
 ):
     register(_m)
 del _m
@@ -245,8 +342,10 @@ def get_method(method: str) -> tuple[Method, str | None]:
     if entry is None:
         close = difflib.get_close_matches(name, list(METHODS), n=2)
         hint = f" (did you mean {' or '.join(repr(c) for c in close)}?)" if close else ""
-        raise InputError("method", f"unknown method {method!r}{hint}; choose from "
-                                   f"{', '.join(available_methods())}")
+        raise InputError(
+            "method",
+            f"unknown method {method!r}{hint}; choose from {', '.join(available_methods())}",
+        )
     if sub is not None and not entry.solvers:
         raise InputError("method", f"{entry.name!r} takes no ':<solver>' suffix")
     return entry, sub
@@ -258,12 +357,17 @@ def check_options(cls, options: dict, what: str) -> None:
     params = inspect.signature(cls.__init__).parameters
     if any(p.kind is p.VAR_KEYWORD for p in params.values()):
         return
-    valid = sorted(n for n, p in params.items()
-                   if n != "self" and p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD))
+    valid = sorted(
+        n
+        for n, p in params.items()
+        if n != "self" and p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)
+    )
     unknown = sorted(set(options) - set(valid))
     if unknown:
-        raise InputError(unknown[0], f"is not an option of {what}; valid options: "
-                                     f"{', '.join(valid) if valid else 'none'}")
+        raise InputError(
+            unknown[0],
+            f"is not an option of {what}; valid options: {', '.join(valid) if valid else 'none'}",
+        )
 
 
 def get_stepper(method: Any, **options: Any) -> Any:
@@ -297,8 +401,10 @@ def get_stepper(method: Any, **options: Any) -> Any:
     """
     if getattr(method, "kind", None) in KINDS and not isinstance(method, type):
         if options:
-            raise InputError(sorted(options)[0], "options cannot be given with a method "
-                                                 "instance; pass them to its constructor")
+            raise InputError(
+                sorted(options)[0],
+                "options cannot be given with a method instance; pass them to its constructor",
+            )
         return method
     if isinstance(method, type):
         check_options(method, options, repr(getattr(method, "name", method.__name__)))
@@ -307,8 +413,11 @@ def get_stepper(method: Any, **options: Any) -> Any:
     sub = sub or entry.default_solver
     if entry.solvers:
         if sub is None:
-            raise InputError("method", f"name the solver, as '{entry.name}:<solver>'; installed: "
-                                       f"{', '.join(entry.installed_solvers()) or 'none'}")
+            raise InputError(
+                "method",
+                f"name the solver, as '{entry.name}:<solver>'; installed: "
+                f"{', '.join(entry.installed_solvers()) or 'none'}",
+            )
         sub = _solver_name(entry, sub)
     if not entry.installed:
         raise SolverNotFound(method, entry.extra, available_methods())
@@ -329,13 +438,17 @@ def _solver_name(entry: Method, sub: str) -> str:
     name = spelled.get(sub.lower())
     installed = entry.installed_solvers()
     if name is None:
-        raise InputError("method", f"'{entry.name}:{sub}': {entry.name} has no solver {sub!r} "
-                                   f"that fits problem (P); "
-                                   f"installed: {', '.join(installed) or 'none'}; others it "
-                                   f"knows: {', '.join(s for s in entry.solvers if s not in installed)}")
+        raise InputError(
+            "method",
+            f"'{entry.name}:{sub}': {entry.name} has no solver {sub!r} "
+            f"that fits problem (P); "
+            f"installed: {', '.join(installed) or 'none'}; others it "
+            f"knows: {', '.join(s for s in entry.solvers if s not in installed)}",
+        )
     if name not in installed:
-        raise SolverNotFound(f"{entry.name}:{name}", entry.extra, available_methods(),
-                             package=entry.solvers[name])
+        raise SolverNotFound(
+            f"{entry.name}:{name}", entry.extra, available_methods(), package=entry.solvers[name]
+        )
     return name
 
 
@@ -380,8 +493,11 @@ def methods_for(model: object) -> list[str]:
     out = []
     for entry in METHODS.values():
         if names & set(entry.models) and entry.installed:
-            out.extend([f"{entry.name}:{s}" for s in entry.installed_solvers()]
-                       if entry.solvers else [entry.name])
+            out.extend(
+                [f"{entry.name}:{s}" for s in entry.installed_solvers()]
+                if entry.solvers
+                else [entry.name]
+            )
     return out
 
 

@@ -17,8 +17,15 @@ import numpy as np
 
 from .errors import UndefinedQuantity
 
-__all__ = ["State", "StepState", "CycleResult", "SteadyState", "BatchResult", "Normalization",
-           "ContactExtras"]
+__all__ = [
+    "State",
+    "StepState",
+    "CycleResult",
+    "SteadyState",
+    "BatchResult",
+    "Normalization",
+    "ContactExtras",
+]
 
 
 class State(IntEnum):  # the Enum API's arguments are not documented: numpydoc ignore=PR01
@@ -37,8 +44,8 @@ class State(IntEnum):  # the Enum API's arguments are not documented: numpydoc i
     """
 
     STICK = 0
-    FORWARD = 1     # forward slip, du/dt > 0, F = -f N
-    BACKWARD = 2    # backward slip, du/dt < 0, F = +f N
+    FORWARD = 1  # forward slip, du/dt > 0, F = -f N
+    BACKWARD = 2  # backward slip, du/dt < 0, F = +f N
     SEPARATION = 3  # N = 0, F = 0
 
     @property
@@ -47,8 +54,12 @@ class State(IntEnum):  # the Enum API's arguments are not documented: numpydoc i
         return _LABELS[self]
 
 
-_LABELS = {State.STICK: "stick", State.FORWARD: "forward slip",
-           State.BACKWARD: "backward slip", State.SEPARATION: "separation"}
+_LABELS = {
+    State.STICK: "stick",
+    State.FORWARD: "forward slip",
+    State.BACKWARD: "backward slip",
+    State.SEPARATION: "separation",
+}
 
 
 @dataclass(frozen=True)
@@ -270,8 +281,11 @@ class SteadyState:
 
     def _norm(self, name: str) -> Normalization:
         if self.normalization is None:
-            raise UndefinedQuantity(name, "is defined for a single node (SingleNode, Eq. 6) "
-                                          "only; a general system has W, v, F and N")
+            raise UndefinedQuantity(
+                name,
+                "is defined for a single node (SingleNode, Eq. 6) "
+                "only; a general system has W, v, F and N",
+            )
         return self.normalization
 
     @property
@@ -284,8 +298,10 @@ class SteadyState:
     def W_normalized(self) -> float:
         """A continuum contact's normalized dissipation (:class:`ContactExtras`)."""
         if self.contact is None:
-            raise UndefinedQuantity("W_normalized", "is defined for continuum contacts only "
-                                                    "(MDRSphere, HalfPlaneCylinder, HalfSpace)")
+            raise UndefinedQuantity(
+                "W_normalized",
+                "is defined for continuum contacts only (MDRSphere, HalfPlaneCylinder, HalfSpace)",
+            )
         return self.contact.W_normalized
 
     def stick_size(self) -> np.ndarray:
@@ -353,14 +369,25 @@ class SteadyState:
             out["W_hat"] = self.W_hat
         if self.contact is not None:
             c = self.contact
-            out.update(W_normalized=c.W_normalized, normalization=c.normalization,
-                       contact_size_max=c.contact_size_max, nodes=c.nodes,
-                       nodes_in_contact_max=c.nodes_in_contact_max)
+            out.update(
+                W_normalized=c.W_normalized,
+                normalization=c.normalization,
+                contact_size_max=c.contact_size_max,
+                nodes=c.nodes,
+                nodes_in_contact_max=c.nodes_in_contact_max,
+            )
             if c.k_t0 is not None:
                 out["k_t0"] = c.k_t0
-        out.update(method=self.method, steps_requested=self.steps_requested,
-                   steps_used=self.steps_used, cycles=self.cycles, converged=self.converged,
-                   change=self.change, seconds=self.seconds, message=self.message)
+        out.update(
+            method=self.method,
+            steps_requested=self.steps_requested,
+            steps_used=self.steps_used,
+            cycles=self.cycles,
+            converged=self.converged,
+            change=self.change,
+            seconds=self.seconds,
+            message=self.message,
+        )
         return out
 
     def to_json(self) -> str:
@@ -374,10 +401,17 @@ class SteadyState:
         return json.dumps(self.summary())
 
     def __repr__(self) -> str:
-        head = (f"W_hat={self.W_hat!r}, " if self.normalization is not None else
-                f"W_normalized={self.W_normalized!r}, " if self.contact is not None else "")
-        return (f"SteadyState({head}W={self.W!r}, method={self.method!r}, steps_used="
-                f"{self.steps_used}, cycles={self.cycles}, converged={self.converged})")
+        head = (
+            f"W_hat={self.W_hat!r}, "
+            if self.normalization is not None
+            else f"W_normalized={self.W_normalized!r}, "
+            if self.contact is not None
+            else ""
+        )
+        return (
+            f"SteadyState({head}W={self.W!r}, method={self.method!r}, steps_used="
+            f"{self.steps_used}, cycles={self.cycles}, converged={self.converged})"
+        )
 
 
 @dataclass(frozen=True)

@@ -45,8 +45,7 @@ if TYPE_CHECKING:
     from .model.continuum.base import ContactModel
     from .model.loads import Load
 
-__all__ = ["Scene", "Rows", "make_scene", "with_tangential_load", "increments",
-           "column_reduce"]
+__all__ = ["Scene", "Rows", "make_scene", "with_tangential_load", "increments", "column_reduce"]
 
 PLACEMENTS = ("contact", "uniform")
 
@@ -159,8 +158,11 @@ class Scene:
         """(N+1, n) bool: node in contact (N > 0) at each grid instant."""
         if "contact" not in self._cache:
             N = self.N
-            self._cache["contact"] = (Rows(lambda t, fn=N.fn: fn(t) > 0.0, N.t, N.width)
-                                      if isinstance(N, Rows) else N > 0.0)
+            self._cache["contact"] = (
+                Rows(lambda t, fn=N.fn: fn(t) > 0.0, N.t, N.width)
+                if isinstance(N, Rows)
+                else N > 0.0
+            )
         return self._cache["contact"]
 
 
@@ -180,10 +182,15 @@ def _start_time(system: ContactSystem) -> float:
     return 0.0
 
 
-def make_scene(system_or_model: ContactSystem | SingleNode | ContactModel,
-               steps_per_cycle: int | None = None, *, placement: str | None = None,
-               t0: float | None = None, grid: ArrayLike | None = None,
-               history: bool = True) -> Scene:
+def make_scene(
+    system_or_model: ContactSystem | SingleNode | ContactModel,
+    steps_per_cycle: int | None = None,
+    *,
+    placement: str | None = None,
+    t0: float | None = None,
+    grid: ArrayLike | None = None,
+    history: bool = True,
+) -> Scene:
     """Sample one cycle of a model on a time grid.
 
     Parameters
@@ -229,8 +236,11 @@ def make_scene(system_or_model: ContactSystem | SingleNode | ContactModel,
             raise InputError("t0", "a continuum contact's cycle starts at t = 0")
         return _continuum_scene(system_or_model, steps_per_cycle, placement, grid, history)
     if grid is not None:
-        raise InputError("grid", "is for continuum contacts; a discrete system's grid is "
-                                 "made of steps_per_cycle and placement")
+        raise InputError(
+            "grid",
+            "is for continuum contacts; a discrete system's grid is "
+            "made of steps_per_cycle and placement",
+        )
     if steps_per_cycle is None:
         steps_per_cycle = getattr(system_or_model, "default_steps", 2000)
     placement = "contact" if placement is None else placement
@@ -240,8 +250,11 @@ def make_scene(system_or_model: ContactSystem | SingleNode | ContactModel,
     model = system_or_model if isinstance(system_or_model, SingleNode) else None
     system = model.system() if model is not None else system_or_model
     if not isinstance(system, ContactSystem):
-        raise InputError("scene", "expected a SingleNode, a ContactSystem or a continuum "
-                                  f"contact, got {type(system_or_model).__name__}")
+        raise InputError(
+            "scene",
+            "expected a SingleNode, a ContactSystem or a continuum "
+            f"contact, got {type(system_or_model).__name__}",
+        )
     T = system.period
     start = _start_time(system) if t0 is None else _checks.finite("t0", t0)
     end = start + T
@@ -282,26 +295,43 @@ def _continuum_scene(model, steps, placement, grid, history) -> Scene:
     from .model.continuum.base import gross_sliding
 
     if placement not in (None, "uniform"):
-        raise InputError("placement", f"a continuum contact's steps are uniform (its cycle "
-                                      f"starts at t = 0); got {placement!r}")
+        raise InputError(
+            "placement",
+            f"a continuum contact's steps are uniform (its cycle "
+            f"starts at t = 0); got {placement!r}",
+        )
     if grid is not None:
         t = _checks.finite_array("grid", grid).ravel()
-        if t.size < 5 or t[0] != 0.0 or not np.all(np.diff(t) > 0) or not math.isclose(
-                t[-1], model.period, rel_tol=1e-12):
-            raise InputError("grid", "must increase from 0 to the period, with at least 4 "
-                                     "steps")
+        if (
+            t.size < 5
+            or t[0] != 0.0
+            or not np.all(np.diff(t) > 0)
+            or not math.isclose(t[-1], model.period, rel_tol=1e-12)
+        ):
+            raise InputError("grid", "must increase from 0 to the period, with at least 4 steps")
         steps = t.size - 1
     else:
-        steps = _checks.positive_int("steps_per_cycle",
-                                     model.default_steps if steps is None else steps, 4)
+        steps = _checks.positive_int(
+            "steps_per_cycle", model.default_steps if steps is None else steps, 4
+        )
         t = np.linspace(0.0, model.period, steps + 1)
     need = memory.continuum_bytes(model.nodes, model.dims, steps, history)
-    memory.check(need, "steps_per_cycle", f"{steps} steps x {model.nodes} nodes (d = "
-                                          f"{model.dims})")
+    memory.check(need, "steps_per_cycle", f"{steps} steps x {model.nodes} nodes (d = {model.dims})")
     gross_sliding(model, model.Q, steps if grid is None else 4)
     limits, sizes, stats = model.normal_solution(t)
-    scene = Scene(None, model, t, np.empty(0), limits / model.mu, np.empty(0), "uniform", steps,
-                  limits=limits, sizes=sizes, stats=stats)
+    scene = Scene(
+        None,
+        model,
+        t,
+        np.empty(0),
+        limits / model.mu,
+        np.empty(0),
+        "uniform",
+        steps,
+        limits=limits,
+        sizes=sizes,
+        stats=stats,
+    )
     return _tangential(scene, model.Q)
 
 
@@ -343,8 +373,7 @@ def with_tangential_load(scene: Scene, Q: Load | float) -> Scene:
 def _tangential(scene: Scene, Q) -> Scene:
     model = scene.model
     values = np.asarray(Q(scene.t), dtype=float).reshape(scene.t.shape)
-    return replace(scene, Q=values, scales=model.load_scales(Q), loads=(model.P, Q),
-                   _cache={})
+    return replace(scene, Q=values, scales=model.load_scales(Q), loads=(model.P, Q), _cache={})
 
 
 #: a scene whose Q and N would take more bytes than this keeps them as :class:`Rows`
@@ -389,8 +418,11 @@ class Rows:
     def __array__(self, dtype=None, copy=None):
         from . import memory
 
-        memory.check(8.0 * self.t.size * self.width, "steps_per_cycle",
-                     f"the loads of the whole cycle ({self.t.size} instants x {self.width})")
+        memory.check(
+            8.0 * self.t.size * self.width,
+            "steps_per_cycle",
+            f"the loads of the whole cycle ({self.t.size} instants x {self.width})",
+        )
         out = np.concatenate([self[a:b] for a, b in chunks(self.t.size, self.width)])
         return out if dtype is None else out.astype(dtype)
 
@@ -424,8 +456,9 @@ def increments(x):
     return k if k.ndim else int(k)
 
 
-def _contact_grid(system: ContactSystem, start: float, end: float, transitions: np.ndarray,
-                  steps: int) -> np.ndarray:
+def _contact_grid(
+    system: ContactSystem, start: float, end: float, transitions: np.ndarray, steps: int
+) -> np.ndarray:
     """Spread ``steps`` increments over the parts of the cycle where some node is in contact."""
     edges = np.concatenate([[start], transitions, [end]])
     mids = 0.5 * (edges[:-1] + edges[1:])

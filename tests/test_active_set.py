@@ -16,8 +16,15 @@ def staggered_chain(n=12, sep=True, sparse=False, seed=0, dims=1, kc=2.0):
     rng = np.random.default_rng(seed)
     P1 = rng.uniform(1.2, 2.0, n) if sep else rng.uniform(0.1, 0.8, n)
     shape = (n, 2) if dims == 2 else n
-    return lcpfric.chain(n, k_coupling=kc, P1=P1, Q1=rng.uniform(0.5, 2.0, shape),
-                         phi=rng.uniform(0, 2 * np.pi, shape), dims=dims, sparse=sparse)
+    return lcpfric.chain(
+        n,
+        k_coupling=kc,
+        P1=P1,
+        Q1=rng.uniform(0.5, 2.0, shape),
+        phi=rng.uniform(0, 2 * np.pi, shape),
+        dims=dims,
+        sparse=sparse,
+    )
 
 
 def dense_spd(n=8, seed=0):
@@ -25,13 +32,19 @@ def dense_spd(n=8, seed=0):
     A = rng.standard_normal((n, n)) / np.sqrt(n)
     K = A @ A.T + np.eye(n)
     P1, Q1, phi = rng.uniform(0.3, 1.8, n), rng.uniform(0.5, 2.0, n), rng.uniform(0, 6, n)
-    return ContactSystem(K, np.ones(n), tuple(Harmonic(0.0, Q1[i], phi[i]) for i in range(n)),
-                         IndependentSprings(tuple(Harmonic(1.0, P1[i]) for i in range(n))))
+    return ContactSystem(
+        K,
+        np.ones(n),
+        tuple(Harmonic(0.0, Q1[i], phi[i]) for i in range(n)),
+        IndependentSprings(tuple(Harmonic(1.0, P1[i]) for i in range(n))),
+    )
 
 
-@pytest.mark.parametrize("make", [lambda: staggered_chain(sep=True),
-                                  lambda: staggered_chain(sep=False), dense_spd],
-                         ids=["chain-separation", "chain-contact", "dense"])
+@pytest.mark.parametrize(
+    "make",
+    [lambda: staggered_chain(sep=True), lambda: staggered_chain(sep=False), dense_spd],
+    ids=["chain-separation", "chain-contact", "dense"],
+)
 @pytest.mark.parametrize("events", [False, True])
 def test_same_increments_as_osqp(make, events):
     """The same discretized problem as every convex backend: W to round-off."""
@@ -57,9 +70,12 @@ def test_blocks_agree_and_reordered_band():
     # the same chain with its nodes shuffled: banded again after reordering
     perm = np.random.default_rng(3).permutation(system.n)
     K = sp.csc_matrix(system.stiffness)[perm][:, perm]
-    shuffled = ContactSystem(K, system.friction[perm],
-                             tuple(system.tangential_loads[i] for i in perm),
-                             IndependentSprings(tuple(system.normal.loads[i] for i in perm)))
+    shuffled = ContactSystem(
+        K,
+        system.friction[perm],
+        tuple(system.tangential_loads[i] for i in perm),
+        IndependentSprings(tuple(system.normal.loads[i] for i in perm)),
+    )
     from lcpfric.linalg.blocks import BandedBlock, make_block
 
     block = make_block(shuffled.stiffness)
@@ -89,18 +105,21 @@ def test_dense_block_updates_fold_and_products():
         r = rng.standard_normal(m)
         unknowns, x = block.solve(r)
         assert np.array_equal(np.sort(unknowns), sel)
-        np.testing.assert_allclose(x, np.linalg.solve(K[np.ix_(unknowns, unknowns)],
-                                                        r[unknowns]), rtol=0, atol=1e-10)
+        np.testing.assert_allclose(
+            x, np.linalg.solve(K[np.ix_(unknowns, unknowns)], r[unknowns]), rtol=0, atol=1e-10
+        )
         y = rng.standard_normal(x.size)
-        np.testing.assert_allclose(block.product(unknowns, y), K[:, unknowns] @ y,
-                                   rtol=0, atol=1e-12)
+        np.testing.assert_allclose(
+            block.product(unknowns, y), K[:, unknowns] @ y, rtol=0, atol=1e-12
+        )
     assert block.stats["factorizations"] >= 2  # the first set and the large change
     assert block.stats["updates"] > 40 and FOLD_RANK < 60
 
 
 def test_uncoupled_and_single_node_equal_the_projection():
-    system = lcpfric.chain(4, k_coupling=0.0, P1=[0.5, 1.5, 0.2, 2.0], Q1=[1, 2, 0.5, 3],
-                           phi=[0.1, 1.0, 2.0, 3.0])
+    system = lcpfric.chain(
+        4, k_coupling=0.0, P1=[0.5, 1.5, 0.2, 2.0], Q1=[1, 2, 0.5, 3], phi=[0.1, 1.0, 2.0, 3.0]
+    )
     a = lcpfric.steady_state(system, "active-set", 400, tol=1e-12)
     b = lcpfric.steady_state(system, "projection", 400, tol=1e-12)
     assert a.W == pytest.approx(b.W, rel=1e-12)
@@ -114,8 +133,10 @@ def test_second_order_against_exact():
     """With events located, W converges to the exact discrete solution at second order."""
     system = staggered_chain(n=5, kc=1.0)
     exact = lcpfric.steady_state(system, "exact").W
-    errors = [abs(lcpfric.steady_state(system, "active-set", s, tol=1e-12).W - exact)
-              for s in (200, 400, 800)]
+    errors = [
+        abs(lcpfric.steady_state(system, "active-set", s, tol=1e-12).W - exact)
+        for s in (200, 400, 800)
+    ]
     orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
     assert np.all(orders > 1.8), orders
 
@@ -159,9 +180,13 @@ def test_explicit_without_history():
 
 
 def test_load_set_equals_each_load():
-    loads = [Harmonic(0.3, 1.2, 0.7), lcpfric.model.Fourier(1.0, (0.5, 0.2), (0.1, 2.0)),
-             Harmonic(-1.0, 0.0, 0.0), Harmonic(0.0, 2.0, 1.0, omega=2.0),
-             lcpfric.model.Periodic(lambda t: np.cos(t) ** 2, 2 * np.pi)]
+    loads = [
+        Harmonic(0.3, 1.2, 0.7),
+        lcpfric.model.Fourier(1.0, (0.5, 0.2), (0.1, 2.0)),
+        Harmonic(-1.0, 0.0, 0.0),
+        Harmonic(0.0, 2.0, 1.0, omega=2.0),
+        lcpfric.model.Periodic(lambda t: np.cos(t) ** 2, 2 * np.pi),
+    ]
     t = np.linspace(0, 7, 53)
     got = LoadSet(loads)(t)
     want = np.stack([np.broadcast_to(p(t), t.shape) for p in loads], axis=-1)

@@ -10,12 +10,26 @@ import numpy as np
 import pytest
 
 import lcpfric
-from lcpfric import (InputError, SingleNode, State, UndefinedQuantity, get_stepper, make_scene,
-                     steady_state)
+from lcpfric import (
+    InputError,
+    SingleNode,
+    State,
+    UndefinedQuantity,
+    get_stepper,
+    make_scene,
+    steady_state,
+)
 from lcpfric.backends import ConvexStepper, IncrementProblem, residuals
 from lcpfric.backends.checks import scalar_residuals, scalar_worst
-from lcpfric.methods import (CLOSED_FORM, TIME_STEPPER, Method, available_methods, get_method,
-                             register, unregister)
+from lcpfric.methods import (
+    CLOSED_FORM,
+    TIME_STEPPER,
+    Method,
+    available_methods,
+    get_method,
+    register,
+    unregister,
+)
 from lcpfric.model import ContactSystem, Harmonic, IndependentSprings, chain
 from lcpfric.steppers import Stepper
 from lcpfric.steppers.dissipation import increment_dissipation, node_shares, scalar_share
@@ -42,11 +56,14 @@ def test_every_listed_method_resolves():
 
 
 def test_listing_methods_imports_no_solver_package():
-    code = ("import sys, lcpfric; lcpfric.available_methods(); "
-            "print([m for m in ('clarabel', 'osqp', 'qpsolvers', 'cvxpy', 'scipy') "
-            "if m in sys.modules])")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         check=True).stdout.strip()
+    code = (
+        "import sys, lcpfric; lcpfric.available_methods(); "
+        "print([m for m in ('clarabel', 'osqp', 'qpsolvers', 'cvxpy', 'scipy') "
+        "if m in sys.modules])"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    ).stdout.strip()
     assert out == "[]"
 
 
@@ -217,8 +234,7 @@ class BVLSStepper(ConvexStepper):
     name = "scipy-bvls"
     can_soc = False
     # scipy's lsq_linear statuses: 1-3 converged (gtol, ftol, xtol), 0 iteration limit
-    STATUS_MAP = {"1": "solved", "2": "solved", "3": "solved", "0": "max_iter",
-                  "-1": "numerical"}
+    STATUS_MAP = {"1": "solved", "2": "solved", "3": "solved", "0": "max_iter", "-1": "numerical"}
 
     def build(self, prob: IncrementProblem, settings: dict):
         P = prob.P.toarray() if hasattr(prob.P, "toarray") else np.asarray(prob.P)
@@ -236,8 +252,9 @@ class BVLSStepper(ConvexStepper):
 
 @pytest.fixture
 def bvls_backend():
-    register(Method("scipy-bvls", TIME_STEPPER, "toy backend", BVLSStepper, dims=(1,),
-                    requires="scipy"))
+    register(
+        Method("scipy-bvls", TIME_STEPPER, "toy backend", BVLSStepper, dims=(1,), requires="scipy")
+    )
     yield
     unregister("scipy-bvls")
 
@@ -252,7 +269,8 @@ def test_recipe_new_backend_end_to_end(bvls_backend):
     assert ours.W == pytest.approx(ref.W, rel=1e-12)
     node = SingleNode.normalized(*CASES["separation"])  # the scalar fast path too
     assert steady_state(node, "scipy-bvls", 300).W_hat == pytest.approx(
-        steady_state(node, "projection", 300).W_hat, rel=1e-12)
+        steady_state(node, "projection", 300).W_hat, rel=1e-12
+    )
     with pytest.raises(InputError, match="cannot express the d = 2"):
         steady_state(chain(2, dims=2, P1=0.5, Q1=1.0), "scipy-bvls", 50)
 
@@ -261,6 +279,7 @@ def test_public_names_are_lazy_and_complete():
     for name in lcpfric.__all__:
         assert getattr(lcpfric, name) is not None
     code = "import sys, lcpfric; print('scipy' in sys.modules, 'lcpfric.periodic' in sys.modules)"
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         check=True).stdout.split()
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    ).stdout.split()
     assert out == ["False", "False"]

@@ -4,8 +4,17 @@ failure paths (the typed error with the backend's own status) and their input ch
 import numpy as np
 import pytest
 
-from lcpfric import (InputError, UndefinedQuantity, SingleNode, SolverError, SolverNotFound, available_methods,
-                     get_stepper, make_scene, steady_state)
+from lcpfric import (
+    InputError,
+    UndefinedQuantity,
+    SingleNode,
+    SolverError,
+    SolverNotFound,
+    available_methods,
+    get_stepper,
+    make_scene,
+    steady_state,
+)
 from lcpfric.exact import exact_W_hat
 from lcpfric.scene import Scene
 from lcpfric.model import chain
@@ -14,8 +23,11 @@ from support import BACKENDS, FAST, REFINED, need, params
 from support import CASES
 
 SLOW_CASES = ("separation", "contact-phase")
-PAIRS = [pytest.param(m, c, id=f"{m}-{c}") for m in BACKENDS
-         for c in (sorted(CASES) if m in FAST else SLOW_CASES)]
+PAIRS = [
+    pytest.param(m, c, id=f"{m}-{c}")
+    for m in BACKENDS
+    for c in (sorted(CASES) if m in FAST else SLOW_CASES)
+]
 
 
 def projection(node, steps):
@@ -77,8 +89,9 @@ def test_step_by_step_equals_cycle(method, size):
     if size == 1:
         scene = make_scene(SingleNode.normalized(*CASES["separation"]), 200)
     else:
-        scene = make_scene(chain(3, k_coupling=0.7, P1=1.4, Q1=2.0, phi=1.0,
-                                 normal_phase=[0.0, 0.4, 0.8]), 200)
+        scene = make_scene(
+            chain(3, k_coupling=0.7, P1=1.4, Q1=2.0, phi=1.0, normal_phase=[0.0, 0.4, 0.8]), 200
+        )
     a, b = get_stepper(method), get_stepper(method)
     sa, sb = a.init(scene), b.init(scene)
     W = 0.0
@@ -110,14 +123,27 @@ def inconsistent_scene():
     scene = make_scene(SingleNode.normalized(0.5, 2.0, 0.6 * np.pi), 50)
     N = scene.N.copy()
     N[10] = -0.5
-    return Scene(scene.system, scene.model, scene.t, scene.Q, N, scene.transitions,
-                 scene.placement, _cache={"contact": np.ones_like(N, dtype=bool)})
+    return Scene(
+        scene.system,
+        scene.model,
+        scene.t,
+        scene.Q,
+        N,
+        scene.transitions,
+        scene.placement,
+        _cache={"contact": np.ones_like(N, dtype=bool)},
+    )
 
 
-@pytest.mark.parametrize("method, status", [("clarabel", "PrimalInfeasible"),
-                                            ("osqp", "solved"),
-                                            ("qpsolvers:clarabel", "PrimalInfeasible"),
-                                            ("cvxpy:CLARABEL", "infeasible")])
+@pytest.mark.parametrize(
+    "method, status",
+    [
+        ("clarabel", "PrimalInfeasible"),
+        ("osqp", "solved"),
+        ("qpsolvers:clarabel", "PrimalInfeasible"),
+        ("cvxpy:CLARABEL", "infeasible"),
+    ],
+)
 def test_inconsistent_data_raises_with_backend_status(method, status):
     need(method)
     with pytest.raises(SolverError) as info:
@@ -130,10 +156,13 @@ def test_inconsistent_data_raises_with_backend_status(method, status):
         assert info.value.residuals["cone"] > 1e-3
 
 
-@pytest.mark.parametrize("method, loose", [
-    ("osqp", {"eps_abs": 1e-3, "eps_rel": 1e-3}),  # OSQP's own defaults: off by ~2e-3
-    ("clarabel", {"tol_gap_abs": 1e-8, "tol_gap_rel": 1e-8, "tol_feas": 1e-8}),  # ~2e-5
-])
+@pytest.mark.parametrize(
+    "method, loose",
+    [
+        ("osqp", {"eps_abs": 1e-3, "eps_rel": 1e-3}),  # OSQP's own defaults: off by ~2e-3
+        ("clarabel", {"tol_gap_abs": 1e-8, "tol_gap_rel": 1e-8, "tol_feas": 1e-8}),  # ~2e-5
+    ],
+)
 def test_poor_answer_reported_solved_is_caught_and_refinement_repairs_it(method, loose):
     need(method)
     node = SingleNode.normalized(*CASES["separation"])
@@ -151,22 +180,25 @@ def test_nan_loads_are_input_errors():
     scene = make_scene(SingleNode.normalized(0.5, 2.0, 0.0), 20)
     Q = scene.Q.copy()
     Q[3] = np.nan
-    bad = Scene(scene.system, scene.model, scene.t, Q, scene.N, scene.transitions,
-                scene.placement)
+    bad = Scene(scene.system, scene.model, scene.t, Q, scene.N, scene.transitions, scene.placement)
     with pytest.raises(InputError, match="finite"):
         steady_state(bad, "clarabel")
 
 
-@pytest.mark.parametrize("method, options, match", [
-    ("clarabel", {"no_such_setting": 1}, "no_such_setting"),
-    ("osqp", {"no_such_setting": 1}, "no_such_setting"),
-    ("clarabel", {"check_tol": -1.0}, "check_tol"),
-    ("qpsolvers", {}, "qpsolvers:<solver>"),
-    ("cvxpy:GLPK", {}, "GLPK"),
-])
+@pytest.mark.parametrize(
+    "method, options, match",
+    [
+        ("clarabel", {"no_such_setting": 1}, "no_such_setting"),
+        ("osqp", {"no_such_setting": 1}, "no_such_setting"),
+        ("clarabel", {"check_tol": -1.0}, "check_tol"),
+        ("qpsolvers", {}, "qpsolvers:<solver>"),
+        ("cvxpy:GLPK", {}, "GLPK"),
+    ],
+)
 def test_bad_options_are_input_errors(method, options, match):
-    need(method if method in BACKENDS else "qpsolvers:proxqp" if "qp" in method
-         else "cvxpy:CLARABEL")
+    need(
+        method if method in BACKENDS else "qpsolvers:proxqp" if "qp" in method else "cvxpy:CLARABEL"
+    )
     node = SingleNode.normalized(0.5, 2.0, 0.0)
     with pytest.raises(InputError, match=match):
         steady_state(node, method, 20, **options)

@@ -15,15 +15,25 @@ SCRIPT = str(Path(__file__).resolve().parents[1] / "benchmarks" / "perf" / "comp
 
 
 def _run(*args, timeout=300):
-    return subprocess.run([sys.executable, SCRIPT, *args], capture_output=True, text=True,
-                          timeout=timeout)
+    return subprocess.run(
+        [sys.executable, SCRIPT, *args], capture_output=True, text=True, timeout=timeout
+    )
 
 
 @pytest.mark.slow
 def test_bench_small(tmp_path):
     out = tmp_path / "b"
-    p = _run("--cases", "separation", "--methods", "explicit,projection,exact", "--steps",
-             "100,200,400,800,1600", "--out", str(out), "--json")
+    p = _run(
+        "--cases",
+        "separation",
+        "--methods",
+        "explicit,projection,exact",
+        "--steps",
+        "100,200,400,800,1600",
+        "--out",
+        str(out),
+        "--json",
+    )
     assert p.returncode == 0, p.stderr
     headline = json.loads(p.stdout.strip().splitlines()[-1])
     assert headline["orders"]["projection"]["separation"] > 1.7
@@ -47,9 +57,21 @@ def test_bench_coupled_chain_order_and_richardson(tmp_path):
     """The coupled-case machinery on the small chain: explicit against method 'exact' is second
     order, and the Richardson extrapolation of explicit (independent of 'exact') agrees."""
     out = tmp_path / "c"
-    p = _run("--coupled", "--quick", "--budget", "30", "--cases", "chain-separation",
-             "--methods", "exact,explicit", "--steps", "400,800,1600", "--out", str(out),
-             "--json")
+    p = _run(
+        "--coupled",
+        "--quick",
+        "--budget",
+        "30",
+        "--cases",
+        "chain-separation",
+        "--methods",
+        "exact,explicit",
+        "--steps",
+        "400,800,1600",
+        "--out",
+        str(out),
+        "--json",
+    )
     assert p.returncode == 0, p.stderr
     headline = json.loads(p.stdout.strip().splitlines()[-1])
     assert headline["orders"]["explicit"]["chain-separation"] >= 1.8
@@ -58,8 +80,11 @@ def test_bench_coupled_chain_order_and_richardson(tmp_path):
     assert rich["rich_error"] < 1e-6 and rich["rich_error"] < rich["finest_error"]
     assert headline["reference"]["chain-separation"]["events_per_cycle"] > 0
     drawn = importlib.util.find_spec("matplotlib") is not None
-    assert set(headline["files"]) == {"compare-coupled.csv", "compare-coupled.md",
-                                      *(["compare-coupled.png"] if drawn else [])}
+    assert set(headline["files"]) == {
+        "compare-coupled.csv",
+        "compare-coupled.md",
+        *(["compare-coupled.png"] if drawn else []),
+    }
     rows = list(csv.DictReader(open(out / "compare-coupled.csv")))
     assert [r["note"].startswith("reference") for r in rows if r["method"] == "exact"] == [True]
     assert "Richardson" in (out / "compare-coupled.md").read_text()

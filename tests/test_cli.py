@@ -50,13 +50,22 @@ def test_every_subcommand_is_listed(capsys):
     assert code == 0
     for name in COMMANDS:
         assert name in out
-    assert set(COMMANDS) == {"dissipation", "loop", "shakedown", "contact", "methods", "map",
-                             "figures", "paper-claims"}
+    assert set(COMMANDS) == {
+        "dissipation",
+        "loop",
+        "shakedown",
+        "contact",
+        "methods",
+        "map",
+        "figures",
+        "paper-claims",
+    }
 
 
 def test_subcommands_listed_and_extras_named_when_extras_are_missing(capsys, monkeypatch, tmp_path):
-    monkeypatch.setattr(_common, "installed", lambda m: m not in {"matplotlib", "xarray",
-                                                                  "h5netcdf", "netCDF4"})
+    monkeypatch.setattr(
+        _common, "installed", lambda m: m not in {"matplotlib", "xarray", "h5netcdf", "netCDF4"}
+    )
     code, out, _ = run(capsys, "--help")
     assert code == 0 and "map" in out and "figures" in out
     code, _, err = run(capsys, "figures", "--out", tmp_path / "f")
@@ -68,29 +77,35 @@ def test_subcommands_listed_and_extras_named_when_extras_are_missing(capsys, mon
     assert "xarray" in err and "h5netcdf" in err
 
 
-LAZY_INIT = ("import sys, types; m = types.ModuleType('lcpfric'); m.__path__ = [{path!r}]; "
-             "m.__version__ = 'x'; sys.modules['lcpfric'] = m; from lcpfric.cli import main; "
-             "import contextlib, io\n"
-             "with contextlib.redirect_stdout(io.StringIO()):\n"
-             "    code = main({argv!r})\n"
-             "heavy = ('numpy', 'scipy', 'xarray', 'matplotlib', 'dask', 'distributed', "
-             "'cvxpy', 'qpsolvers', 'clarabel', 'osqp', 'h5py', 'tqdm')\n"
-             "print(code, sorted(h for h in heavy if h in sys.modules))")
+LAZY_INIT = (
+    "import sys, types; m = types.ModuleType('lcpfric'); m.__path__ = [{path!r}]; "
+    "m.__version__ = 'x'; sys.modules['lcpfric'] = m; from lcpfric.cli import main; "
+    "import contextlib, io\n"
+    "with contextlib.redirect_stdout(io.StringIO()):\n"
+    "    code = main({argv!r})\n"
+    "heavy = ('numpy', 'scipy', 'xarray', 'matplotlib', 'dask', 'distributed', "
+    "'cvxpy', 'qpsolvers', 'clarabel', 'osqp', 'h5py', 'tqdm')\n"
+    "print(code, sorted(h for h in heavy if h in sys.modules))"
+)
 
 
-@pytest.mark.parametrize("argv,allowed", [
-    (["--help"], set()),
-    (["dissipation", "--help"], set()),
-    (["map", "--help"], set()),
-    (["shakedown", "--P1", "0.5", "--Q1", "0.7", "--phi", "0.3pi"], {"numpy", "scipy"}),
-    (["dissipation", "--P1", "1.5", "--Q1", "2", "--phi", "0.6pi"], {"numpy", "scipy"}),
-])
+@pytest.mark.parametrize(
+    "argv,allowed",
+    [
+        (["--help"], set()),
+        (["dissipation", "--help"], set()),
+        (["map", "--help"], set()),
+        (["shakedown", "--P1", "0.5", "--Q1", "0.7", "--phi", "0.3pi"], {"numpy", "scipy"}),
+        (["dissipation", "--P1", "1.5", "--Q1", "2", "--phi", "0.6pi"], {"numpy", "scipy"}),
+    ],
+)
 def test_cli_imports_only_what_the_command_needs(argv, allowed):
     """With the package's own __init__ out of the way (it is being made lazy), the CLI imports
     nothing heavy for --help, and no extra for shakedown or exact dissipation."""
     code = LAZY_INIT.format(path=str(ROOT / "lcpfric"), argv=argv)
-    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
-                       cwd=ROOT)
+    p = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=60, cwd=ROOT
+    )
     assert p.returncode == 0, p.stderr
     status, imported = p.stdout.strip().split(" ", 1)
     assert status == "0"
@@ -126,8 +141,9 @@ def test_solver_failure_exits_1(capsys, monkeypatch):
 
     monkeypatch.setattr(lcpfric.periodic, "steady_state", fail)
     code, _, err = run(capsys, "dissipation", *CASE, "--method", "explicit")
-    assert_one_line_error(code, err, "failed: the solver gave up at step 3 (solver status: "
-                                     "MaxIter)", expected=1)
+    assert_one_line_error(
+        code, err, "failed: the solver gave up at step 3 (solver status: MaxIter)", expected=1
+    )
 
 
 def test_missing_package_deep_inside_is_one_line(capsys, monkeypatch):
@@ -154,8 +170,15 @@ def test_closed_pipe_is_quiet(capsys, monkeypatch):
 
 
 # -- B5. negative values ---------------------------------------------------------------------------
-@pytest.mark.parametrize("phi,value", [("-0.5pi", -0.5 * math.pi), ("-pi/2", -0.5 * math.pi),
-                                       ("-1.2", -1.2), ("-3*pi/10", -0.3 * math.pi)])
+@pytest.mark.parametrize(
+    "phi,value",
+    [
+        ("-0.5pi", -0.5 * math.pi),
+        ("-pi/2", -0.5 * math.pi),
+        ("-1.2", -1.2),
+        ("-3*pi/10", -0.3 * math.pi),
+    ],
+)
 def test_negative_phase_follows_the_option(capsys, phi, value):
     code, out, err = run(capsys, "dissipation", "--P1", "1", "--Q1", "2", "--phi", phi, "--json")
     assert code == 0, err
@@ -165,12 +188,28 @@ def test_negative_phase_follows_the_option(capsys, phi, value):
 
 
 def test_negative_Q0_and_shakedown_phase(capsys):
-    code, out, err = run(capsys, "dissipation", "--P1", "300", "--Q1", "200", "--k11", "1e6",
-                         "--f", "0.3", "--P0", "100", "--Q0", "-1e3", "--json")
+    code, out, err = run(
+        capsys,
+        "dissipation",
+        "--P1",
+        "300",
+        "--Q1",
+        "200",
+        "--k11",
+        "1e6",
+        "--f",
+        "0.3",
+        "--P0",
+        "100",
+        "--Q0",
+        "-1e3",
+        "--json",
+    )
     assert code == 0, err
     assert json.loads(out)["W_hat"] == pytest.approx(lcpfric.exact_W_hat(3.0, 200 / 30, 0.0))
-    code, out, err = run(capsys, "shakedown", "--P1", "0.5", "--Q1", "0.7", "--phi", "-0.3pi",
-                         "--json")
+    code, out, err = run(
+        capsys, "shakedown", "--P1", "0.5", "--Q1", "0.7", "--phi", "-0.3pi", "--json"
+    )
     assert code == 0 and json.loads(out)["shakedown"] is True
     # an abbreviated option takes a negative value too
     code, out, err = run(capsys, "shakedown", "--P1", "0.5", "--Q1", "0.7", "--ph", "-0.3pi")
@@ -180,8 +219,20 @@ def test_negative_Q0_and_shakedown_phase(capsys):
 def test_negative_phases_in_a_map(capsys, tmp_path):
     need_modules("xarray")
     out = tmp_path / "m.nc"
-    code, text, err = run(capsys, "map", "--P1", "0:2:3", "--Q1", "1,2", "--phi", "-0.5pi,0.5pi",
-                          "--out", out, "--no-progress", "--json")
+    code, text, err = run(
+        capsys,
+        "map",
+        "--P1",
+        "0:2:3",
+        "--Q1",
+        "1,2",
+        "--phi",
+        "-0.5pi,0.5pi",
+        "--out",
+        out,
+        "--no-progress",
+        "--json",
+    )
     assert code == 0, err
     assert json.loads(text)["shape"] == {"phi": 2, "P1": 3, "Q1": 2}
 
@@ -191,19 +242,38 @@ def test_a_forgotten_value_is_still_reported(capsys):
     assert_one_line_error(code, err, "--phi")
     assert "expected one argument" in err
     parser = build_parser()
-    assert _common.values_after_options(parser, ["dissipation", "--phi", "-1", "--P1", "-2"]) \
-        == ["dissipation", "--phi=-1", "--P1=-2"]
-    assert _common.values_after_options(parser, ["dissipation", "--phi", "-h"]) \
-        == ["dissipation", "--phi", "-h"]
-    assert _common.values_after_options(parser, ["dissipation", "--json", "-1"]) \
-        == ["dissipation", "--json", "-1"]
+    assert _common.values_after_options(parser, ["dissipation", "--phi", "-1", "--P1", "-2"]) == [
+        "dissipation",
+        "--phi=-1",
+        "--P1=-2",
+    ]
+    assert _common.values_after_options(parser, ["dissipation", "--phi", "-h"]) == [
+        "dissipation",
+        "--phi",
+        "-h",
+    ]
+    assert _common.values_after_options(parser, ["dissipation", "--json", "-1"]) == [
+        "dissipation",
+        "--json",
+        "-1",
+    ]
 
 
 # -- B6. memory guard ------------------------------------------------------------------------------
 def test_map_too_large_is_refused_before_allocating(capsys, tmp_path):
     need_modules("xarray", "h5netcdf", "h5py")
-    code, _, err = run(capsys, "map", "--P1", "0:10:1000000000", "--Q1", "0:10:1000000000",
-                       "--phi", "0", "--out", tmp_path / "m.nc")
+    code, _, err = run(
+        capsys,
+        "map",
+        "--P1",
+        "0:10:1000000000",
+        "--Q1",
+        "0:10:1000000000",
+        "--phi",
+        "0",
+        "--out",
+        tmp_path / "m.nc",
+    )
     assert_one_line_error(code, err, "--P1, --Q1, --phi")
     assert "--max-memory" in err and "over the limit of" in err
     assert not list(tmp_path.iterdir())
@@ -211,8 +281,7 @@ def test_map_too_large_is_refused_before_allocating(capsys, tmp_path):
 
 @pytest.mark.parametrize("method", ["explicit", "exact"])
 def test_steps_too_many_are_refused(capsys, method):
-    code, _, err = run(capsys, "dissipation", *CASE, "--method", method, "--steps",
-                       "1000000000000")
+    code, _, err = run(capsys, "dissipation", *CASE, "--method", method, "--steps", "1000000000000")
     assert_one_line_error(code, err, "--steps")
     assert "--max-memory" in err and "LCPFRIC_MAX_MEMORY" in err
 
@@ -234,22 +303,31 @@ def test_memory_limit_option_and_environment(capsys, monkeypatch):
 
 def test_memory_estimates():
     assert _common.parse_size("8G", "x") == 8e9
-    assert _common.parse_size("2GiB", "x") == 2 ** 31
+    assert _common.parse_size("2GiB", "x") == 2**31
     assert _common.parse_size("1.5e3k", "x") == 1.5e6
     assert _common.parse_size("none", "x") == math.inf
     with pytest.raises(InputError):
         _common.parse_size("-1G", "x")
-    assert (_common.steady_state_bytes(1000, "exact") < _common.steady_state_bytes(1000, "explicit")
-            < _common.steady_state_bytes(1000, "clarabel"))
+    assert (
+        _common.steady_state_bytes(1000, "exact")
+        < _common.steady_state_bytes(1000, "explicit")
+        < _common.steady_state_bytes(1000, "clarabel")
+    )
     assert _common.map_bytes(1e6) < _common.map_bytes(1e8) < _common.map_bytes(1e8, workers=8)
     limit, source = _common.memory_limit(type("A", (), {"max_memory": None})())
     assert limit > 0 and source
 
 
 # -- B7. output paths ------------------------------------------------------------------------------
-@pytest.mark.parametrize("name,expect", [("adir", "is a directory"), ("", "is empty"),
-                                         ("map.txt", "must end in .nc"),
-                                         ("missing/m.nc", "does not exist")])
+@pytest.mark.parametrize(
+    "name,expect",
+    [
+        ("adir", "is a directory"),
+        ("", "is empty"),
+        ("map.txt", "must end in .nc"),
+        ("missing/m.nc", "does not exist"),
+    ],
+)
 def test_map_output_checked_before_any_work(capsys, tmp_path, monkeypatch, name, expect):
     need_modules("xarray", "h5netcdf", "h5py")
     monkeypatch.chdir(tmp_path)
@@ -261,8 +339,10 @@ def test_map_output_checked_before_any_work(capsys, tmp_path, monkeypatch, name,
     assert not list((tmp_path / "adir").iterdir())
 
 
-@pytest.mark.parametrize("name,expect", [("", "is empty"), ("afile", "is not a directory"),
-                                         ("missing/figs", "does not exist")])
+@pytest.mark.parametrize(
+    "name,expect",
+    [("", "is empty"), ("afile", "is not a directory"), ("missing/figs", "does not exist")],
+)
 def test_figures_output_checked_before_any_work(capsys, tmp_path, monkeypatch, name, expect):
     need_modules("matplotlib", "xarray")
     monkeypatch.chdir(tmp_path)
@@ -276,8 +356,10 @@ def test_figures_output_checked_before_any_work(capsys, tmp_path, monkeypatch, n
 def test_map_and_figures_share_the_parent_rule(capsys, tmp_path):
     need_modules("matplotlib", "xarray", "h5netcdf", "h5py")
     messages = []
-    for argv in (["map", *GRID, "--out", tmp_path / "no" / "m.nc"],
-                 ["figures", "--out", tmp_path / "no" / "figs"]):
+    for argv in (
+        ["map", *GRID, "--out", tmp_path / "no" / "m.nc"],
+        ["figures", "--out", tmp_path / "no" / "figs"],
+    ):
         code, _, err = run(capsys, *argv)
         assert_one_line_error(code, err, "--out")
         messages.append(err.split("--out: ", 1)[1])
@@ -316,6 +398,7 @@ def _failing_sweep(saved_chunks: int, exc):
         for i in range(saved_chunks):
             np.save(store / f"chunk-{i:06d}.npy", np.zeros(3))
         raise exc
+
     return sweep
 
 
@@ -355,14 +438,17 @@ def test_interrupted_restart_does_not_leave_the_old_map(capsys, tmp_path, monkey
     assert json.loads(text)["chunks_reused"] == 0  # computed again, not the old file
 
 
-@pytest.mark.parametrize("address,expect", [
-    ("notanaddress", "is not a Dask scheduler address"),
-    ("tcp://", "is not a Dask scheduler address"),
-    ("host:99999", "is not a Dask scheduler address"),
-    ("http://127.0.0.1:8786", "is not a Dask scheduler address"),
-    ("tcp://127.0.0.1:1", "cannot reach the Dask scheduler"),
-    ("127.0.0.1:1", "cannot reach the Dask scheduler at tcp://127.0.0.1:1"),
-])
+@pytest.mark.parametrize(
+    "address,expect",
+    [
+        ("notanaddress", "is not a Dask scheduler address"),
+        ("tcp://", "is not a Dask scheduler address"),
+        ("host:99999", "is not a Dask scheduler address"),
+        ("http://127.0.0.1:8786", "is not a Dask scheduler address"),
+        ("tcp://127.0.0.1:1", "cannot reach the Dask scheduler"),
+        ("127.0.0.1:1", "cannot reach the Dask scheduler at tcp://127.0.0.1:1"),
+    ],
+)
 def test_scheduler_checked_before_any_work(capsys, tmp_path, address, expect):
     need_modules("distributed")
     code, _, err = run(capsys, "map", *GRID, "--out", tmp_path / "m.nc", "--scheduler", address)
@@ -391,8 +477,15 @@ def test_scheduler_that_is_not_dask_is_one_line(capsys, tmp_path):
 
     threading.Thread(target=answer, daemon=True).start()
     try:
-        code, _, err = run(capsys, "map", *GRID, "--out", tmp_path / "m.nc", "--scheduler",
-                           f"tcp://127.0.0.1:{server.getsockname()[1]}")
+        code, _, err = run(
+            capsys,
+            "map",
+            *GRID,
+            "--out",
+            tmp_path / "m.nc",
+            "--scheduler",
+            f"tcp://127.0.0.1:{server.getsockname()[1]}",
+        )
     finally:
         server.close()
     assert_one_line_error(code, err, "--scheduler: cannot connect to a Dask scheduler")
@@ -400,18 +493,46 @@ def test_scheduler_that_is_not_dask_is_one_line(capsys, tmp_path):
 
 
 def test_dimensional_input_requires_what_sets_the_scales(capsys):
-    code, _, err = run(capsys, "dissipation", "--k11", "1e6", "--P1", "300", "--Q1", "200", "--f",
-                       "0.3")
+    code, _, err = run(
+        capsys, "dissipation", "--k11", "1e6", "--P1", "300", "--Q1", "200", "--f", "0.3"
+    )
     assert_one_line_error(code, err, "--P0: required with dimensional input")
     code, _, err = run(capsys, "shakedown", "--P1", "1", "--Q1", "1", "--k22", "5")
     assert_one_line_error(code, err, "--k11, --f, --P0: required")
-    code, out, err = run(capsys, "dissipation", "--k11", "1e6", "--P1", "300", "--Q1", "200",
-                         "--f", "0.3", "--P0", "100")
+    code, out, err = run(
+        capsys,
+        "dissipation",
+        "--k11",
+        "1e6",
+        "--P1",
+        "300",
+        "--Q1",
+        "200",
+        "--f",
+        "0.3",
+        "--P0",
+        "100",
+    )
     assert code == 0, err
     assert "P1_hat = 3," in out
     assert "assumed: k22 = 1, Q0 = 0, omega = 1" in out
-    code, out, _ = run(capsys, "dissipation", "--k11", "1e6", "--P1", "300", "--Q1", "200",
-                       "--f", "0.3", "--P0", "100", "--omega", "50", "--json")
+    code, out, _ = run(
+        capsys,
+        "dissipation",
+        "--k11",
+        "1e6",
+        "--P1",
+        "300",
+        "--Q1",
+        "200",
+        "--f",
+        "0.3",
+        "--P0",
+        "100",
+        "--omega",
+        "50",
+        "--json",
+    )
     assert json.loads(out)["assumed"] == {"k22": 1.0, "Q0": 0.0}
     code, out, _ = run(capsys, "dissipation", *CASE)
     assert "assumed" not in out  # normalized input assumes nothing
@@ -428,6 +549,7 @@ def test_method_name_errors_are_one_line(capsys):
 def test_unknown_qpsolvers_solver_lists_the_installed_ones(capsys):
     need_modules("qpsolvers")
     import qpsolvers
+
     code, _, err = run(capsys, "dissipation", *CASE, "--method", "qpsolvers:nonexistent")
     assert code == 2
     assert all(s in err for s in qpsolvers.available_solvers)
@@ -447,11 +569,22 @@ def test_steps_requested_and_used_are_both_printed(capsys):
     code, out, _ = run(capsys, "dissipation", *CASE, "--method", "explicit", "--steps", "400")
     assert code == 0
     assert "steps per cycle: 400 requested, 401 used (separation instants added)" in out
-    code, out, _ = run(capsys, "dissipation", "--P1", "0.5", "--Q1", "2", "--method",
-                       "projection", "--steps", "400")
+    code, out, _ = run(
+        capsys,
+        "dissipation",
+        "--P1",
+        "0.5",
+        "--Q1",
+        "2",
+        "--method",
+        "projection",
+        "--steps",
+        "400",
+    )
     assert "steps per cycle: 400;" in out  # no separation: as many as asked
-    code, out, _ = run(capsys, "dissipation", *CASE, "--method", "explicit", "--steps", "400",
-                       "--json")
+    code, out, _ = run(
+        capsys, "dissipation", *CASE, "--method", "explicit", "--steps", "400", "--json"
+    )
     res = json.loads(out)
     assert (res["steps_requested"], res["steps_used"]) == (400, 401)
 
@@ -468,8 +601,20 @@ def test_exact_reports_no_time_steps(capsys):
 
 # -- the bad-input tour ----------------------------------------------------------------------------
 QUOTED = [  # the failing inputs of the new-user report
-    (["map", "--P1", "0:10:1000000000", "--Q1", "0:10:1000000000", "--phi", "0", "--out",
-      "{tmp}/m.nc"], "--P1"),
+    (
+        [
+            "map",
+            "--P1",
+            "0:10:1000000000",
+            "--Q1",
+            "0:10:1000000000",
+            "--phi",
+            "0",
+            "--out",
+            "{tmp}/m.nc",
+        ],
+        "--P1",
+    ),
     (["dissipation", *CASE, "--method", "explicit", "--steps", "1000000000000"], "--steps"),
     (["map", *GRID, "--out", "{tmp}/adir"], "--out"),
     (["map", *GRID, "--out", ""], "--out"),
@@ -496,12 +641,60 @@ OWN = [
     (["dissipation", "--P1", "1", "--Q1", "2", "--k11", "1", "--f", "nan", "--P0", "1"], "--f"),
     (["dissipation", "--P1", "1", "--Q1", "2", "--P0", "0"], "--P0"),
     (["dissipation", "--P1", "1", "--Q1", "2", "--k11", "1", "--f", "1", "--P0", "-5"], "--P0"),
-    (["dissipation", "--P1", "1", "--Q1", "2", "--k11", "1", "--f", "1", "--P0", "1", "--omega",
-      "0"], "--omega"),
-    (["dissipation", "--P1", "1", "--Q1", "2", "--k11", "1", "--f", "1", "--P0", "1", "--k22",
-      "-1"], "--k22"),
-    (["dissipation", "--P1", "1", "--Q1", "2", "--k11", "1", "--f", "1", "--P0", "1", "--Q0",
-      "inf"], "--Q0"),
+    (
+        [
+            "dissipation",
+            "--P1",
+            "1",
+            "--Q1",
+            "2",
+            "--k11",
+            "1",
+            "--f",
+            "1",
+            "--P0",
+            "1",
+            "--omega",
+            "0",
+        ],
+        "--omega",
+    ),
+    (
+        [
+            "dissipation",
+            "--P1",
+            "1",
+            "--Q1",
+            "2",
+            "--k11",
+            "1",
+            "--f",
+            "1",
+            "--P0",
+            "1",
+            "--k22",
+            "-1",
+        ],
+        "--k22",
+    ),
+    (
+        [
+            "dissipation",
+            "--P1",
+            "1",
+            "--Q1",
+            "2",
+            "--k11",
+            "1",
+            "--f",
+            "1",
+            "--P0",
+            "1",
+            "--Q0",
+            "inf",
+        ],
+        "--Q0",
+    ),
     (["dissipation", *CASE, "--steps", "3"], "--steps"),
     (["dissipation", *CASE, "--steps", "1.5"], "--steps"),
     (["dissipation", *CASE, "--steps", "abc"], "--steps"),
@@ -538,8 +731,9 @@ OWN = [
 ]
 
 
-@pytest.mark.parametrize("argv,option", QUOTED + OWN,
-                         ids=[f"{i:02d}" for i in range(len(QUOTED) + len(OWN))])
+@pytest.mark.parametrize(
+    "argv,option", QUOTED + OWN, ids=[f"{i:02d}" for i in range(len(QUOTED) + len(OWN))]
+)
 def test_bad_input_tour(capsys, tmp_path, argv, option):
     if argv[0] == "map":
         need_modules("xarray", "h5netcdf", "h5py")
@@ -564,26 +758,45 @@ SPHERE = ("contact", "--R", "10", "--E", "200e3", "--nu", "0", "--mu", "0.5", "-
 def test_contact_json_against_mindlin_deresiewicz(capsys):
     from lcpfric.model.continuum import mindlin_deresiewicz_W
 
-    code, out, err = run(capsys, *SPHERE, "--P1", "0", "--Q1", "25", "--nodes", "500",
-                         "--steps", "200", "--json")
+    code, out, err = run(
+        capsys, *SPHERE, "--P1", "0", "--Q1", "25", "--nodes", "500", "--steps", "200", "--json"
+    )
     assert code == 0, err
     res = json.loads(out)
-    for key in ("W", "W_normalized", "k_t0", "contact_size_max", "nodes", "steps_per_cycle",
-                "cycles", "converged", "seconds"):
+    for key in (
+        "W",
+        "W_normalized",
+        "k_t0",
+        "contact_size_max",
+        "nodes",
+        "steps_per_cycle",
+        "cycles",
+        "converged",
+        "seconds",
+    ):
         assert key in res
     assert res["converged"] and res["nodes"] == 500 and res["steps_per_cycle"] == 200
     ref = mindlin_deresiewicz_W(100.0, 25.0, 0.5, res["k_t0"])
     assert res["W"] == pytest.approx(ref, rel=2e-3)
-    assert res["W_normalized"] == pytest.approx(res["W"] * res["k_t0"] / 50.0 ** 2)
+    assert res["W_normalized"] == pytest.approx(res["W"] * res["k_t0"] / 50.0**2)
 
 
-@pytest.mark.parametrize("extra, option", [
-    (("--nu", "0.5"), "--nu"), (("--E", "-1"), "--E"), (("--P0", "0"), "--P0"),
-    (("--nodes", "5"), "--nodes"), (("--nodes", "2.5"), "--nodes"),
-    (("--P1", "150", "--Q1", "30", "--phi", "0.3pi"), "--k-support"),
-    (("--k-support", "-2"), "--k-support"), (("--R", "nan"), "--R"),
-    (("--method", "clarabel"), "--method"), (("--method", "newton-cg"), "--method"),
-    (("--method", "nope"), "--method")])
+@pytest.mark.parametrize(
+    "extra, option",
+    [
+        (("--nu", "0.5"), "--nu"),
+        (("--E", "-1"), "--E"),
+        (("--P0", "0"), "--P0"),
+        (("--nodes", "5"), "--nodes"),
+        (("--nodes", "2.5"), "--nodes"),
+        (("--P1", "150", "--Q1", "30", "--phi", "0.3pi"), "--k-support"),
+        (("--k-support", "-2"), "--k-support"),
+        (("--R", "nan"), "--R"),
+        (("--method", "clarabel"), "--method"),
+        (("--method", "newton-cg"), "--method"),
+        (("--method", "nope"), "--method"),
+    ],
+)
 def test_contact_bad_input_is_one_line(capsys, extra, option):
     args = dict(zip(SPHERE[1::2], SPHERE[2::2]))
     args.update({"--P1": "0", "--Q1": "10"})
@@ -595,8 +808,21 @@ def test_contact_bad_input_is_one_line(capsys, extra, option):
 def test_contact_method_is_the_registrys(capsys):
     """--method chooses among the registry's names that solve the model (`lcpfric methods`):
     the result says which ran; a method of another model is refused naming the right one."""
-    code, out, err = run(capsys, *SPHERE, "--P1", "0", "--Q1", "10", "--nodes", "50",
-                         "--steps", "40", "--method", "mdr-bar", "--json")
+    code, out, err = run(
+        capsys,
+        *SPHERE,
+        "--P1",
+        "0",
+        "--Q1",
+        "10",
+        "--nodes",
+        "50",
+        "--steps",
+        "40",
+        "--method",
+        "mdr-bar",
+        "--json",
+    )
     assert code == 0, err
     assert json.loads(out)["method"] == "mdr-bar"
     code, _, err = run(capsys, *SPHERE, "--P1", "0", "--Q1", "10", "--method", "active-set")
@@ -613,14 +839,28 @@ def test_contact_method_is_the_registrys(capsys):
 def test_contact_cylinder_json_against_the_plane_closed_form(capsys):
     from lcpfric.model.continuum import cylinder_W
 
-    code, out, err = run(capsys, *SPHERE, "--geometry", "cylinder", "--P1", "0", "--Q1", "25",
-                         "--nodes", "200", "--steps", "200", "--json")
+    code, out, err = run(
+        capsys,
+        *SPHERE,
+        "--geometry",
+        "cylinder",
+        "--P1",
+        "0",
+        "--Q1",
+        "25",
+        "--nodes",
+        "200",
+        "--steps",
+        "200",
+        "--json",
+    )
     assert code == 0, err
     res = json.loads(out)
     assert res["model"] == "halfplane" and "k_t0" not in res and res["converged"]
     assert res["W"] == pytest.approx(cylinder_W(100.0, 25.0, 0.5, 200e3, 0.0), rel=5e-3)
-    code, _, err = run(capsys, *SPHERE, "--geometry", "cylinder", "--model", "mdr", "--P1",
-                       "0", "--Q1", "25")
+    code, _, err = run(
+        capsys, *SPHERE, "--geometry", "cylinder", "--model", "mdr", "--P1", "0", "--Q1", "25"
+    )
     assert_one_line_error(code, err, "--model")
 
 
@@ -631,35 +871,81 @@ def test_contact_halfspace_json_and_height_map(capsys, tmp_path):
     from lcpfric.model.continuum.halfspace import HalfSpace
     from lcpfric.model.loads import Harmonic
 
-    base = (*SPHERE, "--model", "halfspace", "--P1", "50", "--Q1", "20", "--phi", "0.5pi",
-            "--grid", "12", "--steps", "40", "--json")
+    base = (
+        *SPHERE,
+        "--model",
+        "halfspace",
+        "--P1",
+        "50",
+        "--Q1",
+        "20",
+        "--phi",
+        "0.5pi",
+        "--grid",
+        "12",
+        "--steps",
+        "40",
+        "--json",
+    )
     code, out, err = run(capsys, *base)
     assert code == 0, err
     res = json.loads(out)
-    for key in ("W", "W_normalized", "normalization", "k_t0", "contact_size_max", "nodes",
-                "steps_per_cycle", "cycles", "converged", "seconds", "dims", "grid",
-                "nodes_in_contact_max", "normal_seconds", "tangential_seconds"):
+    for key in (
+        "W",
+        "W_normalized",
+        "normalization",
+        "k_t0",
+        "contact_size_max",
+        "nodes",
+        "steps_per_cycle",
+        "cycles",
+        "converged",
+        "seconds",
+        "dims",
+        "grid",
+        "nodes_in_contact_max",
+        "normal_seconds",
+        "tangential_seconds",
+    ):
         assert key in res, key
     assert res["model"] == "halfspace" and res["method"] == "newton-cg" and res["dims"] == 1
-    m = HalfSpace.sphere(10.0, 200e3, 0.0, 0.5, Harmonic(100.0, 50.0), Harmonic(0.0, 20.0,
-                         0.5 * np.pi), grid=12)
+    m = HalfSpace.sphere(
+        10.0, 200e3, 0.0, 0.5, Harmonic(100.0, 50.0), Harmonic(0.0, 20.0, 0.5 * np.pi), grid=12
+    )
     assert res["W"] == pytest.approx(lcpfric.steady_state(m, steps_per_cycle=40).W, rel=1e-12)
     np.save(tmp_path / "h.npy", m.g0)
-    code, out, err = run(capsys, "contact", "--heightmap", tmp_path / "h.npy", "--spacing",
-                         m.h, *[a for a in base[1:] if a not in ("--model", "halfspace")
-                                ][:-5], "--steps", "40", "--json")
+    code, out, err = run(
+        capsys,
+        "contact",
+        "--heightmap",
+        tmp_path / "h.npy",
+        "--spacing",
+        m.h,
+        *[a for a in base[1:] if a not in ("--model", "halfspace")][:-5],
+        "--steps",
+        "40",
+        "--json",
+    )
     assert code == 0, err
     assert json.loads(out)["W"] == pytest.approx(res["W"], rel=1e-12)
 
 
-@pytest.mark.parametrize("extra, option", [
-    (("--grid", "4"), "--grid"), (("--grid", "900", "--steps", "4000"), "--grid"),
-    (("--dims", "3"), "--dims"), (("--heightmap", "missing.npy", "--spacing", "1"),
-                                  "--heightmap"),
-    (("--geometry", "punch"), "--radius"), (("--radius", "1"), "--radius"),
-    (("--spacing", "1"), "--spacing"), (("--animation", "zones.mp4"), "--animation"),
-    (("--figures", "/nonexistent/dir/x"), "--figures"), (("--nodes", "30"), "--nodes"),
-    (("--instants", "0.2,1.5"), "--instants")])
+@pytest.mark.parametrize(
+    "extra, option",
+    [
+        (("--grid", "4"), "--grid"),
+        (("--grid", "900", "--steps", "4000"), "--grid"),
+        (("--dims", "3"), "--dims"),
+        (("--heightmap", "missing.npy", "--spacing", "1"), "--heightmap"),
+        (("--geometry", "punch"), "--radius"),
+        (("--radius", "1"), "--radius"),
+        (("--spacing", "1"), "--spacing"),
+        (("--animation", "zones.mp4"), "--animation"),
+        (("--figures", "/nonexistent/dir/x"), "--figures"),
+        (("--nodes", "30"), "--nodes"),
+        (("--instants", "0.2,1.5"), "--instants"),
+    ],
+)
 def test_contact_halfspace_bad_input_is_one_line(capsys, extra, option):
     args = dict(zip(SPHERE[1::2], SPHERE[2::2]))
     args.update({"--P1": "0", "--Q1": "10", "--model": "halfspace"})
@@ -668,8 +954,10 @@ def test_contact_halfspace_bad_input_is_one_line(capsys, extra, option):
     assert_one_line_error(code, err, option)
 
 
-@pytest.mark.parametrize("kind, words", [
-    ("npz", ".npz archive"), ("text", "not a .npy array file"), ("complex", "shape (12, 12)")])
+@pytest.mark.parametrize(
+    "kind, words",
+    [("npz", ".npz archive"), ("text", "not a .npy array file"), ("complex", "shape (12, 12)")],
+)
 def test_contact_heightmap_not_one_real_array(capsys, tmp_path, kind, words):
     """A height map file that is not one real array (a .npz archive, a text file, complex
     numbers) is refused in one line naming it, before any work."""
@@ -683,8 +971,9 @@ def test_contact_heightmap_not_one_real_array(capsys, tmp_path, kind, words):
     else:
         np.save(path, h + 1j)
     args = dict(zip(SPHERE[1::2], SPHERE[2::2]))
-    args.update({"--P1": "0", "--Q1": "10", "--model": "halfspace", "--heightmap": path,
-                 "--spacing": "1"})
+    args.update(
+        {"--P1": "0", "--Q1": "10", "--model": "halfspace", "--heightmap": path, "--spacing": "1"}
+    )
     args.pop("--R", None)
     code, _, err = run(capsys, "contact", *[x for kv in args.items() for x in kv])
     assert_one_line_error(code, err, "--heightmap" if kind != "complex" else "heights")
@@ -694,12 +983,27 @@ def test_contact_heightmap_not_one_real_array(capsys, tmp_path, kind, words):
 def test_contact_unresolved_slip_warns_in_one_line(capsys):
     """Q1 = 1e-3 μP0 on grid 16: no element slips (W = 0); the run succeeds and says in one
     line on stderr that the grid does not resolve the slip zone."""
-    code, out, err = run(capsys, *SPHERE, "--P1", "0", "--Q1", "0.05", "--model",
-                         "halfspace", "--grid", "16", "--steps", "40")
+    code, out, err = run(
+        capsys,
+        *SPHERE,
+        "--P1",
+        "0",
+        "--Q1",
+        "0.05",
+        "--model",
+        "halfspace",
+        "--grid",
+        "16",
+        "--steps",
+        "40",
+    )
     assert code == 0 and "W = 0 per cycle" in out
     lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("lcpfric contact: warning: ") and (
-        "no element slipped" in lines[0]), err
+    assert (
+        len(lines) == 1
+        and lines[0].startswith("lcpfric contact: warning: ")
+        and ("no element slipped" in lines[0])
+    ), err
 
 
 def test_map_contact_halfspace_resumes(capsys, tmp_path):
@@ -710,9 +1014,26 @@ def test_map_contact_halfspace_resumes(capsys, tmp_path):
     from lcpfric.model.loads import Harmonic
 
     out = tmp_path / "hs.nc"
-    args = ("map", "--contact", "sphere", "--contact-model", "halfspace", "--grid", "10",
-            "--P1", "0:0.5:2", "--Q1", "0.2:0.4:2", "--phi", "0:pi/2:2", "--steps", "40",
-            "--out", out, "--no-progress")
+    args = (
+        "map",
+        "--contact",
+        "sphere",
+        "--contact-model",
+        "halfspace",
+        "--grid",
+        "10",
+        "--P1",
+        "0:0.5:2",
+        "--Q1",
+        "0.2:0.4:2",
+        "--phi",
+        "0:pi/2:2",
+        "--steps",
+        "40",
+        "--out",
+        out,
+        "--no-progress",
+    )
     code, _, err = run(capsys, *args)
     assert code == 0, err
     code, text, err = run(capsys, *args)
@@ -722,6 +1043,9 @@ def test_map_contact_halfspace_resumes(capsys, tmp_path):
     with xr.open_dataset(out) as ds:
         got = float(ds.W_normalized.sel(phi=np.pi / 2, P1=0.5, Q1=0.4))
         assert ds.attrs["model"] == "halfspace" and ds.attrs["grid"] == 10
-    m = HalfSpace.sphere(1.0, 1.0, 0.0, 1.0, Harmonic(1.0, 0.5, 0.0), Harmonic(0.0, 0.4,
-                         np.pi / 2), grid=10)
-    assert got == pytest.approx(lcpfric.steady_state(m, steps_per_cycle=40, tol=1e-8).W_normalized, rel=1e-12)
+    m = HalfSpace.sphere(
+        1.0, 1.0, 0.0, 1.0, Harmonic(1.0, 0.5, 0.0), Harmonic(0.0, 0.4, np.pi / 2), grid=10
+    )
+    assert got == pytest.approx(
+        lcpfric.steady_state(m, steps_per_cycle=40, tol=1e-8).W_normalized, rel=1e-12
+    )

@@ -28,20 +28,33 @@ def built():
     from lcpfric.model import Harmonic
 
     axis = np.linspace(0, 2, 5)
-    ds = sweep(axis, axis, list(cf.MAP_PHASES), contact={"k_support": 1.0, "nodes": 30},
-               steps_per_cycle=40, progress=False)
+    ds = sweep(
+        axis,
+        axis,
+        list(cf.MAP_PHASES),
+        contact={"k_support": 1.0, "nodes": 30},
+        steps_per_cycle=40,
+        progress=False,
+    )
     phi, curves = cf.phase_data(points=9, nodes=30, steps_per_cycle=40)
-    sphere = MDRSphere(1.0, 1.0, 0.0, 1.0, Harmonic(1.0, 1.5), Harmonic(0.0, 0.6, 1.0),
-                       nodes=30, k_support=1.0)
+    sphere = MDRSphere(
+        1.0, 1.0, 0.0, 1.0, Harmonic(1.0, 1.5), Harmonic(0.0, 0.6, 1.0), nodes=30, k_support=1.0
+    )
     plane = HalfPlaneCylinder(1.0, 1.0, 0.0, 1.0, 1.0, Harmonic(0.0, 0.95), nodes=40)
-    first = lcpfric.steady_state(plane, steps_per_cycle=80, max_cycles=1, on_nonconvergence="ignore")
+    first = lcpfric.steady_state(
+        plane, steps_per_cycle=80, max_cycles=1, on_nonconvergence="ignore"
+    )
     ball = MDRSphere(1.0, 1.0, 0.0, 1.0, 1.0, Harmonic(0.0, 0.95), nodes=60)
-    ball_first = lcpfric.steady_state(ball, steps_per_cycle=80, max_cycles=1, on_nonconvergence="ignore")
-    return {"hertz-maps": cf.figure_hertz_maps(ds),
-            "sphere-tractions": cf.figure_tractions(ball_first, ball),
-            "hertz-phase": cf.figure_phase(phi, curves, cf.PHASE_CASES, ds),
-            "hertz-zones": cf.figure_zones(lcpfric.steady_state(sphere, steps_per_cycle=60), "zones"),
-            "cylinder-tractions": cf.figure_tractions(first, plane)}
+    ball_first = lcpfric.steady_state(
+        ball, steps_per_cycle=80, max_cycles=1, on_nonconvergence="ignore"
+    )
+    return {
+        "hertz-maps": cf.figure_hertz_maps(ds),
+        "sphere-tractions": cf.figure_tractions(ball_first, ball),
+        "hertz-phase": cf.figure_phase(phi, curves, cf.PHASE_CASES, ds),
+        "hertz-zones": cf.figure_zones(lcpfric.steady_state(sphere, steps_per_cycle=60), "zones"),
+        "cylinder-tractions": cf.figure_tractions(first, plane),
+    }
 
 
 @pytest.mark.slow
@@ -59,13 +72,15 @@ def test_sizes_fonts_and_legends(built):
 @pytest.mark.slow
 def test_figures_command_writes_truetype_pdfs(tmp_path, capsys):
     out = tmp_path / "contact"
-    code = main(["figures", "--contact", "--out", str(out), "--grid", "3", "--format",
-                 "png,pdf", "--json"])
+    code = main(
+        ["figures", "--contact", "--out", str(out), "--grid", "3", "--format", "png,pdf", "--json"]
+    )
     captured = capsys.readouterr()
     assert code == 0, captured.err
     files = json.loads(captured.out)["files"]
-    assert {p.rsplit("/", 1)[-1] for p in files} == {f"{n}.{e}" for n in NAMES
-                                                      for e in ("png", "pdf")}
+    assert {p.rsplit("/", 1)[-1] for p in files} == {
+        f"{n}.{e}" for n in NAMES for e in ("png", "pdf")
+    }
     for name in NAMES:
         pdf = (out / f"{name}.pdf").read_bytes()
         assert b"/Type3" not in pdf and (b"/CIDFontType2" in pdf or b"/TrueType" in pdf)

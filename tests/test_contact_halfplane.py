@@ -18,8 +18,9 @@ R, E, NU, MU, P0 = 10.0, 200e3, 0.3, 0.5, 100.0
 
 def cylinder(P1=0.0, Q1=0.25, phi=0.0, **kw):
     """Q1 in units of μ P0."""
-    return HalfPlaneCylinder(R, E, NU, MU, Harmonic(P0, P1 * P0),
-                             Harmonic(0.0, Q1 * MU * P0, phi), **kw)
+    return HalfPlaneCylinder(
+        R, E, NU, MU, Harmonic(P0, P1 * P0), Harmonic(0.0, Q1 * MU * P0, phi), **kw
+    )
 
 
 def test_hertz_pressure_and_half_width():
@@ -46,14 +47,19 @@ def test_cattaneo_stick_half_width():
     c = r.stick_size()
     for j in (20, 50, 80, 100):
         x = 0.9 * np.sin(2 * np.pi * j / steps)
-        assert c[j] / r.contact.size[j] == pytest.approx(cattaneo_stick_ratio(x, "cylinder"),
-                                                 abs=2 * m.dx / r.contact.size[j])
+        assert c[j] / r.contact.size[j] == pytest.approx(
+            cattaneo_stick_ratio(x, "cylinder"), abs=2 * m.dx / r.contact.size[j]
+        )
 
 
 def test_in_phase_and_half_period():
     W0 = lcpfric.steady_state(cylinder(P1=0.5, Q1=0.4, nodes=200), steps_per_cycle=200).W_normalized
-    Wa = lcpfric.steady_state(cylinder(P1=0.5, Q1=0.4, phi=0.5, nodes=200), steps_per_cycle=200).W_normalized
-    Wb = lcpfric.steady_state(cylinder(P1=0.5, Q1=0.4, phi=0.5 + np.pi, nodes=200), steps_per_cycle=200).W_normalized
+    Wa = lcpfric.steady_state(
+        cylinder(P1=0.5, Q1=0.4, phi=0.5, nodes=200), steps_per_cycle=200
+    ).W_normalized
+    Wb = lcpfric.steady_state(
+        cylinder(P1=0.5, Q1=0.4, phi=0.5 + np.pi, nodes=200), steps_per_cycle=200
+    ).W_normalized
     assert W0 < 1e-3 * Wa and Wa > 1e-3
     assert Wb == pytest.approx(Wa, rel=1e-9)
 
@@ -66,7 +72,7 @@ def test_separation_held_by_a_support_and_refusals():
         lcpfric.steady_state(cylinder(P1=1.5, Q1=0.6, phi=0.3, nodes=100), steps_per_cycle=200)
     assert err.value.parameter == "k_support"
     with pytest.raises(InputError) as err:
-        cylinder(nodes=10 ** 5)
+        cylinder(nodes=10**5)
     assert err.value.parameter == "nodes"
 
 
@@ -91,8 +97,9 @@ def test_as_an_lcpfric_system():
         cylinder(nodes=20).system()
 
 
-@pytest.mark.parametrize("P1, Q1, phi, steps", [(0.3, 1.5, 0.7, 100), (0.9, 0.8, 0.2, 8),
-                                                 (0.5, 0.9, 1.0, 8)])
+@pytest.mark.parametrize(
+    "P1, Q1, phi, steps", [(0.3, 1.5, 0.7, 100), (0.9, 0.8, 0.2, 8), (0.5, 0.9, 1.0, 8)]
+)
 def test_gross_sliding_held_by_a_support(P1, Q1, phi, steps):
     """Phases of gross sliding (|Q| > μP) with a support: the stick/slip patterns could cycle
     there (a node flipping between its bounds) and ran out of iterations (SolverError after
@@ -108,4 +115,6 @@ def test_bounded_least_squares_is_the_increment():
     a = cylinder(0.5, 0.4, 0.5 * np.pi, nodes=100, k_support=1e4)
     b = cylinder(0.5, 0.4, 0.5 * np.pi, nodes=100, k_support=1e4)
     b.increment = lambda state, lim, Q: b._bounded(state, lim, Q, lim > 1e-10 * b._force_scale)
-    assert lcpfric.steady_state(b, steps_per_cycle=40).W == pytest.approx(lcpfric.steady_state(a, steps_per_cycle=40).W, rel=1e-12)
+    assert lcpfric.steady_state(b, steps_per_cycle=40).W == pytest.approx(
+        lcpfric.steady_state(a, steps_per_cycle=40).W, rel=1e-12
+    )

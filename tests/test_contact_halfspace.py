@@ -28,11 +28,13 @@ def test_element_integrals_against_quadrature(x, y):
     quadrature (off the element: the integrands are smooth there)."""
     h = 0.3
     got = element_integrals(x, y, h)
-    fs = (lambda b, a: 1 / math.hypot(a, b), lambda b, a: a * a / math.hypot(a, b) ** 3,
-          lambda b, a: a * b / math.hypot(a, b) ** 3)
+    fs = (
+        lambda b, a: 1 / math.hypot(a, b),
+        lambda b, a: a * a / math.hypot(a, b) ** 3,
+        lambda b, a: a * b / math.hypot(a, b) ** 3,
+    )
     for g, f in zip(got, fs):
-        ref = integrate.dblquad(f, x - h / 2, x + h / 2, y - h / 2, y + h / 2,
-                                epsabs=1e-13)[0]
+        ref = integrate.dblquad(f, x - h / 2, x + h / 2, y - h / 2, y + h / 2, epsabs=1e-13)[0]
         assert float(g) == pytest.approx(ref, rel=1e-9, abs=1e-13)
     # the self-term of 1/r over a square of side h: 4 h asinh(1)
     assert float(element_integrals(0.0, 0.0, h)[0]) == pytest.approx(4 * h * math.asinh(1.0))
@@ -55,7 +57,7 @@ def test_fft_products_equal_the_dense_matrices(nu, dims):
     D = np.block([[op.dense("xx"), xy], [xy, op.dense("yy")]])
     assert np.allclose(op.tangential(q).reshape(-1), D @ q.reshape(-1), atol=1e-14)
     assert np.allclose(D, D.T) and np.linalg.eigvalsh(D).min() > 0
-    if nu == 0.0:   # at ν = 0 the tangential kernel is the normal one (G = E*)
+    if nu == 0.0:  # at ν = 0 the tangential kernel is the normal one (G = E*)
         assert np.allclose(op.dense("xx"), op.dense("n"), rtol=1e-14)
 
 
@@ -65,9 +67,13 @@ def test_normal_contact_against_contactmechanics(case):
     by ContactMechanics 1.8.3 (Polonsky-Keer in its FreeFFTElasticHalfSpace; stored by
     benchmarks/validation/halfspace_reference.py): pressures and approach agree to round-off."""
     ref = np.load(DATA)
-    N, h, Es, P = (int(ref["N_" + case]), float(ref["h_" + case]), float(ref["Estar_" + case]),
-                   float(ref["P_" + case]))
-    op = Convolution(N, h, 2.0 * Es, 0.0)                 # ν = 0: E* = E / 2
+    N, h, Es, P = (
+        int(ref["N_" + case]),
+        float(ref["h_" + case]),
+        float(ref["Estar_" + case]),
+        float(ref["P_" + case]),
+    )
+    op = Convolution(N, h, 2.0 * Es, 0.0)  # ν = 0: E* = E / 2
     sol = normal_contact(op, ref["heights_" + case], P)
     p_ref = ref["pressure_" + case]
     assert np.max(np.abs(sol.p - p_ref)) <= 1e-9 * p_ref.max()
@@ -83,9 +89,9 @@ def test_hertz_radius_and_pressure():
         m = sphere(grid=grid, Q1=0.0)
         p = m.pressure(1.0)
         hz = hertz_contact(1.0, 1.0, 1.0, 0.0)
-        a = math.sqrt(np.count_nonzero(p) * m.h ** 2 / math.pi)
+        a = math.sqrt(np.count_nonzero(p) * m.h**2 / math.pi)
         errs.append((abs(a / hz["a"] - 1), abs(p.max() / hz["p0"] - 1)))
-        assert m.h ** 2 * p.sum() == pytest.approx(1.0, rel=1e-13)
+        assert m.h**2 * p.sum() == pytest.approx(1.0, rel=1e-13)
     assert errs[1][0] < 0.02 and errs[1][1] < 0.005
     assert errs[1][1] < errs[0][1]
 
@@ -113,20 +119,20 @@ def _restarted(stepper, context, state):
 def test_cattaneo_stick_radius():
     """Q rising from 0 to 0.9 μP at constant P: the stick zone's radius (of its area) over the
     contact's is (1 - Q/(μP))^(1/3), within a little more than an element."""
-    Q = Harmonic(0.0, 0.45, 0.0, TWO_PI)                  # quarter cycle: 0 -> 0.9 μP
+    Q = Harmonic(0.0, 0.45, 0.0, TWO_PI)  # quarter cycle: 0 -> 0.9 μP
     m = HalfSpace.sphere(1.0, 1.0, 0.0, 0.5, 1.0, Q, grid=28)
     steps = 100
     b = m.normal_solution(np.zeros(1))[0][0]
     stepper, context, state = _increments(m)
     t = np.linspace(0.0, 0.25 * TWO_PI / TWO_PI, steps + 1)
-    a = math.sqrt(np.count_nonzero(b) * m.h ** 2 / math.pi)
+    a = math.sqrt(np.count_nonzero(b) * m.h**2 / math.pi)
     checked = 0
     for j in range(1, steps + 1):
         state, F, dv = stepper.increment(context, state, b, float(Q(t[j])))
         x = float(Q(t[j])) / (0.5 * 1.0)
         if x > 0.3 and j % 10 == 0:
             stick = (b > 0) & (dv == 0.0)
-            c = math.sqrt(np.count_nonzero(stick) * m.h ** 2 / math.pi)
+            c = math.sqrt(np.count_nonzero(stick) * m.h**2 / math.pi)
             assert abs(c / a - (1 - x) ** (1 / 3)) < 1.5 * m.h / a, x
             checked += 1
     assert checked >= 5
@@ -152,7 +158,9 @@ def test_two_directions_at_nu_zero_equal_one():
     r1 = lcpfric.steady_state(sphere(P1=0.5, Q1=0.2, phi=0.7, grid=12), steps_per_cycle=60)
     r2 = lcpfric.steady_state(sphere(P1=0.5, Q1=0.2, phi=0.7, grid=12, dims=2), steps_per_cycle=60)
     assert r2.W == pytest.approx(r1.W, rel=1e-9)
-    r3 = lcpfric.steady_state(sphere(P1=0.5, Q1=0.2, phi=0.7, grid=12, nu=0.3, dims=2), steps_per_cycle=60)
+    r3 = lcpfric.steady_state(
+        sphere(P1=0.5, Q1=0.2, phi=0.7, grid=12, nu=0.3, dims=2), steps_per_cycle=60
+    )
     r4 = lcpfric.steady_state(sphere(P1=0.5, Q1=0.2, phi=0.7, grid=12, nu=0.3), steps_per_cycle=60)
     assert 1e-5 < abs(r3.W / r4.W - 1) < 0.05
     assert np.max(np.abs(r3.F[:, 1::2])) > 1e-3 * np.max(np.abs(r3.F[:, 0::2]))
@@ -171,10 +179,12 @@ def test_against_the_convex_backends(dims, nu):
 
     m = sphere(P1=0.5, Q1=0.3, phi=0.7, nu=nu, grid=10, dims=dims, k_support=2.0)
     system = m.system()
-    assert system.matrix_free                   # the FFT product; C⁻¹ B by CG
+    assert system.matrix_free  # the FFT product; C⁻¹ B by CG
     scene = make_scene(system, 80)
     # d = 2: the cycles repeat to the increments' own accuracy (about 1e-11), not to 1e-12
-    ref = lcpfric.steady_state(lcpfric.make_scene(m, grid=scene.t), tol=1e-12 if dims == 1 else 1e-10).W
+    ref = lcpfric.steady_state(
+        lcpfric.make_scene(m, grid=scene.t), tol=1e-12 if dims == 1 else 1e-10
+    ).W
     # Clarabel's answers on the cones pass its own tolerance but not always lcpfric's 1e-6
     # stationarity check; the dissipation agrees to 1e-10 regardless
     opts = {"check_tol": 1e-4} if dims == 2 else {}
@@ -191,18 +201,34 @@ def test_against_mdr_with_varying_load():
     from lcpfric.model.continuum import MDRSphere
 
     P, Q = Harmonic(1.0, 0.5, 0.0, TWO_PI), Harmonic(0.0, 0.2, 0.7, TWO_PI)
-    ref = lcpfric.steady_state(MDRSphere(1.0, 1.0, 0.0, 0.5, P, Q, nodes=2000), steps_per_cycle=100).W
-    errs = [abs(lcpfric.steady_state(HalfSpace.sphere(1.0, 1.0, 0.0, 0.5, P, Q, grid=g), steps_per_cycle=100).W / ref - 1)
-            for g in (16, 24)]
+    ref = lcpfric.steady_state(
+        MDRSphere(1.0, 1.0, 0.0, 0.5, P, Q, nodes=2000), steps_per_cycle=100
+    ).W
+    errs = [
+        abs(
+            lcpfric.steady_state(
+                HalfSpace.sphere(1.0, 1.0, 0.0, 0.5, P, Q, grid=g), steps_per_cycle=100
+            ).W
+            / ref
+            - 1
+        )
+        for g in (16, 24)
+    ]
     assert errs[0] < 0.03 and errs[1] < errs[0]
 
 
 def test_in_phase_and_half_period_shift():
     """In phase (Q1 <= μ P1, P1 < P0) nothing is dissipated up to the discretization; W(φ + π)
     = W(φ)."""
-    w0 = lcpfric.steady_state(sphere(P1=0.5, Q1=0.2, phi=0.0, grid=14), steps_per_cycle=80).W_normalized
-    w1 = lcpfric.steady_state(sphere(P1=0.5, Q1=0.2, phi=0.8, grid=14), steps_per_cycle=80).W_normalized
-    w2 = lcpfric.steady_state(sphere(P1=0.5, Q1=0.2, phi=0.8 + math.pi, grid=14), steps_per_cycle=80).W_normalized
+    w0 = lcpfric.steady_state(
+        sphere(P1=0.5, Q1=0.2, phi=0.0, grid=14), steps_per_cycle=80
+    ).W_normalized
+    w1 = lcpfric.steady_state(
+        sphere(P1=0.5, Q1=0.2, phi=0.8, grid=14), steps_per_cycle=80
+    ).W_normalized
+    w2 = lcpfric.steady_state(
+        sphere(P1=0.5, Q1=0.2, phi=0.8 + math.pi, grid=14), steps_per_cycle=80
+    ).W_normalized
     assert w0 < 0.05 * w1
     assert w2 == pytest.approx(w1, rel=1e-9)
 
@@ -213,15 +239,32 @@ def test_in_phase_with_fine_steps():
     (the forces change a lot, the slips hardly), the case where an inconsistent start product
     (C F carried over the increments by linearity, tried and reverted) left a d = 1 increment
     unable to reach its tolerance. It repeats in 3 cycles, W → 0 (the benchmark's 5.7e-7)."""
-    r = lcpfric.steady_state(HalfSpace.sphere(10.0, 200e3, 0.0, 0.5, Harmonic(100.0, 50.0, 0.0, TWO_PI),
-                         Harmonic(0.0, 20.0, 0.0, TWO_PI), grid=32), steps_per_cycle=400)
+    r = lcpfric.steady_state(
+        HalfSpace.sphere(
+            10.0,
+            200e3,
+            0.0,
+            0.5,
+            Harmonic(100.0, 50.0, 0.0, TWO_PI),
+            Harmonic(0.0, 20.0, 0.0, TWO_PI),
+            grid=32,
+        ),
+        steps_per_cycle=400,
+    )
     assert r.converged and r.cycles <= 4
     assert 0.0 <= r.W_normalized < 2e-6
 
 
 def _md(grid):
-    return HalfSpace.sphere(10.0, 200e3, 0.0, 0.5, Harmonic(100.0, 0.0, 0.0, TWO_PI),
-                            Harmonic(0.0, 25.0, 0.0, TWO_PI), grid=grid)
+    return HalfSpace.sphere(
+        10.0,
+        200e3,
+        0.0,
+        0.5,
+        Harmonic(100.0, 0.0, 0.0, TWO_PI),
+        Harmonic(0.0, 25.0, 0.0, TWO_PI),
+        grid=grid,
+    )
 
 
 @pytest.mark.slow
@@ -257,28 +300,47 @@ def test_d2_residual_hovering_about_the_tolerance():
     residual 1.27e-11 above 1.24e-11). Steps that begin near the tolerance and do not end the
     increment now solve ten times tighter each. (The hovering depends on round-off: this case
     showed it on the development machine.)"""
+
     def model(ks):
-        return HalfSpace.sphere(10.0, 200e3, 0.3, 0.5, Harmonic(100.0, 50.0, 0.0, TWO_PI),
-                                Harmonic(0.0, 45.0, np.pi, TWO_PI), grid=32, dims=2,
-                                k_support=ks)
+        return HalfSpace.sphere(
+            10.0,
+            200e3,
+            0.3,
+            0.5,
+            Harmonic(100.0, 50.0, 0.0, TWO_PI),
+            Harmonic(0.0, 45.0, np.pi, TWO_PI),
+            grid=32,
+            dims=2,
+            k_support=ks,
+        )
 
     m = model(model(1.0).k_t0)
     r = lcpfric.steady_state(m, steps_per_cycle=8)
     assert r.converged and r.solver_stats["newton"] < 200
 
 
-@pytest.mark.parametrize("P1, Q1, phi", [(0.9, 0.8, 0.2), (0.3, 1.5, 0.7), (1.3, 0.6, 0.5),
-                                         (0.5, 0.9, 1.0)])
+@pytest.mark.parametrize(
+    "P1, Q1, phi", [(0.9, 0.8, 0.2), (0.3, 1.5, 0.7), (1.3, 0.6, 0.5), (0.5, 0.9, 1.0)]
+)
 @pytest.mark.parametrize("dims, nu", [(1, 0.0), (2, 0.3)])
 def test_large_increments_across_the_loads(P1, Q1, phi, dims, nu):
     """8 steps per cycle, the support k_t0 holding the body: near separation, gross sliding
     (Q1 = 1.5 μP0), complete separation (P1 = 1.3) and opposite phases all reach a steady
     state. (Sweeps of these loads on grids 32 to 120, 8 to 40 steps, spheres, the punch and a
     rough surface, found the crawl and the hovering that the two tests above guard.)"""
+
     def model(ks):
-        return HalfSpace.sphere(10.0, 200e3, nu, 0.5, Harmonic(100.0, 100.0 * P1, 0.0, TWO_PI),
-                                Harmonic(0.0, 50.0 * Q1, phi * np.pi, TWO_PI), grid=32,
-                                dims=dims, k_support=ks)
+        return HalfSpace.sphere(
+            10.0,
+            200e3,
+            nu,
+            0.5,
+            Harmonic(100.0, 100.0 * P1, 0.0, TWO_PI),
+            Harmonic(0.0, 50.0 * Q1, phi * np.pi, TWO_PI),
+            grid=32,
+            dims=dims,
+            k_support=ks,
+        )
 
     r = lcpfric.steady_state(model(model(1.0).k_t0), steps_per_cycle=8)
     assert r.converged and r.W > 0
@@ -289,10 +351,19 @@ def test_d2_preconditioner_scaled_on_the_slipping_nodes():
     unknowns are mostly the slipping nodes' tangential forces, whose operator adds a diagonal
     term to C. With the preconditioner (C's inverse) scaled on them by sqrt(c / (c + term))
     this case takes 1928 FFT products on the development machine; unscaled it took 5988."""
+
     def model(ks):
-        return HalfSpace.sphere(10.0, 200e3, 0.3, 0.5, Harmonic(100.0, 30.0, 0.0, TWO_PI),
-                                Harmonic(0.0, 75.0, 0.7 * np.pi, TWO_PI), grid=32, dims=2,
-                                k_support=ks)
+        return HalfSpace.sphere(
+            10.0,
+            200e3,
+            0.3,
+            0.5,
+            Harmonic(100.0, 30.0, 0.0, TWO_PI),
+            Harmonic(0.0, 75.0, 0.7 * np.pi, TWO_PI),
+            grid=32,
+            dims=2,
+            k_support=ks,
+        )
 
     m = model(model(1.0).k_t0)
     r = lcpfric.steady_state(m, steps_per_cycle=8)
@@ -333,15 +404,17 @@ def test_carried_products_stay_those_of_the_forces(dims, nu):
     for _ in range(2):
         new = []
         for j in range(steps):
-            state, F, _ = stepper.increment(context, state, b[j + 1], Q[j + 1],
-                                            guesses[j] if guesses else None)
+            state, F, _ = stepper.increment(
+                context, state, b[j + 1], Q[j + 1], guesses[j] if guesses else None
+            )
             new.append(stepper.guess(state))
             F_nodes = state.F.reshape(-1, dims)
             assert np.max(np.abs(state.CF - context.compliance(F_nodes))) <= 1e-12 * scale
             dF = state.dF.reshape(-1, dims)
             assert np.max(np.abs(state.CdF - context.compliance(dF))) <= 1e-12 * scale
-            norms = np.abs(F.reshape(-1, dims)) if dims == 1 else np.hypot(
-                *F.reshape(-1, 2).T)[:, None]
+            norms = (
+                np.abs(F.reshape(-1, dims)) if dims == 1 else np.hypot(*F.reshape(-1, 2).T)[:, None]
+            )
             assert np.all(norms[:, 0] <= b[j + 1] * (1 + 1e-12))
         guesses = new
         state = _restarted(stepper, context, state)
@@ -356,7 +429,9 @@ def test_punch_and_height_map():
     assert r.converged and r.W > 0 and r.contact.contact_size_max > 0.5
     s = HalfSpace.sphere(1.0, 1.0, 0.0, 0.5, P, Q, grid=12)
     hm = HalfSpace(1.0, 0.0, 0.5, P, Q, heights=s.g0 * 1.0, spacing=s.h)
-    assert lcpfric.steady_state(hm, steps_per_cycle=40).W == pytest.approx(lcpfric.steady_state(s, steps_per_cycle=40).W, rel=1e-12)
+    assert lcpfric.steady_state(hm, steps_per_cycle=40).W == pytest.approx(
+        lcpfric.steady_state(s, steps_per_cycle=40).W, rel=1e-12
+    )
 
 
 def test_bad_input_is_refused_before_work():
@@ -373,18 +448,24 @@ def test_bad_input_is_refused_before_work():
         sphere(dims=3)
     with pytest.raises(InputError, match="spacing"):
         HalfSpace(1.0, 0.0, 0.5, P, Q, heights=np.zeros((8, 8)), spacing=-1.0)
-    with pytest.raises(InputError, match="heights"):          # beyond the largest grid
+    with pytest.raises(InputError, match="heights"):  # beyond the largest grid
         HalfSpace(1.0, 0.0, 0.5, P, Q, heights=np.zeros((4096, 4096)), spacing=0.1)
     from lcpfric import memory
 
     with memory.limit(4 << 30, "a test's limit"):
         with pytest.raises(InputError, match=r"heights.*d = 2 \(its arrays\) needs about 6\.\d"):
-            HalfSpace(1.0, 0.3, 0.5, P, Q, heights=np.zeros((1800, 1800)), spacing=0.1,
-                      dims=2)
-    with pytest.raises(InputError, match="edge"):            # contact reaches the grid's edge
+            HalfSpace(1.0, 0.3, 0.5, P, Q, heights=np.zeros((1800, 1800)), spacing=0.1, dims=2)
+    with pytest.raises(InputError, match="edge"):  # contact reaches the grid's edge
         g = np.linspace(-1, 1, 24)
-        HalfSpace(1.0, 0.0, 0.5, 50.0, 0.0, heights=(g[:, None] ** 2 + g[None, :] ** 2) / 2,
-                  spacing=g[1] - g[0])
+        HalfSpace(
+            1.0,
+            0.0,
+            0.5,
+            50.0,
+            0.0,
+            heights=(g[:, None] ** 2 + g[None, :] ** 2) / 2,
+            spacing=g[1] - g[0],
+        )
 
 
 @pytest.mark.parametrize("dims", [1, 2])
@@ -401,8 +482,16 @@ def test_memory_estimate_bounds_the_measured_peak(dims):
 
     tracemalloc.start()
     try:
-        m = HalfSpace.sphere(10.0, 200e3, 0.3 * (dims - 1), 0.5, Harmonic(100.0, 30.0, 0.0, TWO_PI),
-                             Harmonic(0.0, 20.0, 0.5, TWO_PI), grid=40, dims=dims)
+        m = HalfSpace.sphere(
+            10.0,
+            200e3,
+            0.3 * (dims - 1),
+            0.5,
+            Harmonic(100.0, 30.0, 0.0, TWO_PI),
+            Harmonic(0.0, 20.0, 0.5, TWO_PI),
+            grid=40,
+            dims=dims,
+        )
         lcpfric.steady_state(m, steps_per_cycle=8, max_cycles=2, on_nonconvergence="ignore")
         peak = tracemalloc.get_traced_memory()[1]
     finally:
@@ -422,11 +511,18 @@ def test_loose_steps_for_new_patterns_keep_the_answer(monkeypatch):
 
     g = (np.arange(64) - 31.5) / 64 * 2.4
     X, Y = np.meshgrid(g, g, indexing="ij")
-    wavy = (X ** 2 + Y ** 2) / 2 + 0.03 * (np.cos(14 * X) * np.cos(11 * Y) + 1)
+    wavy = (X**2 + Y**2) / 2 + 0.03 * (np.cos(14 * X) * np.cos(11 * Y) + 1)
 
     def run():
-        m = HalfSpace(1.0, 0.0, 0.5, Harmonic(0.05, 0.025, 0.0, TWO_PI),
-                      Harmonic(0.0, 0.01, 0.5, TWO_PI), heights=wavy, spacing=g[1] - g[0])
+        m = HalfSpace(
+            1.0,
+            0.0,
+            0.5,
+            Harmonic(0.05, 0.025, 0.0, TWO_PI),
+            Harmonic(0.0, 0.01, 0.5, TWO_PI),
+            heights=wavy,
+            spacing=g[1] - g[0],
+        )
         r = lcpfric.steady_state(m, steps_per_cycle=40)
         return r, r.solver_stats["cg"]
 
@@ -447,8 +543,14 @@ def test_d2_at_the_gross_sliding_limit_is_refused():
     with pytest.raises(InputError, match=r"k_support.*reaches μ P.*transverse slip drifts"):
         lcpfric.steady_state(sphere(Q1=0.5, grid=12, dims=2), steps_per_cycle=40)
     assert lcpfric.steady_state(sphere(Q1=0.5, grid=12, dims=1), steps_per_cycle=40).converged
-    out = halfspace_W_normalized(np.array([0.0, 0.0]), np.array([1.0, 0.0]),
-                                 np.array([0.0, 0.0]), grid=12, dims=2, steps_per_cycle=20)
+    out = halfspace_W_normalized(
+        np.array([0.0, 0.0]),
+        np.array([1.0, 0.0]),
+        np.array([0.0, 0.0]),
+        grid=12,
+        dims=2,
+        steps_per_cycle=20,
+    )
     assert np.isnan(out[0]) and out[1] == 0.0
 
 
@@ -467,7 +569,7 @@ def test_recorded_cycle_starts_where_it_ends():
     previous cycle's last increment), not a blank 'stick'."""
     r = lcpfric.steady_state(sphere(Q1=0.25, grid=12), steps_per_cycle=40)
     assert np.array_equal(r.state[0], r.state[-1])
-    assert np.any((r.state[0] == 1) | (r.state[0] == 2))      # the edge slips at t = 0
+    assert np.any((r.state[0] == 1) | (r.state[0] == 2))  # the edge slips at t = 0
 
 
 @pytest.mark.slow
@@ -483,8 +585,7 @@ def test_accelerated_cycles_reach_the_plain_iterations_steady_state():
     assert r0.cycles >= 25 and r1.cycles <= 12 and r1.solver_stats["extrapolations"] >= 3
     assert r1.W == pytest.approx(r0.W, rel=1e-9)
     cold = lcpfric.steady_state(m, "newton-cg", 60, max_cycles=60, warm_start=False)
-    per = [r.solver_stats["tangential_products"] / r.solver_stats["increments"]
-           for r in (r1, cold)]
+    per = [r.solver_stats["tangential_products"] / r.solver_stats["increments"] for r in (r1, cold)]
     assert per[0] < 0.6 * per[1]
 
 
@@ -498,8 +599,7 @@ def test_loose_early_cycles_reach_the_same_steady_state(monkeypatch):
     r0 = lcpfric.steady_state(m, "newton-cg", 60, loose_cycles=False)
     assert r0.converged and r1.converged
     assert r1.W == pytest.approx(r0.W, rel=1e-9)
-    assert (r1.solver_stats["tangential_products"]
-            < 0.85 * r0.solver_stats["tangential_products"])
+    assert r1.solver_stats["tangential_products"] < 0.85 * r0.solver_stats["tangential_products"]
 
 
 def test_unsettled_cycles_raise_with_the_smallest_change(monkeypatch):
@@ -509,13 +609,20 @@ def test_unsettled_cycles_raise_with_the_smallest_change(monkeypatch):
     from lcpfric.periodic import driver as steady
 
     with pytest.raises(ConvergenceError, match=r"after 3 cycles \(relative change [^;]*\)"):
-        lcpfric.steady_state(sphere(Q1=0.25, grid=12, nu=0.3, dims=2), steps_per_cycle=40, max_cycles=3)
+        lcpfric.steady_state(
+            sphere(Q1=0.25, grid=12, nu=0.3, dims=2), steps_per_cycle=40, max_cycles=3
+        )
     # the last cycles' increments solved only to their own tol 1e-10 (as before 0.1 x the cycle
     # tolerance was the rule) hold the cycles to about 6e-12 here: the floor is named
     with monkeypatch.context() as patch:
         patch.setattr(steady, "_FINAL", 1e3)
         with pytest.raises(ConvergenceError, match=r"the smallest at full accuracy \d.*e-1[0-3]"):
-            lcpfric.steady_state(sphere(Q1=0.25, grid=12, nu=0.3, dims=2), steps_per_cycle=40, tol=1.1e-12, max_cycles=30)
+            lcpfric.steady_state(
+                sphere(Q1=0.25, grid=12, nu=0.3, dims=2),
+                steps_per_cycle=40,
+                tol=1.1e-12,
+                max_cycles=30,
+            )
 
 
 @pytest.mark.slow
@@ -527,9 +634,19 @@ def test_tight_cycle_tolerances_settle_or_are_refused():
     the W of the default tolerance; under 1e-12 (the increments would go below the 1e-13 they
     hold) it is refused before any work."""
     base = lcpfric.steady_state(sphere(Q1=0.25, grid=12, nu=0.3, dims=2), steps_per_cycle=40)
-    tight = lcpfric.steady_state(sphere(Q1=0.25, grid=12, nu=0.3, dims=2), steps_per_cycle=40, tol=1.1e-12, max_cycles=15)
+    tight = lcpfric.steady_state(
+        sphere(Q1=0.25, grid=12, nu=0.3, dims=2), steps_per_cycle=40, tol=1.1e-12, max_cycles=15
+    )
     assert tight.converged and tight.change <= 1.1e-12 and tight.cycles <= 14
     assert tight.W == pytest.approx(base.W, rel=1e-9)
     with pytest.raises(InputError, match=r"tol.*below what the increments can hold.*1e-12"):
-        lcpfric.steady_state(sphere(Q1=0.25, grid=12, nu=0.3, dims=2), steps_per_cycle=40, tol=9e-13)
-    lcpfric.steady_state(sphere(Q1=0.25, grid=12, nu=0.3, dims=1), steps_per_cycle=8, tol=1e-15, max_cycles=3, on_nonconvergence="ignore")     # d = 1: exact
+        lcpfric.steady_state(
+            sphere(Q1=0.25, grid=12, nu=0.3, dims=2), steps_per_cycle=40, tol=9e-13
+        )
+    lcpfric.steady_state(
+        sphere(Q1=0.25, grid=12, nu=0.3, dims=1),
+        steps_per_cycle=8,
+        tol=1e-15,
+        max_cycles=3,
+        on_nonconvergence="ignore",
+    )  # d = 1: exact

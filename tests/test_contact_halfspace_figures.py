@@ -2,7 +2,6 @@
 wide, no text below 7 pt, TrueType fonts in the PDFs, every mark in a legend; the traction
 vectors need dims = 2; the animation refuses what it cannot write before any work."""
 
-
 import numpy as np
 import lcpfric
 import pytest
@@ -22,8 +21,16 @@ def _solved(dims, grid, steps):
     from lcpfric.model.continuum.halfspace import HalfSpace
     from lcpfric.model.loads import Harmonic
 
-    model = HalfSpace.sphere(1.0, 1.0, 0.3, 0.5, Harmonic(1.0, 0.5, 0.0, 2 * PI),
-                             Harmonic(0.0, 0.22, 0.5, 2 * PI), grid=grid, dims=dims)
+    model = HalfSpace.sphere(
+        1.0,
+        1.0,
+        0.3,
+        0.5,
+        Harmonic(1.0, 0.5, 0.0, 2 * PI),
+        Harmonic(0.0, 0.22, 0.5, 2 * PI),
+        grid=grid,
+        dims=dims,
+    )
     return model, lcpfric.steady_state(model, steps_per_cycle=steps)
 
 
@@ -68,13 +75,13 @@ def test_zone_maps(plane, line):
     for ax in panels:
         assert ax.get_aspect() == 1.0
         lo, hi = ax.get_xlim()
-        assert lo < -0.9 and hi > 0.9           # the whole contact (x/a0 up to ~1.15) ...
+        assert lo < -0.9 and hi > 0.9  # the whole contact (x/a0 up to ~1.15) ...
         assert hi - lo < 2 * model.N * model.h / model.a0  # ... cropped from the grid
     # one legend entry per colour, and the edges
     labels = [t.get_text() for t in fig.legends[0].get_texts()]
     assert len(labels) >= len(ZONE_COLOURS) + 1 and "stick" in labels and "separated" in labels
     # the mesh's colours are the element states
-    j = result.t.size - 1                       # t/T = 0 is drawn from t = T
+    j = result.t.size - 1  # t/T = 0 is drawn from t = T
     mesh = panels[0].collections[0]
     codes = np.asarray(mesh.get_array()).reshape(model.N, model.N)  # [j, i]
     stick = result.state[j].reshape(model.N, model.N).T == int(State.STICK)
@@ -107,10 +114,10 @@ def test_traction_vectors(plane, line):
     ax = fig.axes[0]
     (arrows,) = [c for c in ax.collections if type(c).__name__ == "Quiver"]
     contact = model.normal_solution(result.t[20:21])[0][0] > 0
-    assert arrows.N == np.count_nonzero(contact)           # small grid: every element
+    assert arrows.N == np.count_nonzero(contact)  # small grid: every element
     (key,) = [a for a in ax.get_children() if type(a).__name__ == "QuiverKey"]
     assert r"\mu p_0" in key.text.get_text() and key.text.get_fontsize() >= MIN_FONT_SIZE
-    assert len(fig.axes) == 2                              # the colour bar
+    assert len(fig.axes) == 2  # the colour bar
     with pytest.raises(InputError) as err:
         figure_traction_vectors(*line)
     assert err.value.parameter == "dims" and "dims=2" in str(err.value)
@@ -122,7 +129,8 @@ def test_write_figures_truetype(tmp_path, plane, line):
 
     paths = write_halfspace_figures(tmp_path / "d2", *plane)
     assert sorted(p.name for p in paths) == sorted(
-        f"halfspace-{n}.{e}" for n in ("zones", "tractions") for e in ("png", "pdf"))
+        f"halfspace-{n}.{e}" for n in ("zones", "tractions") for e in ("png", "pdf")
+    )
     for p in paths:
         assert p.is_file() and p.stat().st_size > 1000
     for p in paths:
@@ -147,7 +155,7 @@ def test_animation_refuses_before_work(tmp_path, plane):
     try:
         import os
 
-        if not os.access(locked, os.W_OK):      # root can write anyway
+        if not os.access(locked, os.W_OK):  # root can write anyway
             with pytest.raises(InputError) as err:
                 animate_zones(model, result, locked / "z.gif")
             assert err.value.parameter == "path"

@@ -21,13 +21,23 @@ def test_batch_equals_the_model_point_by_point(ks):
     got = mdr_W_normalized(P1, Q1, phi, nodes=120, steps_per_cycle=120, k_support=ks, tol=1e-10)
     k_t0 = MDRSphere(10.0, 200e3, 0.3, 0.5, 100.0, 0.0, nodes=1).k_t0
     for (p1, q1, ph), w in zip(POINTS, got):
-        m = MDRSphere(10.0, 200e3, 0.3, 0.5, Harmonic(100.0, 100 * p1),
-                      Harmonic(0.0, 50 * q1, ph), nodes=120, k_support=ks * k_t0)
+        m = MDRSphere(
+            10.0,
+            200e3,
+            0.3,
+            0.5,
+            Harmonic(100.0, 100 * p1),
+            Harmonic(0.0, 50 * q1, ph),
+            nodes=120,
+            k_support=ks * k_t0,
+        )
         if ks == 0.0 and np.isnan(w):  # gross sliding under load control: refused there too
             with pytest.raises(InputError):
                 lcpfric.steady_state(m, steps_per_cycle=120)
             continue
-        assert w == pytest.approx(lcpfric.steady_state(m, steps_per_cycle=120, tol=1e-10).W_normalized, rel=1e-9)
+        assert w == pytest.approx(
+            lcpfric.steady_state(m, steps_per_cycle=120, tol=1e-10).W_normalized, rel=1e-9
+        )
     assert np.isnan(got).sum() == (2 if ks == 0.0 else 0)
 
 
@@ -35,8 +45,7 @@ def test_zero_amplitude_and_small_amplitude_law():
     """Q̂1 = 0 gives 0; at fixed Q1/(μ P1) and φ, W grows as Q1³ (ratio 8 per doubling)."""
     assert mdr_W_normalized([0.5], [0.0], [0.3])[0] == 0.0
     q = np.array([0.01, 0.02, 0.04])
-    w = mdr_W_normalized(q / 0.8, q, np.full(3, 1.5), nodes=4000, steps_per_cycle=200,
-                         tol=1e-10)
+    w = mdr_W_normalized(q / 0.8, q, np.full(3, 1.5), nodes=4000, steps_per_cycle=200, tol=1e-10)
     np.testing.assert_allclose(w[1:] / w[:-1], 8.0, rtol=0.02)
 
 
@@ -48,8 +57,14 @@ def test_sweep_of_a_contact_map_resumes(tmp_path):
     spec = {"k_support": 1.0, "nodes": 60}
     ds = sweep(P1, Q1, phi, contact=spec, steps_per_cycle=60, progress=False)
     pp, qq = np.meshgrid(P1, Q1, indexing="ij")
-    direct = mdr_W_normalized(pp.ravel(), qq.ravel(), np.full(pp.size, 0.3 * np.pi), nodes=60,
-                              steps_per_cycle=60, k_support=1.0)
+    direct = mdr_W_normalized(
+        pp.ravel(),
+        qq.ravel(),
+        np.full(pp.size, 0.3 * np.pi),
+        nodes=60,
+        steps_per_cycle=60,
+        k_support=1.0,
+    )
     np.testing.assert_array_equal(ds.W_normalized.sel(phi=0.3 * np.pi).values.ravel(), direct)
     out = tmp_path / "m.nc"
 
@@ -60,10 +75,29 @@ def test_sweep_of_a_contact_map_resumes(tmp_path):
         raise Stop
 
     with pytest.raises(Stop):
-        sweep(P1, Q1, phi, contact=spec, steps_per_cycle=60, progress=False, out=out,
-              chunk_size=6, processes=1, on_chunk=stop)
-    again = sweep(P1, Q1, phi, contact=spec, steps_per_cycle=60, progress=False, out=out,
-                  chunk_size=6, processes=1)
+        sweep(
+            P1,
+            Q1,
+            phi,
+            contact=spec,
+            steps_per_cycle=60,
+            progress=False,
+            out=out,
+            chunk_size=6,
+            processes=1,
+            on_chunk=stop,
+        )
+    again = sweep(
+        P1,
+        Q1,
+        phi,
+        contact=spec,
+        steps_per_cycle=60,
+        progress=False,
+        out=out,
+        chunk_size=6,
+        processes=1,
+    )
     assert again.attrs["chunks_reused"] == 1 and again.attrs["chunks_computed"] == 3
     np.testing.assert_array_equal(again.W_normalized.values, ds.W_normalized.values)
 
@@ -78,15 +112,22 @@ def test_points_that_do_not_converge_are_reported_never_returned():
     P1, Q1, phi = np.array([0.5, 0.3, 0.5]), np.array([0.4, 0.2, 0.0]), np.array([0.5, 0.0, 0.0])
     with pytest.warns(ConvergenceWarning, match=r"2 of 3 points reached no periodic steady"):
         got = mdr_W_normalized(P1, Q1, phi, nodes=40, steps_per_cycle=40, max_cycles=1)
-    assert np.isnan(got[:2]).all() and got[2] == 0.0             # Q̂1 = 0: the limit 0
+    assert np.isnan(got[:2]).all() and got[2] == 0.0  # Q̂1 = 0: the limit 0
     with pytest.raises(ConvergenceError, match="2 of 3 points"):
-        mdr_W_normalized(P1, Q1, phi, nodes=40, steps_per_cycle=40, max_cycles=1,
-                         on_nonconvergence="raise")
+        mdr_W_normalized(
+            P1, Q1, phi, nodes=40, steps_per_cycle=40, max_cycles=1, on_nonconvergence="raise"
+        )
     ok = mdr_W_normalized(P1, Q1, phi, nodes=40, steps_per_cycle=40)
     assert np.isfinite(ok).all()
     with pytest.warns(ConvergenceWarning, match=r"1 of 1 half-space map points"):
-        hs = halfspace_W_normalized(np.array([0.3]), np.array([0.3]), np.array([0.5]), grid=10,
-                                    steps_per_cycle=20, max_cycles=1)
+        hs = halfspace_W_normalized(
+            np.array([0.3]),
+            np.array([0.3]),
+            np.array([0.5]),
+            grid=10,
+            steps_per_cycle=20,
+            max_cycles=1,
+        )
     assert np.isnan(hs).all()
 
 
@@ -98,8 +139,14 @@ def test_sweep_counts_the_points_that_do_not_converge(tmp_path, capsys):
     from lcpfric.analysis.sweep import sweep
     from lcpfric.cli.map import _report
 
-    ds = sweep([0.5, 1.5], [0.2, 0.3], [0.0], contact={"nodes": 20, "max_cycles": 1},
-               steps_per_cycle=8, progress=False)
+    ds = sweep(
+        [0.5, 1.5],
+        [0.2, 0.3],
+        [0.0],
+        contact={"nodes": 20, "max_cycles": 1},
+        steps_per_cycle=8,
+        progress=False,
+    )
     # P̂1 = 1.5 separates under pure load control: no equilibrium while Q ≠ 0
     assert ds.attrs["no_equilibrium_points"] == 2 and ds.attrs["unconverged_points"] == 2
     assert int(ds.W_normalized.isnull().sum()) == 4

@@ -47,31 +47,51 @@ def test_cattaneo_stick_radius_on_first_loading():
     c = r.stick_size()
     for j in (20, 50, 80, 100):  # Q(t_j) rises to 0.9 μ P0 at j = steps / 4
         x = 0.9 * np.sin(2 * np.pi * j / steps)
-        assert c[j] / r.contact.size[j] == pytest.approx(cattaneo_stick_ratio(x), abs=2 * m.dx / r.contact.size[j])
+        assert c[j] / r.contact.size[j] == pytest.approx(
+            cattaneo_stick_ratio(x), abs=2 * m.dx / r.contact.size[j]
+        )
 
 
 def test_in_phase_dissipates_nothing_and_half_period_symmetry():
     """φ = 0, Q1 <= μ P1, P1 < P0: no dissipation in the steady state (to the discretization:
     it falls with the steps), while φ = 0.5 dissipates; W(φ + π) = W(φ)."""
-    W0 = [lcpfric.steady_state(sphere(P1=0.5, Q1=0.4, nodes=2000), steps_per_cycle=s).W_normalized for s in (200, 400)]
+    W0 = [
+        lcpfric.steady_state(sphere(P1=0.5, Q1=0.4, nodes=2000), steps_per_cycle=s).W_normalized
+        for s in (200, 400)
+    ]
     assert W0[1] < W0[0] < 1e-5
-    Wa = lcpfric.steady_state(sphere(P1=0.5, Q1=0.4, phi=0.5, nodes=500), steps_per_cycle=200).W_normalized
-    Wb = lcpfric.steady_state(sphere(P1=0.5, Q1=0.4, phi=0.5 + np.pi, nodes=500), steps_per_cycle=200).W_normalized
+    Wa = lcpfric.steady_state(
+        sphere(P1=0.5, Q1=0.4, phi=0.5, nodes=500), steps_per_cycle=200
+    ).W_normalized
+    Wb = lcpfric.steady_state(
+        sphere(P1=0.5, Q1=0.4, phi=0.5 + np.pi, nodes=500), steps_per_cycle=200
+    ).W_normalized
     assert Wa > 1e-3 and Wb == pytest.approx(Wa, rel=1e-12)
 
 
-@pytest.mark.filterwarnings("ignore::lcpfric.errors.ResolutionWarning")   # W = 0: one spring
+@pytest.mark.filterwarnings("ignore::lcpfric.errors.ResolutionWarning")  # W = 0: one spring
 def test_one_spring_is_the_single_node():
     """One spring of stiffness k1 on the bar held by k_s: the paper's node with k11 = k1 k_s /
     (k1 + k_s) under -k1/(k1 + k_s) Q, N = P: the same increments as lcpfric's projection."""
     ks = 3e3
-    m = MDRSphere(R, E, 0.0, MU, Harmonic(P0, 0.6 * P0), Harmonic(0.0, 0.5 * MU * P0, 0.7),
-                  nodes=1, k_support=ks)
+    m = MDRSphere(
+        R,
+        E,
+        0.0,
+        MU,
+        Harmonic(P0, 0.6 * P0),
+        Harmonic(0.0, 0.5 * MU * P0, 0.7),
+        nodes=1,
+        k_support=ks,
+    )
     r = lcpfric.steady_state(m, steps_per_cycle=300, tol=1e-12)
     k1 = m.k[0]
-    node = ContactSystem([[k1 * ks / (k1 + ks)]], [MU],
-                         (Harmonic(0.0, k1 / (k1 + ks) * 0.5 * MU * P0, 0.7 + np.pi),),
-                         IndependentSprings((Harmonic(P0, 0.6 * P0),)))
+    node = ContactSystem(
+        [[k1 * ks / (k1 + ks)]],
+        [MU],
+        (Harmonic(0.0, k1 / (k1 + ks) * 0.5 * MU * P0, 0.7 + np.pi),),
+        IndependentSprings((Harmonic(P0, 0.6 * P0),)),
+    )
     ref = lcpfric.steady_state(node, "projection", 300, tol=1e-12, placement="uniform")
     assert r.W == pytest.approx(ref.W, rel=1e-10)
 
@@ -79,8 +99,9 @@ def test_one_spring_is_the_single_node():
 def test_normal_forces_carry_the_load_and_separation_with_support():
     m = sphere(P1=1.5, Q1=0.6, phi=0.3, nodes=300, k_support=2e3)
     t = np.linspace(0, 2 * np.pi, 50)
-    np.testing.assert_allclose(m.normal_forces(t).sum(axis=1), np.maximum(m.P(t), 0),
-                               rtol=1e-12, atol=1e-12 * P0)
+    np.testing.assert_allclose(
+        m.normal_forces(t).sum(axis=1), np.maximum(m.P(t), 0), rtol=1e-12, atol=1e-12 * P0
+    )
     r = lcpfric.steady_state(m, steps_per_cycle=200)
     assert r.converged and r.W > 0 and r.contact.size.min() == 0.0
 
@@ -89,8 +110,12 @@ def test_refusals():
     with pytest.raises(InputError) as err:
         lcpfric.steady_state(sphere(P1=1.5, Q1=0.6, phi=0.3, nodes=100), steps_per_cycle=100)
     assert err.value.parameter == "k_support" and "|Q(t)| > μ P(t)" in str(err.value)
-    for kw, name in ((dict(nu=0.5), "nu"), (dict(nodes=0), "nodes"),
-                     (dict(nodes=10 ** 7), "nodes"), (dict(k_support=-1.0), "k_support")):
+    for kw, name in (
+        (dict(nu=0.5), "nu"),
+        (dict(nodes=0), "nodes"),
+        (dict(nodes=10**7), "nodes"),
+        (dict(k_support=-1.0), "k_support"),
+    ):
         with pytest.raises(InputError) as err:
             sphere(**kw)
         assert err.value.parameter == name
@@ -108,9 +133,17 @@ def test_any_profile_against_ciavarella_jager(x):
 
     eta = moduli(E, 0.3)["eta"]
     runs = []
-    for profile in (PowerLaw(1.0, 4), Axisymmetric(lambda r: 4.0 * r ** 3)):
-        m = MDRSphere(None, E, 0.3, MU, Harmonic(P0, 0.0), Harmonic(0.0, x * MU * P0),
-                      nodes=2000, profile=profile)
+    for profile in (PowerLaw(1.0, 4), Axisymmetric(lambda r: 4.0 * r**3)):
+        m = MDRSphere(
+            None,
+            E,
+            0.3,
+            MU,
+            Harmonic(P0, 0.0),
+            Harmonic(0.0, x * MU * P0),
+            nodes=2000,
+            profile=profile,
+        )
         runs.append(lcpfric.steady_state(m, steps_per_cycle=400).W)
         ref = ciavarella_jager_W(m.approach, P0, x * MU * P0, MU, eta)
         assert runs[-1] == pytest.approx(ref, rel=2e-4)
@@ -133,7 +166,7 @@ def test_inverse_transform_gives_hertz_pressure_and_cattaneo_traction():
     x = 0.95 * np.sin(2 * np.pi * j / 400)
     c = cattaneo_stick_ratio(x)
     tau = -m.tractions(r.F[j]) / (MU * h["p0"])
-    exact = np.sqrt(1 - rr ** 2) - c * np.sqrt(np.clip(1 - (rr / c) ** 2, 0, None))
+    exact = np.sqrt(1 - rr**2) - c * np.sqrt(np.clip(1 - (rr / c) ** 2, 0, None))
     err = np.abs(tau - exact)[inner]
     assert np.median(err) < 1e-3 and err.max() < 0.05  # the largest: at the stick edge
 

@@ -89,8 +89,11 @@ def test_shakedown_general_loads_agrees_with_closed_form():
     node = lcpfric.SingleNode(k11=2.0, f=0.4, P0=3.0, P1=1.2, Q1=0.8, phi=0.7)
     closed = shakedown(*node.normalized_parameters())
     general_node = lcpfric.SingleNode(
-        k11=2.0, f=0.4, normal_load=lcpfric.Fourier(3.0, (1.2, 0.0), (0.0, 0.0)),
-        tangential_load=lcpfric.Fourier(0.0, (0.8, 0.0), (0.7, 0.0)))
+        k11=2.0,
+        f=0.4,
+        normal_load=lcpfric.Fourier(3.0, (1.2, 0.0), (0.0, 0.0)),
+        tangential_load=lcpfric.Fourier(0.0, (0.8, 0.0), (0.7, 0.0)),
+    )
     general = shakedown(general_node)
     assert general.shakedown == closed.shakedown
     assert general.margin == pytest.approx(closed.margin, abs=1e-9)
@@ -116,8 +119,9 @@ def test_zero_amplitudes_give_zero():
     assert exact_W_hat(0.0, 3.0, 0.3) == pytest.approx(4 * (3 - 1) * 3 / 9, rel=1e-12)
 
 
-@pytest.mark.parametrize("P1,Q1,phi", [(0.5, 2.0, 0.6 * np.pi), (1.5, 2.0, 0.6 * np.pi),
-                                       (5.0, 5.0, 0.5 * np.pi)])
+@pytest.mark.parametrize(
+    "P1,Q1,phi", [(0.5, 2.0, 0.6 * np.pi), (1.5, 2.0, 0.6 * np.pi), (5.0, 5.0, 0.5 * np.pi)]
+)
 def test_exact_cycle_satisfies_coulomb_and_energy(P1, Q1, phi):
     cyc = exact_cycle(P1, Q1, phi)
     th = np.linspace(0, 2 * np.pi, 200001)
@@ -148,8 +152,7 @@ def test_scalar_and_vectorized_event_loops_agree():
     n = 3000
     P1 = np.concatenate([rng.uniform(0, 3, n), rng.choice([0.0, 0.5, 1.0, 2.0], 200)])
     Q1 = np.concatenate([rng.uniform(0, 3, n), rng.choice([0.5, 1.0, 2.0], 200)])  # Q̂1 > 0
-    phi = np.concatenate([rng.uniform(0, 2 * np.pi, n),
-                          rng.choice([0.0, np.pi / 2, np.pi], 200)])
+    phi = np.concatenate([rng.uniform(0, 2 * np.pi, n), rng.choice([0.0, np.pi / 2, np.pi], 200)])
     W = run_vectorized(P1, Q1, phi)
     Ws = np.array([run_scalar(p, q, f)[0] for p, q, f in zip(P1, Q1, phi)])
     assert np.max(np.abs(W - Ws) / np.maximum(np.abs(Ws), 1.0)) < 1e-13
@@ -160,8 +163,12 @@ def test_scalar_and_vectorized_event_loops_agree():
 def test_period_pi_in_phi_dense_grid_across_separation_onset():
     # Re-contact with the lower bound's phase in [3π/2, 2π) (P̂1 just above 1, small Q̂1) once
     # escaped the tests: a dense grid across P̂1 = 1 checks the φ + π symmetry there.
-    P1, Q1, phi = np.meshgrid(np.linspace(0.9, 2.0, 45), np.linspace(0.05, 2.0, 40),
-                              np.linspace(0, np.pi, 37), indexing="ij")
+    P1, Q1, phi = np.meshgrid(
+        np.linspace(0.9, 2.0, 45),
+        np.linspace(0.05, 2.0, 40),
+        np.linspace(0, np.pi, 37),
+        indexing="ij",
+    )
     a = exact_W_hat(P1, Q1, phi)
     b = exact_W_hat(P1, Q1, phi + np.pi)
     assert np.max(np.abs(a - b)) < 1e-12

@@ -60,11 +60,14 @@ def test_two_harmonic_loads_accepted_and_converge():
 
 
 def test_single_harmonic_fourier_equals_harmonic():
-    a = SingleNode(normal_load=lcpfric.Fourier(1.0, (1.5,), (0.0,)),
-                   tangential_load=lcpfric.Fourier(0.0, (2.0,), (1.0,)))
+    a = SingleNode(
+        normal_load=lcpfric.Fourier(1.0, (1.5,), (0.0,)),
+        tangential_load=lcpfric.Fourier(0.0, (2.0,), (1.0,)),
+    )
     b = SingleNode.normalized(1.5, 2.0, 1.0)
     assert steady_state(a, "explicit", 1000).W_hat == pytest.approx(
-        steady_state(b, "explicit", 1000).W_hat, rel=1e-12)
+        steady_state(b, "explicit", 1000).W_hat, rel=1e-12
+    )
 
 
 @pytest.mark.parametrize("method", ["exact", "explicit", "projection"])
@@ -86,8 +89,10 @@ def test_dimensional_and_normalized_agree_Q0_k22_irrelevant(method):
     assert rb.W_hat == pytest.approx(rn.W_hat, rel=1e-12)
     assert rb.W == pytest.approx(f * P0 * Q1 * rn.W_hat / k11, rel=1e-12)
     assert base.W_hat(rb.W) == pytest.approx(rb.W_hat, rel=1e-12)
-    for other in (SingleNode(k11=k11, f=f, P0=P0, P1=P1, Q1=Q1, phi=phi, omega=7.0, Q0=55.0),
-                  SingleNode(k11=k11, f=f, P0=P0, P1=P1, Q1=Q1, phi=phi, omega=7.0, k22=1e9)):
+    for other in (
+        SingleNode(k11=k11, f=f, P0=P0, P1=P1, Q1=Q1, phi=phi, omega=7.0, Q0=55.0),
+        SingleNode(k11=k11, f=f, P0=P0, P1=P1, Q1=Q1, phi=phi, omega=7.0, k22=1e9),
+    ):
         assert steady_state(other, method, 2000).W == pytest.approx(rb.W, rel=1e-12)
 
 

@@ -28,8 +28,12 @@ def test_memory_is_the_single_node_jacobian_of_the_cycle():
     slip with respect to the starting one, over a path that sticks, slips and turns."""
     c, b = 0.7, 1.3
     corners = np.array([[0.0, 0.0], [2.0, 0.5], [-2.0, 0.3], [0.5, -0.4]])
-    deltas = np.concatenate([a + np.linspace(0.0, 1.0, 15)[1:, None] * (z - a)
-                             for a, z in zip(corners[:-1], corners[1:])])
+    deltas = np.concatenate(
+        [
+            a + np.linspace(0.0, 1.0, 15)[1:, None] * (z - a)
+            for a, z in zip(corners[:-1], corners[1:])
+        ]
+    )
     s0 = np.array([0.2, -0.1])
     slips, _ = _return_mapping(s0, deltas, c, b)
     assert np.sum(np.hypot(*slips.T) > 0) > 10 and np.sum(np.hypot(*slips.T) == 0) > 3
@@ -42,9 +46,10 @@ def test_memory_is_the_single_node_jacobian_of_the_cycle():
     for k in range(2):
         e = np.zeros(2)
         e[k] = eps
-        J[:, k] = (_return_mapping(s0 + e, deltas, c, b)[1]
-                   - _return_mapping(s0 - e, deltas, c, b)[1]) / (2 * eps)
-    assert np.abs(R[0]).max() > 1e-3                      # something is remembered
+        J[:, k] = (
+            _return_mapping(s0 + e, deltas, c, b)[1] - _return_mapping(s0 - e, deltas, c, b)[1]
+        ) / (2 * eps)
+    assert np.abs(R[0]).max() > 1e-3  # something is remembered
     assert R[0] == pytest.approx(J, abs=1e-7)
 
 
@@ -65,7 +70,7 @@ def test_memory_step_is_a_floored_newton_step():
     assert step[0] == pytest.approx(f[:2])
     assert step[1] == pytest.approx([1.0, 1.0 / (1.0 - r)])
     assert step[2] == pytest.approx([3.0, -4.0])
-    R[1] = np.diag([0.0, 1.0 - 1e-6])                       # nearly all remembered
+    R[1] = np.diag([0.0, 1.0 - 1e-6])  # nearly all remembered
     assert mem.step(R, f).reshape(3, 2)[1] == pytest.approx([1.0, MAX_GAIN])
 
 
@@ -76,23 +81,24 @@ def test_memory_cuts_the_cycles_to_the_same_steady_state(monkeypatch):
     plain cycles still change by more than 1e-9 after 40, towards the same W."""
     from lcpfric.periodic import acceleration
 
-    class Plain:                    # no Anderson: the memory's own effect
+    class Plain:  # no Anderson: the memory's own effect
         def __call__(self, x, g):
             return None
 
     monkeypatch.setattr(acceleration, "Anderson", Plain)
     m = sphere(Q1=0.3, grid=16, nu=0.3, dims=2)
     r1 = lcpfric.steady_state(m, steps_per_cycle=40, max_cycles=40)
-    r0 = lcpfric.steady_state(m, "newton-cg", 40, max_cycles=40, on_nonconvergence="ignore",
-                              slip_memory=False)
+    r0 = lcpfric.steady_state(
+        m, "newton-cg", 40, max_cycles=40, on_nonconvergence="ignore", slip_memory=False
+    )
     assert r1.converged and r1.cycles <= 20
     assert r1.changes.size == r1.cycles - 1 and r1.changes[-1] == r1.change
-    assert not r0.converged and r0.change > 1e-9              # still far from repeating
-    assert r1.W == pytest.approx(r0.W, rel=1e-9)               # toward the same W
+    assert not r0.converged and r0.change > 1e-9  # still far from repeating
+    assert r1.W == pytest.approx(r0.W, rel=1e-9)  # toward the same W
     from lcpfric.steppers.newton_cg import NewtonCGStepper
 
     d1 = lcpfric.make_scene(sphere(grid=16), 8)
-    assert NewtonCGStepper().memory(d1) is None               # d = 1 forgets by slipping
+    assert NewtonCGStepper().memory(d1) is None  # d = 1 forgets by slipping
 
 
 def _d2_chain(n, coupling):
@@ -100,17 +106,32 @@ def _d2_chain(n, coupling):
 
     import lcpfric
 
-    return lcpfric.chain(n, k_coupling=coupling, dims=2, P1=0.5,
-                         Q1=[[1.2, 0.9], [1.0, 1.1], [0.8, 1.3]][:n],
-                         phi=[[0.6 * math.pi, 0.1 * math.pi], [0.3, 1.2], [2.0, 0.4]][:n])
+    return lcpfric.chain(
+        n,
+        k_coupling=coupling,
+        dims=2,
+        P1=0.5,
+        Q1=[[1.2, 0.9], [1.0, 1.1], [0.8, 1.3]][:n],
+        phi=[[0.6 * math.pi, 0.1 * math.pi], [0.3, 1.2], [2.0, 0.4]][:n],
+    )
 
 
-@pytest.mark.parametrize("n, coupling, method, most", [
-    (1, 0.0, "projection", 6),          # uncoupled: the memory is the cycle map's Jacobian
-    pytest.param(3, 10.0, "clarabel", 10, marks=pytest.mark.skipif(
-        __import__("importlib").util.find_spec("clarabel") is None,
-        reason="clarabel is not installed (pip install lcpfric[clarabel])")),
-])
+@pytest.mark.parametrize(
+    "n, coupling, method, most",
+    [
+        (1, 0.0, "projection", 6),  # uncoupled: the memory is the cycle map's Jacobian
+        pytest.param(
+            3,
+            10.0,
+            "clarabel",
+            10,
+            marks=pytest.mark.skipif(
+                __import__("importlib").util.find_spec("clarabel") is None,
+                reason="clarabel is not installed (pip install lcpfric[clarabel])",
+            ),
+        ),
+    ],
+)
 @pytest.mark.slow
 def test_discrete_d2_driver_uses_the_memory(monkeypatch, n, coupling, method, most):
     """The discrete driver with d = 2: the same steady state (W to 1e-9) as with Aitken's
@@ -120,8 +141,11 @@ def test_discrete_d2_driver_uses_the_memory(monkeypatch, n, coupling, method, mo
     from lcpfric.periodic import acceleration, driver
 
     fast = lcpfric.steady_state(_d2_chain(n, coupling), method, 200, tol=1e-10)
-    monkeypatch.setattr(driver, "choose", lambda scene, stepper, history, start:
-                        acceleration.Acceleration(aitken=True, first=start))
+    monkeypatch.setattr(
+        driver,
+        "choose",
+        lambda scene, stepper, history, start: acceleration.Acceleration(aitken=True, first=start),
+    )
     slow = lcpfric.steady_state(_d2_chain(n, coupling), method, 200, tol=1e-10)
     assert fast.converged and slow.converged
     assert fast.W == pytest.approx(slow.W, rel=1e-9)

@@ -12,11 +12,19 @@ from lcpfric.model import chain
 from support import need
 from support import fitted_order
 
+
 def coupled_chain():
     """3 nodes, coupling 10, separation: once per cycle a slipping node stops inside a step
     when its neighbour starts to slip (the case one projection per step gets wrong by O(h))."""
-    return chain(3, k_coupling=10.0, P1=1.5, Q1=np.linspace(1.5, 2.5, 3), phi=0.6 * np.pi,
-                 normal_phase=np.linspace(0.0, 1.0, 3))
+    return chain(
+        3,
+        k_coupling=10.0,
+        P1=1.5,
+        Q1=np.linspace(1.5, 2.5, 3),
+        phi=0.6 * np.pi,
+        normal_phase=np.linspace(0.0, 1.0, 3),
+    )
+
 
 @pytest.mark.parametrize("method", ["osqp", "clarabel"])
 def test_split_increments_reproduce_the_explicit_stepper(method):
@@ -30,6 +38,7 @@ def test_split_increments_reproduce_the_explicit_stepper(method):
     single = steady_state(scene, method, tol=1e-12, locate_events=False)
     assert single.solver_stats["events"] == 0
     assert abs(single.W - ref) > 1e-5 * ref
+
 
 def test_convex_order_on_a_coupled_chain():
     """Judged against the exact steady state (lcpfric.exact.discrete), not another grid."""

@@ -30,15 +30,19 @@ PINNED = [
     (1e6, 1e-14, 1.0, 1.4161468365457263e-14, 6.460946812756944e-29),
     (1e20, 1e-20, 0.7, 8.300328570997589e-21, 7.00204147100053e-35),
     (1.5, 1e-12, 2.5, 3.979654525207844e-13, 9.463287187590903e-27),
-    (1.0 + 2 ** -40, 1e-9, 4.0, 2.084821851194038e-21, 8.141553121934722e-24),
+    (1.0 + 2**-40, 1e-9, 4.0, 2.084821851194038e-21, 8.141553121934722e-24),
     (1e3, 1e-3, 1e-9, 1.9999960000040004e-21, 1.4210851537019477e-26),
     (2.0, 1e-10, math.pi - 1e-9, 1.500000615690216e-28, 3.3306882464395875e-33),
     (3.0, 1e-5, -1e-9, 1.7777837037234592e-23, 1.2631935403118898e-28),
     # Q̂1 ≫ P̂1: the sticks at the extrema last ~Q̂1^(-1/2) rad (the arcsine form gave 2, not 4)
-    (9.644481167533153e-06, 9.023532051937398e16, 3.7694813205813698, 4.0,
-     1.5720155550870023e-31),
-    (205493614610.63177, 1.654511916488313e31, 2.249505008275555, 271698559649.17606,
-     0.0009683900342531049),
+    (9.644481167533153e-06, 9.023532051937398e16, 3.7694813205813698, 4.0, 1.5720155550870023e-31),
+    (
+        205493614610.63177,
+        1.654511916488313e31,
+        2.249505008275555,
+        271698559649.17606,
+        0.0009683900342531049,
+    ),
     (0.5, 1e20, 1.0, 4.0, 1.547016352579145e-34),
     (1e-20, 1e20, 0.7, 4.0, 1.4417920000000051e-34),
     # Q̂1 = P̂1 with φ small: a bound that barely moves while L and Q̂ change by 1
@@ -46,12 +50,21 @@ PINNED = [
     (1e6, 1e6, 1e-9, 1.000000000165917e-12, 7.105439979962276e-18),
     (4.125, 4.75, 0.0, 0.4484101579172002, 1.3771334188058262e-14),
     # P̂1 next to 1, Q̂1 small: L within Q̂1² of zero (ill-conditioned: within the spread)
-    (1.0, 4.995817424462735e-10, 5.154704858848491, 1.663671369003528e-28,
-     5.829716568567585e-24),
-    (1.0000000000032472, 0.0005504811217151728, 6.2239817393421, 4.1180540820270775e-15,
-     2.849115043903456e-20),
-    (0.9999999999999999, 0.04721990970604753, 3.1116368684444233, 1.8217383145555677e-10,
-     6.665428930594853e-19),
+    (1.0, 4.995817424462735e-10, 5.154704858848491, 1.663671369003528e-28, 5.829716568567585e-24),
+    (
+        1.0000000000032472,
+        0.0005504811217151728,
+        6.2239817393421,
+        4.1180540820270775e-15,
+        2.849115043903456e-20,
+    ),
+    (
+        0.9999999999999999,
+        0.04721990970604753,
+        3.1116368684444233,
+        1.8217383145555677e-10,
+        6.665428930594853e-19,
+    ),
     # φ far from [0, 2π): sin and cos of the given double, exactly reduced
     (3.0, 1e-5, 1e300, 1.1892092159217854e-05, 0.0),
     # a zero régime exactly (φ = 0, Q̂1 < P̂1 with separation)
@@ -79,8 +92,10 @@ def test_pinned_extremes_scalar_and_vectorized(P1, Q1, phi, ref, spread):
         assert abs(scalar - ref) <= 1e-9 * ref
 
 
-@pytest.mark.parametrize("P1,Q1,phi,ref", [(1e8, 1e-8, 1.0, 1.4161468365471422e-08),
-                                           (2.0, 1e-15, 1.0, 1.0621101274103568e-15)])
+@pytest.mark.parametrize(
+    "P1,Q1,phi,ref",
+    [(1e8, 1e-8, 1.0, 1.4161468365471422e-08), (2.0, 1e-15, 1.0, 1.0621101274103568e-15)],
+)
 def test_issue_examples_through_every_entry(P1, Q1, phi, ref):
     # exact_W_hat, steady_state(..., "exact"), exact_cycle and sweep returned exactly 0 here
     assert exact_W_hat(P1, Q1, phi) == pytest.approx(ref, rel=1e-9)
@@ -104,7 +119,7 @@ def test_small_Q1_asymptote():
     g = np.sqrt(P1 - 1) * np.sqrt(P1 + 1)
     Q1 = g * 10.0 ** rng.uniform(-20, -6, 400)
     phi = rng.uniform(0, 2 * np.pi, 400)
-    asym = 2 * Q1 * np.sin(phi) ** 2 * (1 - 1 / P1 ** 2)
+    asym = 2 * Q1 * np.sin(phi) ** 2 * (1 - 1 / P1**2)
     bound = 2.0 * Q1 / g + 1e-12
     vec = exact_W_hat(P1, Q1, phi)
     assert np.all(np.abs(vec / asym - 1) <= bound)
@@ -115,7 +130,7 @@ def test_small_Q1_asymptote():
 def test_large_Q1_against_eq_11_and_the_limit_4():
     for P1 in (0.0, 0.5, 0.99):
         for k in range(3, 21):
-            Q1 = 10.0 ** k
+            Q1 = 10.0**k
             assert exact_W_hat(P1, Q1, 0.0) == pytest.approx(jang_barber(P1, Q1), rel=1e-12)
             for phi in (0.3, 1.0, np.pi / 2, 2.5):
                 # |Ŵ - 4| = O(1/Q̂1) for any φ when P̂1 < 1
@@ -126,8 +141,9 @@ def test_vectorized_and_scalar_agree_over_the_extreme_range():
     rng = np.random.default_rng(11)
     n = 3000
     P1 = 10.0 ** rng.uniform(-20, 20, n)
-    Q1 = np.where(rng.random(n) < 0.5, 10.0 ** rng.uniform(-20, 20, n),
-                  P1 * 10.0 ** rng.uniform(-20, 20, n))
+    Q1 = np.where(
+        rng.random(n) < 0.5, 10.0 ** rng.uniform(-20, 20, n), P1 * 10.0 ** rng.uniform(-20, 20, n)
+    )
     Q1 = np.clip(Q1, 0, 1e300)
     phi = rng.uniform(-10, 10, n)
     vec = exact_W_hat(P1, Q1, phi)
@@ -146,11 +162,12 @@ def test_period_pi_at_extreme_ratios():
 def test_zero_regimes_are_exactly_zero():
     P1 = np.linspace(1.0, 50.0, 99)
     assert np.all(exact_W_hat(P1, 0.999 * P1, 0.0) == 0.0)  # φ = 0, Q̂1 < P̂1 (Eq. 12)
-    assert exact_W_hat(0.5, 0.3, 1.0) == 0.0                 # shakedown
-    assert exact_W_hat(2.0, 0.0, 1.0) == 0.0                 # Q̂1 = 0 (the limit)
+    assert exact_W_hat(0.5, 0.3, 1.0) == 0.0  # shakedown
+    assert exact_W_hat(2.0, 0.0, 1.0) == 0.0  # Q̂1 = 0 (the limit)
 
 
 # -- against the mpmath reference itself, when mpmath is installed ------------------------------
+
 
 def _audit(points, reference_W_hat, input_spread):
     worst = 0.0
@@ -179,8 +196,9 @@ def test_random_audit_against_mpmath_quick():
     from support.exact_reference import draw
     from support.exact_reference import input_spread, reference_W_hat
 
-    worst = _audit([tuple(map(float, p)) for p in draw(180, seed=123)], reference_W_hat,
-                   input_spread)
+    worst = _audit(
+        [tuple(map(float, p)) for p in draw(180, seed=123)], reference_W_hat, input_spread
+    )
     assert worst <= 1e-9
 
 
@@ -190,8 +208,9 @@ def test_random_audit_against_mpmath():
     from support.exact_reference import draw
     from support.exact_reference import input_spread, reference_W_hat
 
-    worst = _audit([tuple(map(float, p)) for p in draw(2700, seed=7)], reference_W_hat,
-                   input_spread)
+    worst = _audit(
+        [tuple(map(float, p)) for p in draw(2700, seed=7)], reference_W_hat, input_spread
+    )
     assert worst <= 1e-9
 
 

@@ -14,10 +14,21 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def run(name, *args, tmp_path):
-    env = dict(os.environ, LCPFRIC_EXAMPLE_STEPS="500", LCPFRIC_EXAMPLE_POINTS="40", MPLBACKEND="Agg",
-               PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]))
-    proc = subprocess.run([sys.executable, str(ROOT / "examples" / name), *args],
-                          capture_output=True, text=True, env=env, cwd=tmp_path, timeout=120)
+    env = dict(
+        os.environ,
+        LCPFRIC_EXAMPLE_STEPS="500",
+        LCPFRIC_EXAMPLE_POINTS="40",
+        MPLBACKEND="Agg",
+        PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]),
+    )
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "examples" / name), *args],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=tmp_path,
+        timeout=120,
+    )
     assert proc.returncode == 0, proc.stderr
     return proc.stdout
 
@@ -27,8 +38,9 @@ def test_motor(tmp_path):
     need_modules("matplotlib")
     out = run("motor.py", "--out", str(tmp_path), tmp_path=tmp_path)
     assert (tmp_path / "fig9_motor.png").stat().st_size > 0
-    a, b = map(float, re.search(r"gives W = ([\d.]+) mJ; Motor.dissipation gives ([\d.]+)",
-                                out).groups())
+    a, b = map(
+        float, re.search(r"gives W = ([\d.]+) mJ; Motor.dissipation gives ([\d.]+)", out).groups()
+    )
     assert a == pytest.approx(b, rel=1e-9)
 
 
@@ -52,18 +64,26 @@ def test_hertz_sphere(tmp_path):
     need_modules("matplotlib")
     out = run("hertz_sphere.py", tmp_path=tmp_path)
     diff = float(re.search(r"relative difference ([\d.e+-]+)\)", out).group(1))
-    assert abs(diff) < 1e-3                      # Mindlin-Deresiewicz at constant P
+    assert abs(diff) < 1e-3  # Mindlin-Deresiewicz at constant P
     assert len(re.findall(r"largest at φ ≈ 0\.[4-6]\dπ", out)) == 3
 
 
 def test_halfspace_contact(tmp_path):
     need_modules("matplotlib")
     env_grid = {"LCPFRIC_EXAMPLE_GRID": "12"}
-    proc = subprocess.run([sys.executable, str(ROOT / "examples" / "halfspace_contact.py")],
-                          capture_output=True, text=True, cwd=tmp_path, timeout=120,
-                          env=dict(os.environ, MPLBACKEND="Agg", **env_grid,
-                                   PYTHONPATH=os.pathsep.join(
-                                       [str(ROOT), os.environ.get("PYTHONPATH", "")])))
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "examples" / "halfspace_contact.py")],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+        env=dict(
+            os.environ,
+            MPLBACKEND="Agg",
+            **env_grid,
+            PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]),
+        ),
+    )
     assert proc.returncode == 0, proc.stderr
     assert re.search(r"W k_t0/\(μ² P0²\) = 0\.\d+", proc.stdout)
-    assert not list(tmp_path.iterdir())          # nothing written: the figure is shown
+    assert not list(tmp_path.iterdir())  # nothing written: the figure is shown

@@ -23,18 +23,43 @@ from lcpfric._optional import MissingExtra  # noqa: E402
 from lcpfric.errors import InputError  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-NAMES = ("fig3_map_phi0", "fig4_maps", "fig5_phase_P1_0.5", "fig6_phase_P1_Q1_5",
-         "fig7_phase_P1_1.5", "fig9_motor")
+NAMES = (
+    "fig3_map_phi0",
+    "fig4_maps",
+    "fig5_phase_P1_0.5",
+    "fig6_phase_P1_Q1_5",
+    "fig7_phase_P1_1.5",
+    "fig9_motor",
+)
 
 
 @pytest.mark.slow
 def test_figures_command_fresh_process(tmp_path):
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH",
-                                                                                   "")]))
+    env = dict(
+        os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])
+    )
     out = tmp_path / "figs"
-    run = subprocess.run([sys.executable, "-m", "lcpfric", "figures", "--out", str(out),
-                          "--grid", "21", "--points", "41", "--format", "png,pdf", "--json"],
-                         capture_output=True, text=True, env=env, timeout=120)
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "lcpfric",
+            "figures",
+            "--out",
+            str(out),
+            "--grid",
+            "21",
+            "--points",
+            "41",
+            "--format",
+            "png,pdf",
+            "--json",
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=120,
+    )
     assert run.returncode == 0, run.stderr
     files = {Path(p).name for p in json.loads(run.stdout)["files"]}
     assert files == {f"{n}.{ext}" for n in NAMES for ext in ("png", "pdf")}
@@ -110,13 +135,18 @@ def test_bad_inputs(tmp_path):
 
 def test_missing_matplotlib_names_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "matplotlib", None)
-    with pytest.raises(MissingExtra, match=r'lcpfric\[plot\]'):
+    with pytest.raises(MissingExtra, match=r"lcpfric\[plot\]"):
         figures._figure()
 
 
 # -- print quality ---------------------------------------------------------------------------------
-COLUMN = {"fig3_map_phi0", "fig5_phase_P1_0.5", "fig6_phase_P1_Q1_5", "fig7_phase_P1_1.5",
-          "fig9_motor"}
+COLUMN = {
+    "fig3_map_phi0",
+    "fig5_phase_P1_0.5",
+    "fig6_phase_P1_Q1_5",
+    "fig7_phase_P1_1.5",
+    "fig9_motor",
+}
 POINTS = 41
 
 
@@ -124,8 +154,9 @@ POINTS = 41
 def written(tmp_path_factory):
     out = tmp_path_factory.mktemp("figures")
     messages = []
-    paths = figures.write_figures(out, grid=11, points=POINTS, formats=("png", "pdf"),
-                                  progress=messages.append)
+    paths = figures.write_figures(
+        out, grid=11, points=POINTS, formats=("png", "pdf"), progress=messages.append
+    )
     return out, paths, messages
 
 
@@ -147,9 +178,9 @@ def _png_dpi(path):
     data = Path(path).read_bytes()
     pos = 8
     while pos < len(data):
-        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        length, kind = struct.unpack(">I4s", data[pos : pos + 8])
         if kind == b"pHYs":
-            x, y, unit = struct.unpack(">IIB", data[pos + 8:pos + 17])
+            x, y, unit = struct.unpack(">IIB", data[pos + 8 : pos + 17])
             assert unit == 1  # pixels per metre
             return round(x * 0.0254, 1), round(y * 0.0254, 1)  # 300 dpi: 11811 px/m
         pos += 12 + length
@@ -162,8 +193,11 @@ def _png_size(path):
 
 
 def _curves(ax):
-    return [line for line in ax.lines
-            if not line.get_label().startswith("_") and len(line.get_xdata()) > 2]
+    return [
+        line
+        for line in ax.lines
+        if not line.get_label().startswith("_") and len(line.get_xdata()) > 2
+    ]
 
 
 @pytest.mark.slow
@@ -189,8 +223,15 @@ def test_pdfs_embed_truetype_not_type3(written):
 def test_type42_whatever_the_callers_rcparams(maps, tmp_path):
     import matplotlib
 
-    with matplotlib.rc_context({"pdf.fonttype": 3, "font.size": 4, "xtick.labelsize": 4,
-                                "legend.fontsize": 4, "savefig.dpi": 72}):
+    with matplotlib.rc_context(
+        {
+            "pdf.fonttype": 3,
+            "font.size": 4,
+            "xtick.labelsize": 4,
+            "legend.fontsize": 4,
+            "savefig.dpi": 72,
+        }
+    ):
         fig = figures.figure_phase(1.5, (1.0, 2.0), points=21)
         fig.savefig(tmp_path / "user.pdf")
         fig.savefig(tmp_path / "user.png")
@@ -228,8 +269,11 @@ def test_no_text_below_7pt(built):
     for name, fig in built.items():
         _renderer(fig)
         texts = _texts(fig)
-        small = [(t.get_text(), t.get_fontsize()) for t in texts
-                 if t.get_fontsize() < figures.MIN_FONT_SIZE]
+        small = [
+            (t.get_text(), t.get_fontsize())
+            for t in texts
+            if t.get_fontsize() < figures.MIN_FONT_SIZE
+        ]
         assert not small, f"{name}: {small}"
         kinds = {type(t).__name__ for t in texts}
         assert "Text" in kinds, name
@@ -277,7 +321,7 @@ def test_every_mark_is_explained(built):
         text = _legend_texts(built[name])
         assert "maximum" in text and "φ = π/2" in text, name
         if name != "fig6_phase_P1_Q1_5":
-            for q in (figures.FIG5_Q1 if "0.5" in name else figures.FIG7_Q1):
+            for q in figures.FIG5_Q1 if "0.5" in name else figures.FIG7_Q1:
                 assert rf"$\hat Q_1 = {q:g}$" in text
     text = _legend_texts(built["fig9_motor"])
     assert "shakedown speed" in text and "separation" in text
@@ -292,8 +336,9 @@ def test_legends_and_annotations_stay_off_the_data(built):
         renderer = _renderer(fig)
         data_axes = [ax for ax in fig.axes if ax.get_label() != "<colorbar>" and ax.get_visible()]
         boxes = [leg.get_window_extent(renderer) for leg in fig.legends]
-        boxes += [ax.get_legend().get_window_extent(renderer) for ax in data_axes
-                  if ax.get_legend()]
+        boxes += [
+            ax.get_legend().get_window_extent(renderer) for ax in data_axes if ax.get_legend()
+        ]
         if name.startswith("fig3") or name.startswith("fig4"):  # maps: data fill the axes
             for box in boxes:
                 for ax in data_axes:
@@ -305,11 +350,20 @@ def test_legends_and_annotations_stay_off_the_data(built):
             for line in ax.lines:
                 xy = line.get_transform().transform(line.get_xydata())
                 frame = ax.get_window_extent(renderer)  # only the points drawn (not clipped)
-                xy = xy[np.isfinite(xy).all(axis=1) & (xy[:, 0] >= frame.x0)
-                        & (xy[:, 0] <= frame.x1) & (xy[:, 1] >= frame.y0) & (xy[:, 1] <= frame.y1)]
+                xy = xy[
+                    np.isfinite(xy).all(axis=1)
+                    & (xy[:, 0] >= frame.x0)
+                    & (xy[:, 0] <= frame.x1)
+                    & (xy[:, 1] >= frame.y0)
+                    & (xy[:, 1] <= frame.y1)
+                ]
                 for box in boxes:
-                    inside = ((xy[:, 0] > box.x0) & (xy[:, 0] < box.x1) & (xy[:, 1] > box.y0)
-                              & (xy[:, 1] < box.y1))
+                    inside = (
+                        (xy[:, 0] > box.x0)
+                        & (xy[:, 0] < box.x1)
+                        & (xy[:, 1] > box.y0)
+                        & (xy[:, 1] < box.y1)
+                    )
                     assert not inside.any(), f"{name}: {line.get_label()} crosses a legend/text"
 
 

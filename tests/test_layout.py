@@ -14,8 +14,14 @@ MAX_LINES = 450
 
 #: the rooms in the order of the data flow: a module may import its own room and those before
 RANKS = (
-    ("lcpfric.errors", "lcpfric._checks", "lcpfric._optional", "lcpfric.memory",
-     "lcpfric.methods", "lcpfric.linalg"),
+    (
+        "lcpfric.errors",
+        "lcpfric._checks",
+        "lcpfric._optional",
+        "lcpfric.memory",
+        "lcpfric.methods",
+        "lcpfric.linalg",
+    ),
     ("lcpfric.model", "lcpfric.results"),
     ("lcpfric.scene", "lcpfric.periodic.measure"),
     ("lcpfric.steppers", "lcpfric.backends", "lcpfric.exact"),
@@ -56,7 +62,7 @@ def _resolve(module: str, level: int, name: str, is_package: bool) -> str:
     base = name.split(".")
     if not is_package:
         base = base[:-1]
-    base = base[:len(base) - (level - 1)]
+    base = base[: len(base) - (level - 1)]
     return ".".join(base + ([module] if module else []))
 
 
@@ -82,13 +88,17 @@ def _imports(name: str, path: Path):
                     yield alias.name, None, node.lineno
 
 
-EDGES = {name: {(t, n, line) for t, n, line in _imports(name, path)}
-         for name, path in MODULES.items()}
+EDGES = {
+    name: {(t, n, line) for t, n, line in _imports(name, path)} for name, path in MODULES.items()
+}
 
 
 def test_no_module_is_longer_than_the_limit():
-    long = {name: n for name, path in MODULES.items()
-            if (n := len(path.read_text().splitlines())) > MAX_LINES}
+    long = {
+        name: n
+        for name, path in MODULES.items()
+        if (n := len(path.read_text().splitlines())) > MAX_LINES
+    }
     assert not long, f"modules above {MAX_LINES} lines: {long}"
 
 
@@ -111,10 +121,16 @@ def test_every_import_goes_down_the_rooms():
 def test_no_import_circle():
     """Tarjan's strongly connected components of the import graph (imports inside functions
     included; a package's re-exports of its own children are not edges back)."""
-    graph = {name: {t for t, _, _ in edges if t in MODULES and t != name
-                    and not (name.startswith(t + ".") and t in MODULES
-                             and MODULES[t].name == "__init__.py")}
-             for name, edges in EDGES.items()}
+    graph = {
+        name: {
+            t
+            for t, _, _ in edges
+            if t in MODULES
+            and t != name
+            and not (name.startswith(t + ".") and t in MODULES and MODULES[t].name == "__init__.py")
+        }
+        for name, edges in EDGES.items()
+    }
     index, low, stack, on, circles = {}, {}, [], set(), []
     counter = [0]
 
@@ -149,7 +165,7 @@ def test_no_import_circle():
 def _private_uses(name: str, path: Path):
     """Private names of other modules this module imports or reaches by attribute."""
     tree = ast.parse(path.read_text())
-    imported = {}                  # local name -> the module it came from
+    imported = {}  # local name -> the module it came from
     out = []
     for target, alias, line in EDGES[name]:
         if target == name:
@@ -162,9 +178,13 @@ def _private_uses(name: str, path: Path):
         if isinstance(node, ast.ImportFrom):
             for a in node.names:
                 imported.setdefault(a.asname or a.name, "")
-        if (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
-                and node.attr.startswith("_") and not node.attr.startswith("__")
-                and imported.get(node.value.id)):
+        if (
+            isinstance(node, ast.Attribute)
+            and isinstance(node.value, ast.Name)
+            and node.attr.startswith("_")
+            and not node.attr.startswith("__")
+            and imported.get(node.value.id)
+        ):
             out.append(f"{name}:{node.lineno} uses {node.value.id}.{node.attr}")
     return out
 
@@ -174,11 +194,15 @@ def test_no_module_reaches_into_another_ones_private_names():
     assert not found, "private names used across modules:\n" + "\n".join(found)
 
 
-@pytest.mark.parametrize("room", ["model", "scene", "steppers", "backends", "exact", "periodic",
-                                  "results", "methods"])
+@pytest.mark.parametrize(
+    "room", ["model", "scene", "steppers", "backends", "exact", "periodic", "results", "methods"]
+)
 def test_the_early_rooms_import_no_figures_or_cli(room):
     for name in MODULES:
         if name == f"lcpfric.{room}" or name.startswith(f"lcpfric.{room}."):
-            bad = [t for t, _, _ in EDGES[name]
-                   if t.startswith(("lcpfric.figures", "lcpfric.cli", "lcpfric.paper"))]
+            bad = [
+                t
+                for t, _, _ in EDGES[name]
+                if t.startswith(("lcpfric.figures", "lcpfric.cli", "lcpfric.paper"))
+            ]
             assert not bad, f"{name} imports {bad}"

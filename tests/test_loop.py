@@ -16,8 +16,15 @@ from support import need_modules, CASES
 
 @pytest.mark.parametrize("case", ["separation", "contact-phase", "large"])
 def test_area_of_the_exact_loop_is_W(case):
-    node = SingleNode(k11=3e4, f=0.35, P0=120.0, P1=120.0 * CASES[case][0],
-                      Q1=0.35 * 120.0 * CASES[case][1], phi=CASES[case][2], omega=7.0)
+    node = SingleNode(
+        k11=3e4,
+        f=0.35,
+        P0=120.0,
+        P1=120.0 * CASES[case][0],
+        Q1=0.35 * 120.0 * CASES[case][1],
+        phi=CASES[case][2],
+        omega=7.0,
+    )
     errors = []
     for samples in (1000, 4000):
         r = steady_state(node, "exact", samples)
@@ -54,15 +61,33 @@ def test_loops_of_a_system_add_up_to_W():
 def test_loop_command(tmp_path, capsys):
     need_modules("matplotlib")
     out = tmp_path / "loop.pdf"
-    assert main(["loop", "--P1", "1.5", "--Q1", "2", "--phi", "0.6pi", "--out", str(out),
-                 "--json"]) == 0
+    assert (
+        main(["loop", "--P1", "1.5", "--Q1", "2", "--phi", "0.6pi", "--out", str(out), "--json"])
+        == 0
+    )
     res = json.loads(capsys.readouterr().out)
     assert res["area"] == pytest.approx(res["W"], rel=1e-5) and out.stat().st_size > 0
     assert b"/Type3" not in out.read_bytes()  # TrueType fonts, like every figure
     assert set(res["shares"]) == {"stick", "forward slip", "backward slip", "separation"}
     assert main(["loop", "--P1", "1.5", "--Q1", "2", "--out", str(tmp_path / "x.txt")]) == 2
     assert "--out" in capsys.readouterr().err
-    assert main(["loop", "--P1", "1.5", "--Q1", "2", "--phi", "-0.5pi", "--method",
-                 "projection", "--steps", "400"]) == 0
+    assert (
+        main(
+            [
+                "loop",
+                "--P1",
+                "1.5",
+                "--Q1",
+                "2",
+                "--phi",
+                "-0.5pi",
+                "--method",
+                "projection",
+                "--steps",
+                "400",
+            ]
+        )
+        == 0
+    )
     assert "enclosed area" in capsys.readouterr().out
     assert not np.isnan(res["W_hat"])

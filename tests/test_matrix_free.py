@@ -31,8 +31,10 @@ def loads(n, seed=0, sep=True):
     rng = np.random.default_rng(seed)
     P1 = rng.uniform(1.2, 2.0, n) if sep else rng.uniform(0.1, 0.8, n)
     Q1, phi = rng.uniform(0.5, 2.0, n), rng.uniform(0, 2 * np.pi, n)
-    return (tuple(Harmonic(0.0, Q1[i], phi[i]) for i in range(n)),
-            IndependentSprings(tuple(Harmonic(1.0, P1[i]) for i in range(n))))
+    return (
+        tuple(Harmonic(0.0, Q1[i], phi[i]) for i in range(n)),
+        IndependentSprings(tuple(Harmonic(1.0, P1[i]) for i in range(n))),
+    )
 
 
 def pair(n=30, sep=True, seed=0):
@@ -71,10 +73,12 @@ def test_small_matrix_free_with_convex_backends_and_start():
     b = lcpfric.steady_state(dense, "osqp", 150, tol=1e-12)
     assert a.W == pytest.approx(b.W, rel=1e-10)
     u0 = np.linspace(-0.3, 0.4, 12)
-    a = lcpfric.steady_state(free, "active-set", 150, tol=1e-12, u0=u0, max_cycles=1,
-                             on_nonconvergence="ignore")
-    b = lcpfric.steady_state(dense, "active-set", 150, tol=1e-12, u0=u0, max_cycles=1,
-                             on_nonconvergence="ignore")
+    a = lcpfric.steady_state(
+        free, "active-set", 150, tol=1e-12, u0=u0, max_cycles=1, on_nonconvergence="ignore"
+    )
+    b = lcpfric.steady_state(
+        dense, "active-set", 150, tol=1e-12, u0=u0, max_cycles=1, on_nonconvergence="ignore"
+    )
     assert a.W == pytest.approx(b.W, rel=1e-10)
     np.testing.assert_allclose(free.stiffness_times(u0), dense.stiffness @ u0, atol=1e-12)
 
@@ -103,10 +107,12 @@ def test_matrix_free_errors():
     assert err.value.status == "cg_max_iter"
     # d = 2 matrix-free: refused by name
     rng = np.random.default_rng(1)
-    Q2 = tuple(Harmonic(0.0, q, p) for q, p in zip(rng.uniform(0.5, 2, 2 * n),
-                                                    rng.uniform(0, 6, 2 * n)))
-    d2 = ContactSystem(None, np.ones(n), Q2, normal, dims=2,
-                       compliance=aslinearoperator(np.eye(2 * n)))
+    Q2 = tuple(
+        Harmonic(0.0, q, p) for q, p in zip(rng.uniform(0.5, 2, 2 * n), rng.uniform(0, 6, 2 * n))
+    )
+    d2 = ContactSystem(
+        None, np.ones(n), Q2, normal, dims=2, compliance=aslinearoperator(np.eye(2 * n))
+    )
     with pytest.raises(InputError, match="d = 1 only"):
         lcpfric.steady_state(d2, "active-set", 50)
 
@@ -118,8 +124,13 @@ def test_large_matrix_free_refused_by_matrix_methods():
     n = 2001
     c = kernel(n)
     normal = IndependentSprings(tuple(Harmonic(1.0, 0.5) for _ in range(n)))
-    free = ContactSystem(None, np.ones(n), tuple(Harmonic(0.0, 1.0) for _ in range(n)), normal,
-                         compliance=fft_operator(c))
+    free = ContactSystem(
+        None,
+        np.ones(n),
+        tuple(Harmonic(0.0, 1.0) for _ in range(n)),
+        normal,
+        compliance=fft_operator(c),
+    )
     for method in ("explicit", "osqp"):
         with pytest.raises(InputError, match="active-set"):
             lcpfric.steady_state(free, method, 20)

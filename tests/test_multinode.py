@@ -17,9 +17,15 @@ CONVEX = ("clarabel", "osqp", "qpsolvers:proxqp")
 
 def make_chain(n, separation, dims=1):
     """A chain whose nodes are loaded out of phase; P̂1 = 1.5 separates every node in turn."""
-    return chain(n, k_coupling=0.5, P1=1.5 if separation else 0.5,
-                 Q1=np.linspace(1.5, 2.5, n), phi=0.6 * np.pi,
-                 normal_phase=np.linspace(0.0, 1.0, n), dims=dims)
+    return chain(
+        n,
+        k_coupling=0.5,
+        P1=1.5 if separation else 0.5,
+        Q1=np.linspace(1.5, 2.5, n),
+        phi=0.6 * np.pi,
+        normal_phase=np.linspace(0.0, 1.0, n),
+        dims=dims,
+    )
 
 
 def run_all(system, steps, methods):
@@ -32,9 +38,14 @@ def run_all(system, steps, methods):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("n, steps", [pytest.param(2, 200, id="n=2"),
-                                      pytest.param(10, 400, id="n=10", marks=pytest.mark.slow),
-                                      pytest.param(100, 100, id="n=100", marks=pytest.mark.slow)])
+@pytest.mark.parametrize(
+    "n, steps",
+    [
+        pytest.param(2, 200, id="n=2"),
+        pytest.param(10, 400, id="n=10", marks=pytest.mark.slow),
+        pytest.param(100, 100, id="n=100", marks=pytest.mark.slow),
+    ],
+)
 @pytest.mark.parametrize("separation", [False, True], ids=["contact", "separation"])
 def test_chain_methods_agree(n, steps, separation):
     methods = ("explicit",) + CONVEX + (("cvxpy:CLARABEL",) if n == 2 else ())
@@ -63,8 +74,7 @@ def test_chain_convex_and_explicit_converge_together(separation):
     need("osqp")
     system = make_chain(10, separation)
     steps = [100, 400, 1600]
-    W = {m: [steady_state(system, m, s, tol=1e-9).W for s in steps]
-         for m in ("explicit", "osqp")}
+    W = {m: [steady_state(system, m, s, tol=1e-9).W for s in steps] for m in ("explicit", "osqp")}
     diff = np.abs(np.subtract(W["explicit"], W["osqp"])) / W["explicit"][-1]
     # the convex backends locate the events inside an increment (lcpfric.steppers.rates):
     # they solve the same piecewise-linear problem as the explicit stepper (measured: equal to
@@ -100,8 +110,15 @@ def test_block_diagonal_equals_its_nodes_on_the_same_grid():
     # each node of the stack, alone on the stack's grid
     parts = []
     for i, node in enumerate(nodes):
-        sub = type(scene)(node.system(), None, scene.t, scene.Q[:, [i]], scene.N[:, [i]],
-                          scene.transitions, scene.placement)
+        sub = type(scene)(
+            node.system(),
+            None,
+            scene.t,
+            scene.Q[:, [i]],
+            scene.N[:, [i]],
+            scene.transitions,
+            scene.placement,
+        )
         parts.append(steady_state(sub, "clarabel", tol=1e-12).W)
     assert r.W == pytest.approx(sum(parts), rel=1e-12)
 
@@ -119,10 +136,15 @@ def test_explicit_multinode_second_order_with_separation():
 @pytest.mark.slow
 def test_d2_chain_conic_backends_agree():
     need("clarabel")
-    system = chain(3, k_coupling=0.5, dims=2, P1=[0.5, 1.5, 0.8],
-                   Q1=[[1.5, 1.0], [2.0, 0.5], [1.2, 1.2]],
-                   phi=[[0.6 * np.pi, 0.1], [0.3, 1.0], [0.0, 0.5 * np.pi]],
-                   normal_phase=[0.0, 0.5, 1.0])
+    system = chain(
+        3,
+        k_coupling=0.5,
+        dims=2,
+        P1=[0.5, 1.5, 0.8],
+        Q1=[[1.5, 1.0], [2.0, 0.5], [1.2, 1.2]],
+        phi=[[0.6 * np.pi, 0.1], [0.3, 1.0], [0.0, 0.5 * np.pi]],
+        normal_phase=[0.0, 0.5, 1.0],
+    )
     scene = make_scene(system, 60)
     ref = steady_state(scene, "clarabel", tol=1e-10)
     assert ref.solver_stats["refined"] == ref.solver_stats["solves"]
@@ -135,9 +157,14 @@ def test_d2_chain_conic_backends_agree():
 
 def test_d2_uncoupled_equals_projection():
     need("clarabel")
-    system = chain(3, k_coupling=0.0, dims=2, P1=[0.5, 1.5, 0.8],
-                   Q1=[[1.5, 1.0], [2.0, 0.5], [1.2, 1.2]],
-                   phi=[[0.6 * np.pi, 0.1], [0.3, 1.0], [0.0, 0.5 * np.pi]])
+    system = chain(
+        3,
+        k_coupling=0.0,
+        dims=2,
+        P1=[0.5, 1.5, 0.8],
+        Q1=[[1.5, 1.0], [2.0, 0.5], [1.2, 1.2]],
+        phi=[[0.6 * np.pi, 0.1], [0.3, 1.0], [0.0, 0.5 * np.pi]],
+    )
     scene = make_scene(system, 200)
     a = steady_state(scene, "clarabel", tol=1e-10)
     b = steady_state(scene, "projection", tol=1e-10)
@@ -158,14 +185,17 @@ def test_chain_stiffness_is_spd_and_sparse_on_request():
     assert a.W == pytest.approx(b.W, rel=1e-13)
 
 
-@pytest.mark.parametrize("kwargs, match", [
-    ({"n": 0}, "n"),
-    ({"n": 3, "k_ground": 0.0}, "k_ground"),
-    ({"n": 3, "dims": 3}, "dims"),
-    ({"n": 3, "P1": [1.0, 2.0]}, "P1"),
-    ({"n": 3, "Q1": -1.0}, "Q1"),
-    ({"n": 2, "dims": 2, "phi": np.zeros((3, 2))}, "phi"),
-])
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"n": 0}, "n"),
+        ({"n": 3, "k_ground": 0.0}, "k_ground"),
+        ({"n": 3, "dims": 3}, "dims"),
+        ({"n": 3, "P1": [1.0, 2.0]}, "P1"),
+        ({"n": 3, "Q1": -1.0}, "Q1"),
+        ({"n": 2, "dims": 2, "phi": np.zeros((3, 2))}, "phi"),
+    ],
+)
 def test_chain_bad_input(kwargs, match):
     with pytest.raises(InputError, match=match):
         chain(**kwargs)

@@ -19,13 +19,22 @@ def _models():
     return {
         "node": lcpfric.SingleNode.normalized(1.5, 2.0, 0.6 * math.pi),
         "chain": lcpfric.chain(3, k_coupling=1.0, P1=0.5, Q1=1.2, phi=0.4),
-        "mdr": lcpfric.MDRSphere(1.0, 1.0, 0.0, 0.5, Harmonic(1.0, 0.5), Harmonic(0.0, 0.2, 0.7),
-                                 nodes=60),
-        "halfplane": lcpfric.HalfPlaneCylinder(1.0, 1.0, 0.0, 0.5, Harmonic(1.0, 0.5),
-                                               Harmonic(0.0, 0.2, 0.7), nodes=40),
-        "halfspace": lcpfric.HalfSpace.sphere(1.0, 1.0, 0.3, 0.5,
-                                              Harmonic(1.0, 0.5, 0.0, TWO_PI),
-                                              Harmonic(0.0, 0.2, 0.7, TWO_PI), grid=12, dims=2),
+        "mdr": lcpfric.MDRSphere(
+            1.0, 1.0, 0.0, 0.5, Harmonic(1.0, 0.5), Harmonic(0.0, 0.2, 0.7), nodes=60
+        ),
+        "halfplane": lcpfric.HalfPlaneCylinder(
+            1.0, 1.0, 0.0, 0.5, Harmonic(1.0, 0.5), Harmonic(0.0, 0.2, 0.7), nodes=40
+        ),
+        "halfspace": lcpfric.HalfSpace.sphere(
+            1.0,
+            1.0,
+            0.3,
+            0.5,
+            Harmonic(1.0, 0.5, 0.0, TWO_PI),
+            Harmonic(0.0, 0.2, 0.7, TWO_PI),
+            grid=12,
+            dims=2,
+        ),
     }
 
 
@@ -36,7 +45,7 @@ def test_every_model_through_the_one_driver(name):
     assert isinstance(r, SteadyState) and r.converged and r.W > 0
     assert r.method == model.default_method
     assert r.method in lcpfric.methods_for(model)
-    if r.method != "exact":       # the closed form takes no steps: its series are samples
+    if r.method != "exact":  # the closed form takes no steps: its series are samples
         assert r.changes.size == r.cycles - 1 and r.changes[-1] == r.change
         assert r.t.size == r.steps_used + 1
     assert r.v.shape[0] == r.t.size
@@ -57,8 +66,9 @@ def test_a_solve_leaves_the_model_as_it_was(name):
     model = _models()[name]
 
     def snapshot():
-        return {k: (id(v), v.copy() if isinstance(v, np.ndarray) else v)
-                for k, v in vars(model).items()}
+        return {
+            k: (id(v), v.copy() if isinstance(v, np.ndarray) else v) for k, v in vars(model).items()
+        }
 
     before = snapshot()
     first = lcpfric.steady_state(model, steps_per_cycle=40)
@@ -81,9 +91,15 @@ def test_the_history_off_keeps_the_ends():
         r.stick_size()
 
 
-@pytest.mark.parametrize("name, method, right", [
-    ("mdr", "active-set", "mdr-bar"), ("halfspace", "exact", "newton-cg"),
-    ("node", "mdr-bar", "exact"), ("halfplane", "newton-cg", "halfplane-pdas")])
+@pytest.mark.parametrize(
+    "name, method, right",
+    [
+        ("mdr", "active-set", "mdr-bar"),
+        ("halfspace", "exact", "newton-cg"),
+        ("node", "mdr-bar", "exact"),
+        ("halfplane", "newton-cg", "halfplane-pdas"),
+    ],
+)
 def test_a_method_that_cannot_solve_a_model_names_those_that_can(name, method, right):
     with pytest.raises(InputError, match=right) as info:
         lcpfric.steady_state(_models()[name], method, 40)
@@ -94,8 +110,9 @@ def test_a_contact_as_a_system_is_solved_by_the_discrete_methods():
     """The contact held by a support, as a matrix-free ContactSystem (model.system()): the
     discrete methods solve it through the same driver, and agree with the model's own
     stepper on the same grid."""
-    m = lcpfric.MDRSphere(1.0, 1.0, 0.0, 0.5, Harmonic(1.0, 0.3), Harmonic(0.0, 0.2, 0.7),
-                          nodes=40, k_support=0.5)
+    m = lcpfric.MDRSphere(
+        1.0, 1.0, 0.0, 0.5, Harmonic(1.0, 0.3), Harmonic(0.0, 0.2, 0.7), nodes=40, k_support=0.5
+    )
     scene = lcpfric.make_scene(m.system(), 80)
     own = lcpfric.steady_state(lcpfric.make_scene(m, grid=scene.t), tol=1e-12)
     other = lcpfric.steady_state(scene, "active-set", tol=1e-12, locate_events=False)
@@ -113,7 +130,7 @@ def test_contact_scenes_share_their_normal_problem():
     assert shared.limits is scene.limits and shared.scales != scene.scales
     direct = lcpfric.HalfSpace.sphere(1.0, 1.0, 0.0, 0.5, P, Q, grid=12)
     assert lcpfric.steady_state(shared).W == lcpfric.steady_state(direct, steps_per_cycle=40).W
-    with pytest.raises(InputError, match="k_support"):       # |Q| > μ P: refused, as a model
+    with pytest.raises(InputError, match="k_support"):  # |Q| > μ P: refused, as a model
         lcpfric.with_tangential_load(scene, Harmonic(0.0, 0.6, 0.0, TWO_PI))
 
 

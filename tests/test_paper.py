@@ -6,8 +6,13 @@ import numpy as np
 import pytest
 
 from lcpfric.exact import exact_W_hat
-from lcpfric.paper.claims import (claims_markdown, paper_claims, peak_phase, separation_fraction,
-                           sqrt_law)
+from lcpfric.paper.claims import (
+    claims_markdown,
+    paper_claims,
+    peak_phase,
+    separation_fraction,
+    sqrt_law,
+)
 
 
 @pytest.fixture(scope="module")
@@ -45,7 +50,8 @@ def test_claim_verdicts(claims):
     assert claims["fig7-separation"].verdict == "disagrees"
     assert claims["fig7-separation"].numbers["fraction"] == pytest.approx(0.2677, abs=1e-4)
     assert claims["fig7-separation"].numbers["fraction_from_cycle"] == pytest.approx(
-        claims["fig7-separation"].numbers["fraction"], abs=1e-12)
+        claims["fig7-separation"].numbers["fraction"], abs=1e-12
+    )
     assert claims["eq11-12"].verdict == "misprint"
     assert claims["eq11-12"].numbers["max_abs_diff"] < 1e-12
     for key in ("phi0-zero", "phi0-monotone", "fig5", "fig6-peak", "fig7-peak"):

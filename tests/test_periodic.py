@@ -18,8 +18,9 @@ def test_cycle_change_scales():
     assert cycle_change(0.0, 1.0, 1e-3, 10.0, (1.0, 1.0)) == pytest.approx(1e-4)
     assert cycle_change(0.0, 0.0, 0.0, 0.0, (0.0, 0.0)) == 0.0
     assert cycle_change(1.0, 0.0, 0.0, 0.0, (0.0, 0.0)) == np.inf
-    arr = cycle_change(np.array([0.0, 1e-3]), np.ones(2), np.zeros(2), np.ones(2),
-                       (np.ones(2), np.ones(2)))
+    arr = cycle_change(
+        np.array([0.0, 1e-3]), np.ones(2), np.zeros(2), np.ones(2), (np.ones(2), np.ones(2))
+    )
     assert arr.shape == (2,) and arr[1] == pytest.approx(1e-3)
 
 
@@ -59,17 +60,31 @@ def test_stiff_chain_that_slips_little_converges(method):
     """The 5-node chain of issue 9 (relative change 2e-7 to 3e-8 after 100 cycles before)."""
     if method != "explicit":
         need(method)
-    system = chain(5, k_coupling=100.0, k_ground=1.0, friction=0.4, P0=1.0, P1=0.6,
-                   normal_phase=[0.0, 0.4, 0.9, 1.3, 2.0], Q1=[0.3, 0.5, 0.2, 0.6, 0.4],
-                   phi=[1.0, 1.5, 0.8, 2.0, 1.2])
+    system = chain(
+        5,
+        k_coupling=100.0,
+        k_ground=1.0,
+        friction=0.4,
+        P0=1.0,
+        P1=0.6,
+        normal_phase=[0.0, 0.4, 0.9, 1.3, 2.0],
+        Q1=[0.3, 0.5, 0.2, 0.6, 0.4],
+        phi=[1.0, 1.5, 0.8, 2.0, 1.2],
+    )
     r = steady_state(system, method, 2000)
     assert r.converged and r.cycles < 100 and r.W >= 0.0
 
 
 def test_time_grid_does_not_depend_on_omega():
     """A ceiling saw 400.00000000000006 and added a step at some ω (issue 9)."""
-    kw = dict(k11=0.012201058565709777, f=0.030050234381531534, P0=3881.647934869681,
-              P1=156694.69867660385, Q1=2.217107930761032, phi=-5.55106807724441)
+    kw = dict(
+        k11=0.012201058565709777,
+        f=0.030050234381531534,
+        P0=3881.647934869681,
+        P1=156694.69867660385,
+        Q1=2.217107930761032,
+        phi=-5.55106807724441,
+    )
     a = steady_state(SingleNode(omega=1.0, **kw), "projection", 400)
     b = steady_state(SingleNode(omega=3918.7748195993795, **kw), "projection", 400)
     assert a.steps_used == b.steps_used == 401  # 400 in contact, one over the separation
@@ -97,7 +112,7 @@ def test_anderson_reaches_the_fixed_point_of_an_affine_map():
             nxt = acc(x, g)
             x = g if nxt is None else nxt
         assert k <= 15 and np.allclose(x, fixed, rtol=0, atol=1e-8 * np.linalg.norm(fixed))
-    acc(np.zeros(40), np.ones(40))            # a residual larger than the last: a fresh start
+    acc(np.zeros(40), np.ones(40))  # a residual larger than the last: a fresh start
     assert len(acc.x) == 1 and acc(np.ones(40), np.ones(40) * 2) is not None
 
 
@@ -108,13 +123,13 @@ def test_anderson_falls_back_to_aitken_where_it_stalls():
 
     acc = Anderson(5)
     x = np.array([1.0, 0.0])
-    for norm in (1.0, 0.95, 0.93, 0.92):            # stalled: no jump is trusted any more
+    for norm in (1.0, 0.95, 0.93, 0.92):  # stalled: no jump is trusted any more
         acc(x, x + np.array([0.0, norm]))
     assert acc.starts is not None
     fixed, rho = np.array([2.0, -1.0]), 0.9
     x, jump = fixed + np.array([1.0, 1.0]), None
     for _ in range(6):
-        g = fixed + rho * (x - fixed)               # one slow mode
+        g = fixed + rho * (x - fixed)  # one slow mode
         jump = acc(x, g)
         if jump is not None:
             break

@@ -24,8 +24,15 @@ MIB = 2**20
 def staggered(n: int, steps: int):
     """A chain whose nodes separate one after another (one normal phase per node, spread over
     the cycle): a different contact set at almost every grid instant."""
-    system = chain(n, k_coupling=0.5, P0=1.0, P1=1.5, Q1=1.2, phi=0.6,
-                   normal_phase=np.linspace(0.0, 2.0 * np.pi, n, endpoint=False))
+    system = chain(
+        n,
+        k_coupling=0.5,
+        P0=1.0,
+        P1=1.5,
+        Q1=1.2,
+        phi=0.6,
+        normal_phase=np.linspace(0.0, 2.0 * np.pi, n, endpoint=False),
+    )
     return make_scene(system, steps)
 
 
@@ -78,8 +85,7 @@ def test_the_plan_holds_what_its_budget_allows(scene, method):
     state = stepper.init(scene)
     built = []  # every problem built, by weak reference
     build = stepper.build
-    stepper.build = lambda prob, settings: built.append(weakref.ref(prob)) or build(prob,
-                                                                                   settings)
+    stepper.build = lambda prob, settings: built.append(weakref.ref(prob)) or build(prob, settings)
     for _ in range(2):
         state, cyc = stepper.cycle(scene, state)
         problems = state.data.plan.problems

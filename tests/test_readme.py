@@ -10,14 +10,23 @@ import pytest
 from support import need_modules
 
 ROOT = Path(__file__).resolve().parents[1]
-PAGES = [p for p in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md")),
-                     *sorted((ROOT / "docs" / "guide").glob("*.md"))]
-         if "```python" in p.read_text()]
+PAGES = [
+    p
+    for p in [
+        ROOT / "README.md",
+        *sorted((ROOT / "docs").glob("*.md")),
+        *sorted((ROOT / "docs" / "guide").glob("*.md")),
+    ]
+    if "```python" in p.read_text()
+]
 
 
 def _runnable(block: str) -> str:
-    return "\n".join(line for line in block.splitlines()
-                     if "tcp://" not in line and "(..." not in line and "..., " not in line)
+    return "\n".join(
+        line
+        for line in block.splitlines()
+        if "tcp://" not in line and "(..." not in line and "..., " not in line
+    )
 
 
 @pytest.mark.slow
@@ -35,4 +44,4 @@ def test_snippets_run(page, tmp_path, monkeypatch):
 def test_readme_fits_a_screen_or_two():
     text = (ROOT / "README.md").read_text()
     assert len(text.splitlines()) <= 150
-    assert not re.search(r"\b(at|since|before) [0-9a-f]{7}\b", text)   # no commit hashes
+    assert not re.search(r"\b(at|since|before) [0-9a-f]{7}\b", text)  # no commit hashes

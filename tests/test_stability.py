@@ -17,7 +17,7 @@ from support.stability_references import MP_REFERENCE
 QUICK = scenarios(quick=True)
 CORE = ["exact", "explicit", "projection"]
 # one representative per installed solver family keeps the suite fast; the benchmark runs all
-BACKENDS = ["clarabel", "osqp"]        # the tests of one not installed skip, naming its extra
+BACKENDS = ["clarabel", "osqp"]  # the tests of one not installed skip, naming its extra
 
 
 def _id(scenario):
@@ -43,8 +43,12 @@ ALLOWED_ERRORS = {
     # check, at stiffness ratios 1e8 to 1e12 (Clarabel already on the weakly grounded chain at
     # 1e4); with that check relaxed OSQP's W is off by 8e-2 to 1.1 on the rigid chain
     ("stiff:chain-r1e4", "clarabel"),
-    *((f"stiff:{family}-r1e{e}", method) for family in ("chain", "stiff-chain", "dense")
-      for e in (8, 10, 12) for method in ("clarabel", "osqp")),
+    *(
+        (f"stiff:{family}-r1e{e}", method)
+        for family in ("chain", "stiff-chain", "dense")
+        for e in (8, 10, 12)
+        for method in ("clarabel", "osqp")
+    ),
 }
 
 # Wrong numbers a method is known to give, as strict xfails (a fix makes them XPASS, and the
@@ -66,8 +70,9 @@ def _cases(scenario_list, methods):
         if not applies(scenario, method):
             continue
         key = (_id(scenario), method)
-        marks = ([pytest.mark.xfail(strict=True, reason=KNOWN_WRONG[key])]
-                 if key in KNOWN_WRONG else [])
+        marks = (
+            [pytest.mark.xfail(strict=True, reason=KNOWN_WRONG[key])] if key in KNOWN_WRONG else []
+        )
         if scenario.group == "multi-node" and method == "explicit":
             marks.append(pytest.mark.slow)  # seconds each; CI runs them
         out.append(pytest.param(scenario, method, marks=marks, id=f"{key[0]}-{method}"))
@@ -79,8 +84,9 @@ def test_core_methods_never_wrong(scenario, method):
     _check(scenario, method, run_scenario(scenario, method, steps=2000))
 
 
-BACKEND_SCENARIOS = ([s for s in QUICK if s.group == "boundary"][:12]
-                     + [s for s in QUICK if s.group == "ratio"])
+BACKEND_SCENARIOS = [s for s in QUICK if s.group == "boundary"][:12] + [
+    s for s in QUICK if s.group == "ratio"
+]
 
 
 @pytest.mark.slow
@@ -90,8 +96,9 @@ def test_backends_never_wrong(scenario, method):
     _check(scenario, method, run_scenario(scenario, method, steps=1000, refine=4))
 
 
-@pytest.mark.parametrize("scenario,method",
-                         _cases([s for s in QUICK if s.group == "stiff"], BACKENDS))
+@pytest.mark.parametrize(
+    "scenario,method", _cases([s for s in QUICK if s.group == "stiff"], BACKENDS)
+)
 def test_backends_never_wrong_on_stiff_systems(scenario, method):
     need(method)
     # the discretization against its mpmath reference, to 1e-8 relative
@@ -110,8 +117,11 @@ def test_backends_at_large_forces(method):
     need(method)
     # Without the driver's unit scaling Clarabel stopped "DualInfeasible" here (forces of 1e6
     # against absolute solver tolerances).
-    big = [s for s in scenarios() if s.name in ("P1=1e+06 Q1=1e+06 phi=pi/2",
-                                                "P1=1e+06 Q1=1e+06 phi=0")]
+    big = [
+        s
+        for s in scenarios()
+        if s.name in ("P1=1e+06 Q1=1e+06 phi=pi/2", "P1=1e+06 Q1=1e+06 phi=0")
+    ]
     assert len(big) == 2
     for scenario in big:
         row = run_scenario(scenario, method, steps=1000, refine=4)
@@ -119,6 +129,7 @@ def test_backends_at_large_forces(method):
 
 
 # -- exact on the whole matrix, against the pinned independent references ---------------------
+
 
 def test_exact_correct_on_every_scenario():
     # the full matrix (extreme, boundary, extreme ratios 1e-20..1e20, dimensional): exact within

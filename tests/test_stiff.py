@@ -37,10 +37,13 @@ def _relative_error(method, name):
     return abs(W - STIFF_REFERENCE[name][0]) / abs(STIFF_REFERENCE[name][0])
 
 
-@pytest.mark.skipif("active-set" not in available_methods(),
-                    reason="the active-set backend is not registered on this branch")
-@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in SLOW else n
-                                  for n in CASES])
+@pytest.mark.skipif(
+    "active-set" not in available_methods(),
+    reason="the active-set backend is not registered on this branch",
+)
+@pytest.mark.parametrize(
+    "name", [pytest.param(n, marks=pytest.mark.slow) if n in SLOW else n for n in CASES]
+)
 def test_active_set_matches_the_reference(name):
     assert _relative_error("active-set", name) <= RTOL
 
@@ -84,8 +87,9 @@ def test_reference_recomputed_live_equals_the_pinned_value():
     W, info = reference_W(system, steps)
     # equal up to the loads' own round-off (the pinned table may predate a change in how the
     # loads are evaluated; INPUT_SPREAD bounds what that moves)
-    assert W == pytest.approx(STIFF_REFERENCE["stiff-chain-r1e4"][0],
-                              rel=10 * INPUT_SPREAD["stiff-chain-r1e4"])
+    assert W == pytest.approx(
+        STIFF_REFERENCE["stiff-chain-r1e4"][0], rel=10 * INPUT_SPREAD["stiff-chain-r1e4"]
+    )
     assert info["change"] <= 1e-30
     # every node sticks and slips over the steady cycle, one separates
     assert all(s["stick"] and s["slip"] for s in info["states"])

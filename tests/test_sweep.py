@@ -23,15 +23,20 @@ from lcpfric.cli._grids import parse_grid, parse_phi_list  # noqa: E402
 from lcpfric.methods import CLOSED_FORM, Method, register, unregister  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
-AXIS = np.linspace(0.0, 4.0, 9)          # includes 0, 0.5, 1 (the régime borders) and 1.5
+AXIS = np.linspace(0.0, 4.0, 9)  # includes 0, 0.5, 1 (the régime borders) and 1.5
 PHASES = np.array([0.0, 0.3, 0.6, 1.0, 2.0]) * math.pi / 2
-
 
 
 def grid_method(name, func):
     """A registry entry with a grid form (closed form, so sweeps run it whole-chunk)."""
-    return Method(name, CLOSED_FORM, "test method", "lcpfric.closed_form:ExactSolver",
-                  grid=func, seconds_per_point=1.2e-6)
+    return Method(
+        name,
+        CLOSED_FORM,
+        "test method",
+        "lcpfric.closed_form:ExactSolver",
+        grid=func,
+        seconds_per_point=1.2e-6,
+    )
 
 
 @pytest.fixture
@@ -84,10 +89,17 @@ def test_zero_amplitudes_give_zero(method):
 
 
 def test_per_point_method_matches_exact():
-    ds = sweep([0.5, 1.5], [2.0], [0.0, 0.6 * math.pi], method="explicit",
-               steps_per_cycle=2000, progress=False)
-    ref = exact_W_hat(np.array([0.5, 1.5])[None, :, None], 2.0,
-                      np.array([0.0, 0.6 * math.pi])[:, None, None])
+    ds = sweep(
+        [0.5, 1.5],
+        [2.0],
+        [0.0, 0.6 * math.pi],
+        method="explicit",
+        steps_per_cycle=2000,
+        progress=False,
+    )
+    ref = exact_W_hat(
+        np.array([0.5, 1.5])[None, :, None], 2.0, np.array([0.0, 0.6 * math.pi])[:, None, None]
+    )
     np.testing.assert_allclose(ds["W_hat"].values, ref, rtol=1e-4)
     assert ds.attrs["steps_per_cycle"] == 2000
 
@@ -101,8 +113,7 @@ def test_vectorized_registry_dispatch():
 
     register(grid_method("fake", fake))
     try:
-        ds = sweep([0.0, 1.0], [0.0, 1.0, 2.0], [0.0], method="fake", chunk_size=4,
-                   progress=False)
+        ds = sweep([0.0, 1.0], [0.0, 1.0, 2.0], [0.0], method="fake", chunk_size=4, progress=False)
     finally:
         unregister("fake")
     assert calls == [4, 2]  # whole chunks, never point by point
@@ -110,19 +121,22 @@ def test_vectorized_registry_dispatch():
     np.testing.assert_array_equal(ds["W_hat"].sel(Q1=[1.0, 2.0]), 1.0)
 
 
-@pytest.mark.parametrize("kwargs, parameter", [
-    ({"P1": [-1.0]}, "P1"),
-    ({"Q1": [np.nan]}, "Q1"),
-    ({"phi": [np.inf]}, "phi"),
-    ({"P1": []}, "P1"),
-    ({"Q1": [[1.0, 2.0]]}, "Q1"),
-    ({"method": "no-such-method"}, "method"),
-    ({"steps_per_cycle": 100}, "steps_per_cycle"),
-    ({"method": "explicit", "steps_per_cycle": 2}, "steps_per_cycle"),
-    ({"chunk_size": 0}, "chunk_size"),
-    ({"processes": 0}, "processes"),
-    ({"out": "/no/such/dir/x.nc"}, "out"),
-])
+@pytest.mark.parametrize(
+    "kwargs, parameter",
+    [
+        ({"P1": [-1.0]}, "P1"),
+        ({"Q1": [np.nan]}, "Q1"),
+        ({"phi": [np.inf]}, "phi"),
+        ({"P1": []}, "P1"),
+        ({"Q1": [[1.0, 2.0]]}, "Q1"),
+        ({"method": "no-such-method"}, "method"),
+        ({"steps_per_cycle": 100}, "steps_per_cycle"),
+        ({"method": "explicit", "steps_per_cycle": 2}, "steps_per_cycle"),
+        ({"chunk_size": 0}, "chunk_size"),
+        ({"processes": 0}, "processes"),
+        ({"out": "/no/such/dir/x.nc"}, "out"),
+    ],
+)
 def test_bad_input_names_the_parameter(kwargs, parameter):
     args = {"P1": [1.0], "Q1": [1.0], "phi": [0.0], **kwargs}
     with pytest.raises(InputError) as info:
@@ -133,8 +147,9 @@ def test_bad_input_names_the_parameter(kwargs, parameter):
 def test_parse_grid_and_phases():
     np.testing.assert_allclose(parse_grid("0:10:11", "P1"), np.linspace(0, 10, 11))
     np.testing.assert_allclose(parse_grid("0.5, 1,2", "Q1"), [0.5, 1.0, 2.0])
-    np.testing.assert_allclose(parse_phi_list("0,0.6pi,pi/2,1.2"),
-                               [0.0, 0.6 * math.pi, math.pi / 2, 1.2])
+    np.testing.assert_allclose(
+        parse_phi_list("0,0.6pi,pi/2,1.2"), [0.0, 0.6 * math.pi, math.pi / 2, 1.2]
+    )
     np.testing.assert_allclose(parse_phi_list("0:pi:3"), [0.0, math.pi / 2, math.pi])
     for text in ("0:10", "a:b:3", "0:1:0", ""):
         with pytest.raises(InputError):
@@ -153,14 +168,17 @@ def test_process_pool_equals_serial():
 def test_dask_local_cluster_equals_serial():
     need_modules("dask.distributed")
     from dask import distributed
+
     P = np.linspace(0.0, 6.0, 13)
     serial = sweep(P, P, PHASES, processes=1, progress=False)
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
-                                  dashboard_address=None) as cluster:
+    with distributed.LocalCluster(
+        n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None
+    ) as cluster:
         with distributed.Client(cluster) as client:
             by_client = sweep(P, P, PHASES, scheduler=client, chunk_size=40, progress=False)
-        by_address = sweep(P, P, PHASES, scheduler=cluster.scheduler_address, chunk_size=100,
-                           progress=False)
+        by_address = sweep(
+            P, P, PHASES, scheduler=cluster.scheduler_address, chunk_size=100, progress=False
+        )
     for ds in (by_client, by_address):
         assert ds.attrs["executor"].startswith("dask")
         np.testing.assert_array_equal(ds["W_hat"].values, serial["W_hat"].values)
@@ -188,13 +206,29 @@ def test_resume_after_interruption(tmp_path):
             raise _Stop
 
     with pytest.raises(_Stop):
-        sweep(P, P, PHASES, chunk_size=100, out=out, processes=1, progress=False,
-              on_chunk=stop_after_3)
+        sweep(
+            P,
+            P,
+            PHASES,
+            chunk_size=100,
+            out=out,
+            processes=1,
+            progress=False,
+            on_chunk=stop_after_3,
+        )
     assert not out.exists()
     assert len(list(parts.glob("chunk-*.npy"))) == 3
     computed = []
-    ds = sweep(P, P, PHASES, chunk_size=100, out=out, processes=1, progress=False,
-               on_chunk=lambda i, done, total: computed.append(i))
+    ds = sweep(
+        P,
+        P,
+        PHASES,
+        chunk_size=100,
+        out=out,
+        processes=1,
+        progress=False,
+        on_chunk=lambda i, done, total: computed.append(i),
+    )
     total = math.ceil(P.size * P.size * PHASES.size / 100)
     assert ds.attrs["chunks"] == total
     assert ds.attrs["chunks_reused"] == 3 and ds.attrs["chunks_computed"] == total - 3
@@ -212,8 +246,9 @@ def test_store_rejects_another_sweep_and_recovers_from_bad_chunks(tmp_path):
     with pytest.raises(InputError) as info:
         sweep([1.0, 2.5], [1.0, 3.0], [0.0, 1.0], chunk_size=2, store=store, progress=False)
     assert info.value.parameter == "store"
-    redone = sweep([1.0, 2.5], [1.0, 3.0], [0.0, 1.0], chunk_size=2, store=store, resume=False,
-                   progress=False)
+    redone = sweep(
+        [1.0, 2.5], [1.0, 3.0], [0.0, 1.0], chunk_size=2, store=store, resume=False, progress=False
+    )
     assert redone.attrs["chunks_computed"] == 4
     chunk = store / "chunk-000001.npy"
     chunk.write_bytes(chunk.read_bytes()[:20])  # a damaged file is never trusted
@@ -257,20 +292,35 @@ def test_resume_after_killed_process(tmp_path, slow_exact):
     saved = len(list(store.glob("chunk-*.npy")))
     total = P.size * P.size * PHASES.size // 9
     assert 4 <= saved < total
-    ds = sweep(P, P, PHASES, method="slow-exact", chunk_size=9, store=store, progress=False,
-               processes=1)
+    ds = sweep(
+        P, P, PHASES, method="slow-exact", chunk_size=9, store=store, progress=False, processes=1
+    )
     assert ds.attrs["chunks_reused"] == saved
     assert ds.attrs["chunks_computed"] == total - saved
-    np.testing.assert_array_equal(ds["W_hat"].values,
-                                  sweep(P, P, PHASES, progress=False)["W_hat"].values)
+    np.testing.assert_array_equal(
+        ds["W_hat"].values, sweep(P, P, PHASES, progress=False)["W_hat"].values
+    )
 
 
 def test_map_command(tmp_path, capsys):
     from lcpfric.cli import main
 
     out = tmp_path / "m.nc"
-    code = main(["map", "--P1", "0:2:5", "--Q1", "0,1,2", "--phi", "0,0.6pi,pi/2", "--out",
-                 str(out), "--no-progress", "--json"])
+    code = main(
+        [
+            "map",
+            "--P1",
+            "0:2:5",
+            "--Q1",
+            "0,1,2",
+            "--phi",
+            "0,0.6pi,pi/2",
+            "--out",
+            str(out),
+            "--no-progress",
+            "--json",
+        ]
+    )
     assert code == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["shape"] == {"phi": 3, "P1": 5, "Q1": 3}
@@ -280,9 +330,11 @@ def test_map_command(tmp_path, capsys):
 
     ds = xr.load_dataset(out, engine=netcdf_engine())
     np.testing.assert_allclose(ds["phi"], [0.0, 0.6 * math.pi, math.pi / 2])
-    np.testing.assert_allclose(ds["W_hat"].sel(phi=0.0).values,
-                               jang_barber(np.linspace(0, 2, 5)[:, None], [[0.0, 1.0, 2.0]]),
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        ds["W_hat"].sel(phi=0.0).values,
+        jang_barber(np.linspace(0, 2, 5)[:, None], [[0.0, 1.0, 2.0]]),
+        atol=1e-12,
+    )
     assert main(["map", "--P1", "0:2", "--Q1", "1", "--phi", "0", "--out", str(out)]) == 2
     assert "--P1" in capsys.readouterr().err
     assert main(["map", "--P1", "1", "--Q1", "1", "--phi", "0.6pie", "--out", str(out)]) == 2

@@ -15,8 +15,12 @@ from pathlib import Path as _Path
 # the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
 # shared cases and references (tests/support)
 _ROOT = _Path(__file__).resolve().parents[2]
-_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
-                 str(_ROOT / "tests")]
+_sys.path[:0] = [
+    str(_ROOT),
+    str(_ROOT / "benchmarks"),
+    str(_ROOT / "benchmarks" / "perf"),
+    str(_ROOT / "tests"),
+]
 
 import argparse
 import importlib.util
@@ -32,21 +36,39 @@ COUPLED_OUTPUTS = ("compare-coupled.csv", "compare-coupled.md", "compare-coupled
 
 def configure(p) -> None:
     p.add_argument("--quick", action="store_true", help="reduced set, under 3 minutes")
-    p.add_argument("--coupled", action="store_true",
-                   help="the coupled d = 1 cases (chains with k_coupling = 10, a dense SPD K, a "
-                        "100-node chain) against method 'exact', with a Richardson check; "
-                        "default methods exact, explicit, clarabel, osqp, qpsolvers:proxqp, "
-                        "cvxpy:CLARABEL (those installed), steps 100 to 12800, budget 40 s")
-    p.add_argument("--out", default="bench-out", metavar="DIR",
-                   help="output directory (default bench-out; its parent must exist)")
-    p.add_argument("--methods", default=None, metavar="LIST",
-                   help="comma-separated methods (default: all installed)")
+    p.add_argument(
+        "--coupled",
+        action="store_true",
+        help="the coupled d = 1 cases (chains with k_coupling = 10, a dense SPD K, a "
+        "100-node chain) against method 'exact', with a Richardson check; "
+        "default methods exact, explicit, clarabel, osqp, qpsolvers:proxqp, "
+        "cvxpy:CLARABEL (those installed), steps 100 to 12800, budget 40 s",
+    )
+    p.add_argument(
+        "--out",
+        default="bench-out",
+        metavar="DIR",
+        help="output directory (default bench-out; its parent must exist)",
+    )
+    p.add_argument(
+        "--methods",
+        default=None,
+        metavar="LIST",
+        help="comma-separated methods (default: all installed)",
+    )
     p.add_argument("--cases", default=None, metavar="LIST", help="comma-separated case names")
-    p.add_argument("--budget", default=None, metavar="SECONDS",
-                   help="seconds per run before a method stops refining (> 0; default 20, or 1 "
-                        "with --quick)")
-    p.add_argument("--steps", default=None, metavar="LIST",
-                   help="comma-separated steps per cycle (default: 50 to 1e5, or the --quick set)")
+    p.add_argument(
+        "--budget",
+        default=None,
+        metavar="SECONDS",
+        help="seconds per run before a method stops refining (> 0; default 20, or 1 with --quick)",
+    )
+    p.add_argument(
+        "--steps",
+        default=None,
+        metavar="LIST",
+        help="comma-separated steps per cycle (default: 50 to 1e5, or the --quick set)",
+    )
     p.add_argument("--placement", default="contact", choices=("contact", "uniform"))
     p.add_argument("--json", action="store_true", help="print the headline numbers as JSON last")
 
@@ -79,10 +101,16 @@ def run(args) -> int:
         names = _list(args.cases, "--cases")
         unknown = [n for n in names if n not in {c.name for c in all_cases}]
         if unknown:
-            raise InputError("--cases", f"unknown {unknown}; choose from "
-                                        f"{[c.name for c in all_cases]}"
-                                        + ("" if coupled else " (or --coupled for "
-                                           f"{[c.name for c in bench.COUPLED_CASES]})"))
+            raise InputError(
+                "--cases",
+                f"unknown {unknown}; choose from "
+                f"{[c.name for c in all_cases]}"
+                + (
+                    ""
+                    if coupled
+                    else f" (or --coupled for {[c.name for c in bench.COUPLED_CASES]})"
+                ),
+            )
         cases = tuple(c for c in all_cases if c.name in names)
     methods = None
     if args.methods is not None:
@@ -96,8 +124,9 @@ def run(args) -> int:
     else:
         steps = bench.QUICK_STEPS if args.quick else bench.FULL_STEPS
     if args.steps is not None:
-        steps = tuple(_checks.positive_int("--steps", s, minimum=4)
-                      for s in _list(args.steps, "--steps"))
+        steps = tuple(
+            _checks.positive_int("--steps", s, minimum=4) for s in _list(args.steps, "--steps")
+        )
     if args.budget is not None:
         budget = _checks.positive("--budget", _checks.parse_number(args.budget, "--budget"))
     else:
@@ -108,23 +137,41 @@ def run(args) -> int:
         installed = set(available_methods())
         methods = [m for m in bench.COUPLED_METHODS if m in installed]
     if methods is None and args.quick:  # the quick set: the methods the registry rates fast
-        methods = [m for m in bench.default_methods()
-                   if (get_method(m)[0].seconds_per_point_step or 0.0) < 1e-4]
-    worst = max((memory.steady_state_bytes(max(steps), m) for m in (methods or ["solver"])
-                 if m == "solver" or get_method(m)[0].kind != CLOSED_FORM), default=0.0)
+        methods = [
+            m
+            for m in bench.default_methods()
+            if (get_method(m)[0].seconds_per_point_step or 0.0) < 1e-4
+        ]
+    worst = max(
+        (
+            memory.steady_state_bytes(max(steps), m)
+            for m in (methods or ["solver"])
+            if m == "solver" or get_method(m)[0].kind != CLOSED_FORM
+        ),
+        default=0.0,
+    )
     memory.check(worst, "--steps", f"a run with {max(steps)} steps per cycle")
 
     t0 = time.perf_counter()
-    rows = bench.run_comparison(cases, methods, steps, budget=budget,
-                                repeats=1 if args.quick else 3, placement=args.placement)
-    cmd = ("python benchmarks/perf/compare_backends.py" + (" --coupled" if coupled else "")
-           + (" --quick" if args.quick else "")
-           + (f" --cases {args.cases}" if args.cases else "")
-           + (f" --methods {args.methods}" if args.methods else "")
-           + (f" --steps {args.steps}" if args.steps else "")
-           + (f" --budget {budget:g}" if args.budget is not None else "")
-           + f" --out {args.out}"
-           + (f" --placement {args.placement}" if args.placement != "contact" else ""))
+    rows = bench.run_comparison(
+        cases,
+        methods,
+        steps,
+        budget=budget,
+        repeats=1 if args.quick else 3,
+        placement=args.placement,
+    )
+    cmd = (
+        "python benchmarks/perf/compare_backends.py"
+        + (" --coupled" if coupled else "")
+        + (" --quick" if args.quick else "")
+        + (f" --cases {args.cases}" if args.cases else "")
+        + (f" --methods {args.methods}" if args.methods else "")
+        + (f" --steps {args.steps}" if args.steps else "")
+        + (f" --budget {budget:g}" if args.budget is not None else "")
+        + f" --out {args.out}"
+        + (f" --placement {args.placement}" if args.placement != "contact" else "")
+    )
     write = bench.write_coupled_outputs if coupled else bench.write_outputs
     headline = write(rows, str(out), cases, cmd)
     headline["seconds"] = time.perf_counter() - t0
@@ -133,9 +180,11 @@ def run(args) -> int:
     headline["files"] = written
     note = ""
     if outputs[2] not in written:
-        note = (f' ({outputs[2]} not drawn: matplotlib is not installed; pip install '
-                '"lcpfric[plot]")' if importlib.util.find_spec("matplotlib") is None else
-                f" ({outputs[2]} not drawn)")
+        note = (
+            f' ({outputs[2]} not drawn: matplotlib is not installed; pip install "lcpfric[plot]")'
+            if importlib.util.find_spec("matplotlib") is None
+            else f" ({outputs[2]} not drawn)"
+        )
     print(f"wrote {out}/{', '.join(written) or 'nothing'} in {headline['seconds']:.0f} s{note}")
     if args.json:
         print(json.dumps(headline))

@@ -22,8 +22,12 @@ from pathlib import Path as _Path
 # the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
 # shared cases and references (tests/support)
 _ROOT = _Path(__file__).resolve().parents[2]
-_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
-                 str(_ROOT / "tests")]
+_sys.path[:0] = [
+    str(_ROOT),
+    str(_ROOT / "benchmarks"),
+    str(_ROOT / "benchmarks" / "perf"),
+    str(_ROOT / "tests"),
+]
 
 import csv
 import math
@@ -35,8 +39,16 @@ from typing import Callable
 
 import numpy as np
 
-__all__ = ["CASES", "Case", "COUPLED_CASES", "CoupledCase", "run_comparison",
-           "convergence_order", "richardson", "write_coupled_outputs"]
+__all__ = [
+    "CASES",
+    "Case",
+    "COUPLED_CASES",
+    "CoupledCase",
+    "run_comparison",
+    "convergence_order",
+    "richardson",
+    "write_coupled_outputs",
+]
 
 
 @dataclass(frozen=True)
@@ -61,9 +73,11 @@ class Case:
             return SingleNode.normalized(self.P1, self.Q1, self.phi)
         n = len(self.nodes)
         return ContactSystem(
-            stiffness=np.eye(n), friction=np.ones(n),
+            stiffness=np.eye(n),
+            friction=np.ones(n),
             tangential_loads=tuple(Harmonic(0.0, q, f) for _, q, f in self.nodes),
-            normal=IndependentSprings(tuple(Harmonic(1.0, p, 0.0) for p, _, _ in self.nodes)))
+            normal=IndependentSprings(tuple(Harmonic(1.0, p, 0.0) for p, _, _ in self.nodes)),
+        )
 
     def exact(self) -> float:
         """Exact Ŵ (single node) or exact W = Σ Q̂1_i Ŵ_i (block-diagonal normalized nodes)."""
@@ -91,15 +105,17 @@ CASES = (
     Case("large", 5.0, 5.0, 0.6 * PI),
     Case("near-shakedown", 0.5, 1.01, 0.3 * PI),
     Case("very-large", 20.0, 50.0, 0.5 * PI),
-    Case("multi-node", nodes=((0.5, 2.0, 0.0), (1.5, 2.0, 0.6 * PI), (5.0, 5.0, 0.6 * PI),
-                              (0.3, 1.5, 1.0))),
+    Case(
+        "multi-node",
+        nodes=((0.5, 2.0, 0.0), (1.5, 2.0, 0.6 * PI), (5.0, 5.0, 0.6 * PI), (0.3, 1.5, 1.0)),
+    ),
 )
 FULL_STEPS = (50, 100, 200, 500, 1000, 2000, 5000, 10000, 20000, 50000, 100000)
 QUICK_STEPS = (50, 200, 1000, 5000, 20000)
 
 
 # -- coupled d = 1 systems, judged against the exact event-by-event steady state ---------------
-_REFERENCES: dict = {}   # case name -> (W, seconds, solver_stats) of steady_state(..., "exact")
+_REFERENCES: dict = {}  # case name -> (W, seconds, solver_stats) of steady_state(..., "exact")
 
 
 @dataclass(frozen=True)
@@ -126,8 +142,11 @@ class CoupledCase:
 
             t0 = time.perf_counter()
             res = steady_state(self.model(), method="exact")
-            _REFERENCES[self.name] = (float(res.W), time.perf_counter() - t0,
-                                      dict(res.solver_stats))
+            _REFERENCES[self.name] = (
+                float(res.W),
+                time.perf_counter() - t0,
+                dict(res.solver_stats),
+            )
         return _REFERENCES[self.name]
 
     def exact(self) -> float:
@@ -170,9 +189,11 @@ def _dense_spd():
     P1 = (0.4, 1.6, 0.8, 2.2, 0.5)
     Q1, phi = rng.uniform(1.0, 3.0, n), rng.uniform(0.0, PI, n)
     return ContactSystem(
-        stiffness=K, friction=np.ones(n),
+        stiffness=K,
+        friction=np.ones(n),
         tangential_loads=tuple(Harmonic(0.0, q, f) for q, f in zip(Q1, phi)),
-        normal=IndependentSprings(tuple(Harmonic(1.0, p, 0.0) for p in P1)))
+        normal=IndependentSprings(tuple(Harmonic(1.0, p, 0.0) for p in P1)),
+    )
 
 
 def _chain100():
@@ -182,24 +203,30 @@ def _chain100():
 
     n = 100
     rng = np.random.default_rng(100)
-    return chain(n, k_coupling=10.0, P1=rng.uniform(0.2, 1.5, n), Q1=rng.uniform(1.0, 3.0, n),
-                 phi=rng.uniform(0.0, PI, n))
+    return chain(
+        n,
+        k_coupling=10.0,
+        P1=rng.uniform(0.2, 1.5, n),
+        Q1=rng.uniform(1.0, 3.0, n),
+        phi=rng.uniform(0.0, PI, n),
+    )
 
 
 COUPLED_CASES = (
     CoupledCase("chain-contact", "3-node chain, k_coupling = 10, full contact", _chain3_contact),
-    CoupledCase("chain-separation", "3-node chain, k_coupling = 10, 2 nodes separate",
-                _chain3_separation),
+    CoupledCase(
+        "chain-separation", "3-node chain, k_coupling = 10, 2 nodes separate", _chain3_separation
+    ),
     CoupledCase("dense-spd", "dense random SPD K, 5 nodes, 2 separate", _dense_spd),
-    CoupledCase("chain-100", "100-node chain, k_coupling = 10, random loads", _chain100,
-                max_steps=1600),
+    CoupledCase(
+        "chain-100", "100-node chain, k_coupling = 10, random loads", _chain100, max_steps=1600
+    ),
 )
 #: steps per cycle of the coupled cases (doubling: the Richardson check uses the two finest)
 COUPLED_STEPS = (100, 200, 400, 800, 1600, 3200, 6400, 12800)
 COUPLED_QUICK_STEPS = (100, 200, 400, 800, 1600)
 #: the methods run on the coupled cases by default (those installed)
-COUPLED_METHODS = ("exact", "explicit", "clarabel", "osqp", "qpsolvers:proxqp",
-                   "cvxpy:CLARABEL")
+COUPLED_METHODS = ("exact", "explicit", "clarabel", "osqp", "qpsolvers:proxqp", "cvxpy:CLARABEL")
 
 
 def _closed_form(method: str) -> bool:
@@ -224,8 +251,16 @@ def _time(fn, repeats: int):
     return out, statistics.median(times)
 
 
-def run_comparison(cases=CASES, methods=None, steps=FULL_STEPS, *, budget: float = 20.0,
-                   repeats: int = 3, placement: str = "contact", log=print) -> list[dict]:
+def run_comparison(
+    cases=CASES,
+    methods=None,
+    steps=FULL_STEPS,
+    *,
+    budget: float = 20.0,
+    repeats: int = 3,
+    placement: str = "contact",
+    log=print,
+) -> list[dict]:
     """Run every method on every case; return one row per (case, method, steps).
 
     A method stops refining a case once one run takes longer than ``budget`` seconds, or the
@@ -246,23 +281,47 @@ def run_comparison(cases=CASES, methods=None, steps=FULL_STEPS, *, budget: float
             last, prev_n = 0.0, 1
             for n in run_steps:
                 if not closed and last * n / max(prev_n, 1) > budget:
-                    rows.append(dict(case=case.name, method=method, steps_per_cycle=n,
-                                     rel_error="", seconds="", cycles="", steps="",
-                                     W="", exact=ref, note="skipped: over time budget"))
+                    rows.append(
+                        dict(
+                            case=case.name,
+                            method=method,
+                            steps_per_cycle=n,
+                            rel_error="",
+                            seconds="",
+                            cycles="",
+                            steps="",
+                            W="",
+                            exact=ref,
+                            note="skipped: over time budget",
+                        )
+                    )
                     continue
                 try:
                     if closed and coupled:
                         # the reference itself: its cost (its error is 0 by definition)
                         ref_sec = case.reference()[1]
-                        res, sec = _time(lambda: steady_state(model, method),
-                                         repeats if ref_sec < 2.0 else 1)
-                        rows.append(dict(case=case.name, method=method, steps_per_cycle=0,
-                                         rel_error="", seconds=sec, cycles=res.cycles,
-                                         steps=0, W=res.W, exact=ref,
-                                         note="reference: " + ", ".join(
-                                             f"{k} {res.solver_stats[k]}" for k in
-                                             ("events_per_cycle", "cycles")
-                                             if k in res.solver_stats)))
+                        res, sec = _time(
+                            lambda: steady_state(model, method), repeats if ref_sec < 2.0 else 1
+                        )
+                        rows.append(
+                            dict(
+                                case=case.name,
+                                method=method,
+                                steps_per_cycle=0,
+                                rel_error="",
+                                seconds=sec,
+                                cycles=res.cycles,
+                                steps=0,
+                                W=res.W,
+                                exact=ref,
+                                note="reference: "
+                                + ", ".join(
+                                    f"{k} {res.solver_stats[k]}"
+                                    for k in ("events_per_cycle", "cycles")
+                                    if k in res.solver_stats
+                                ),
+                            )
+                        )
                         log(f"{case.name:15s} {method:22s}       reference  {sec:9.4f} s")
                         continue
                     if closed:
@@ -271,34 +330,62 @@ def run_comparison(cases=CASES, methods=None, steps=FULL_STEPS, *, budget: float
                         val, sec = _time(case.exact, 200)
                         res = None
                     else:
-                        res, sec = _time(lambda: steady_state(model, method, n or 2000,
-                                                              placement=placement),
-                                         repeats if last < 2.0 else 1)
+                        res, sec = _time(
+                            lambda: steady_state(model, method, n or 2000, placement=placement),
+                            repeats if last < 2.0 else 1,
+                        )
                         val = case.value(res)
                 except LcpfricError as exc:
-                    rows.append(dict(case=case.name, method=method, steps_per_cycle=n,
-                                     rel_error="", seconds="", cycles="", steps="", W="",
-                                     exact=ref, note=f"error: {type(exc).__name__}: {exc}"))
+                    rows.append(
+                        dict(
+                            case=case.name,
+                            method=method,
+                            steps_per_cycle=n,
+                            rel_error="",
+                            seconds="",
+                            cycles="",
+                            steps="",
+                            W="",
+                            exact=ref,
+                            note=f"error: {type(exc).__name__}: {exc}",
+                        )
+                    )
                     log(f"{case.name:15s} {method:22s} {n:7d}  {type(exc).__name__}: {exc}")
                     break
                 err = abs(val - ref) / abs(ref) if ref else abs(val)
-                rows.append(dict(case=case.name, method=method, steps_per_cycle=n,
-                                 rel_error=err, seconds=sec,
-                                 cycles=1 if res is None else res.cycles,
-                                 steps=0 if res is None else res.steps_used,
-                                 W=val, exact=ref, note=""))
+                rows.append(
+                    dict(
+                        case=case.name,
+                        method=method,
+                        steps_per_cycle=n,
+                        rel_error=err,
+                        seconds=sec,
+                        cycles=1 if res is None else res.cycles,
+                        steps=0 if res is None else res.steps_used,
+                        W=val,
+                        exact=ref,
+                        note="",
+                    )
+                )
                 log(f"{case.name:15s} {method:22s} {n:7d}  err {err:9.2e}  {sec:9.4f} s")
                 last, prev_n = sec, max(n, 1)
     return rows
 
 
-def convergence_order(rows, case: str, method: str, floor: float = 1e-13,
-                      min_steps: int = 200) -> float | None:
+def convergence_order(
+    rows, case: str, method: str, floor: float = 1e-13, min_steps: int = 200
+) -> float | None:
     """Least-squares slope of -log(error) against log(steps), over the runs at or above
     ``min_steps`` whose error is above the round-off ``floor``."""
-    pts = [(r["steps_per_cycle"], r["rel_error"]) for r in rows
-           if r["case"] == case and r["method"] == method and r["rel_error"] != ""
-           and r["steps_per_cycle"] >= min_steps and r["rel_error"] > floor]
+    pts = [
+        (r["steps_per_cycle"], r["rel_error"])
+        for r in rows
+        if r["case"] == case
+        and r["method"] == method
+        and r["rel_error"] != ""
+        and r["steps_per_cycle"] >= min_steps
+        and r["rel_error"] > floor
+    ]
     if len(pts) < 3:
         return None
     n, e = np.array(pts, dtype=float).T
@@ -307,17 +394,32 @@ def convergence_order(rows, case: str, method: str, floor: float = 1e-13,
 
 def time_to_reach(rows, case: str, method: str, target: float) -> tuple[float, int] | None:
     """(seconds, steps) of the cheapest run of a method reaching ``target`` relative error."""
-    ok = [(r["seconds"], r["steps_per_cycle"]) for r in rows
-          if r["case"] == case and r["method"] == method and r["rel_error"] != ""
-          and r["rel_error"] <= target]
+    ok = [
+        (r["seconds"], r["steps_per_cycle"])
+        for r in rows
+        if r["case"] == case
+        and r["method"] == method
+        and r["rel_error"] != ""
+        and r["rel_error"] <= target
+    ]
     return min(ok) if ok else None
 
 
 def _write_csv(path: str, rows) -> None:
     """Every run, one row each (the columns of :func:`run_comparison`'s rows)."""
     os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
-    fields = ["case", "method", "steps_per_cycle", "rel_error", "seconds", "cycles", "steps",
-              "W", "exact", "note"]
+    fields = [
+        "case",
+        "method",
+        "steps_per_cycle",
+        "rel_error",
+        "seconds",
+        "cycles",
+        "steps",
+        "W",
+        "exact",
+        "note",
+    ]
     with open(path, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=fields)
         w.writeheader()
@@ -327,8 +429,10 @@ def _write_csv(path: str, rows) -> None:
 def _order_table(rows, cases, methods, orders: dict) -> list:
     """Markdown table of measured orders, a row per method, a column per case; fills
     ``orders[method][case]``."""
-    lines = ["| method | " + " | ".join(c.name for c in cases) + " |",
-             "|---|" + "---|" * len(cases)]
+    lines = [
+        "| method | " + " | ".join(c.name for c in cases) + " |",
+        "|---|" + "---|" * len(cases),
+    ]
     for m in methods:
         cells = []
         for c in cases:
@@ -345,23 +449,36 @@ def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
     methods = list(dict.fromkeys(r["method"] for r in rows))
     closed = {m for m in methods if _closed_form(m)}
     headline = {"orders": {}, "time_to_1e-6": {}, "exact": {}}
-    lines = [f"Reproduce: `{command}`" if command else "", "",
-             "## Time to reach a relative error of 1e-6 (s; steps per cycle)", "",
-             "| method | " + " | ".join(c.name for c in cases) + " |",
-             "|---|" + "---|" * len(cases)]
+    lines = [
+        f"Reproduce: `{command}`" if command else "",
+        "",
+        "## Time to reach a relative error of 1e-6 (s; steps per cycle)",
+        "",
+        "| method | " + " | ".join(c.name for c in cases) + " |",
+        "|---|" + "---|" * len(cases),
+    ]
     for m in methods:
         cells = []
         for c in cases:
             t = time_to_reach(rows, c.name, m, 1e-10 if m in closed else 1e-6)
-            cells.append("-" if t is None else (f"{t[0]:.2e}" + ("" if m in closed
-                                                                  else f" ({t[1]})")))
+            cells.append(
+                "-" if t is None else (f"{t[0]:.2e}" + ("" if m in closed else f" ({t[1]})"))
+            )
             headline["time_to_1e-6"].setdefault(m, {})[c.name] = None if t is None else t[0]
         lines.append(f"| {m} | " + " | ".join(cells) + " |")
-    lines += ["", "(`exact`: one call of `lcpfric.exact_W_hat` (the sum over nodes for the "
-              "multi-node case), median of 200; its error is below 1e-10 on every case.)", ""]
+    lines += [
+        "",
+        "(`exact`: one call of `lcpfric.exact_W_hat` (the sum over nodes for the "
+        "multi-node case), median of 200; its error is below 1e-10 on every case.)",
+        "",
+    ]
     if "exact" in methods and "explicit" in methods:
-        lines += ["## Exact to 1e-10 against explicit to 1e-6, same run", "",
-                  "| case | exact (s) | explicit to 1e-6 (s) | ratio |", "|---|---|---|---|"]
+        lines += [
+            "## Exact to 1e-10 against explicit to 1e-6, same run",
+            "",
+            "| case | exact (s) | explicit to 1e-6 (s) | ratio |",
+            "|---|---|---|---|",
+        ]
         for c in cases:
             te = time_to_reach(rows, c.name, "exact", 1e-10)
             tx = time_to_reach(rows, c.name, "explicit", 1e-6)
@@ -371,26 +488,33 @@ def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
                 lines.append(f"| {c.name} | {te[0]:.2e} | {tx[0]:.2e} | 1/{1 / ratio:.0f} |")
         lines.append("")
     lines += [
-              "## Measured convergence order (least-squares slope, runs with >= 200 steps and "
-              "error above 1e-13)", "",
-              *_order_table(rows, cases, [m for m in methods if m not in closed],
-                            headline["orders"])]
+        "## Measured convergence order (least-squares slope, runs with >= 200 steps and "
+        "error above 1e-13)",
+        "",
+        *_order_table(rows, cases, [m for m in methods if m not in closed], headline["orders"]),
+    ]
     lines += ["", "## Relative error of Ŵ (W for multi-node) against the exact solution", ""]
     for c in cases:
         sub = [r for r in rows if r["case"] == c.name]
         steps = sorted({r["steps_per_cycle"] for r in sub if r["method"] not in closed})
-        lines += [f"### {c.label()}", "", "| method | " + " | ".join(str(s) for s in steps)
-                  + " |", "|---|" + "---|" * len(steps)]
+        lines += [
+            f"### {c.label()}",
+            "",
+            "| method | " + " | ".join(str(s) for s in steps) + " |",
+            "|---|" + "---|" * len(steps),
+        ]
         for m in methods:
             cells = []
             for s in steps:
                 hit = [r for r in sub if r["method"] == m and r["steps_per_cycle"] == s]
-                cells.append(f"{hit[0]['rel_error']:.1e}" if hit and hit[0]["rel_error"] != ""
-                             else "")
+                cells.append(
+                    f"{hit[0]['rel_error']:.1e}" if hit and hit[0]["rel_error"] != "" else ""
+                )
             if m in closed:
                 hit = [r for r in sub if r["method"] == m]
-                cells = [f"{hit[0]['rel_error']:.1e}" if hit and hit[0]["rel_error"] != ""
-                         else ""] + [""] * (len(steps) - 1)
+                cells = [
+                    f"{hit[0]['rel_error']:.1e}" if hit and hit[0]["rel_error"] != "" else ""
+                ] + [""] * (len(steps) - 1)
             lines.append(f"| {m} | " + " | ".join(cells) + " |")
         notes = {r["method"]: r["note"] for r in sub if r["note"].startswith("error")}
         for m, note in notes.items():
@@ -420,20 +544,26 @@ def _plot(rows, cases, methods, closed, path) -> bool:
     colors = [plt.cm.tab20(i) for i in (0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 1, 3, 5, 7, 9)]
     for ax, c in zip(axes.flat, cases):
         for i, m in enumerate(methods):
-            pts = sorted((r["seconds"], max(r["rel_error"], 1e-17)) for r in rows
-                         if r["case"] == c.name and r["method"] == m and r["rel_error"] != "")
+            pts = sorted(
+                (r["seconds"], max(r["rel_error"], 1e-17))
+                for r in rows
+                if r["case"] == c.name and r["method"] == m and r["rel_error"] != ""
+            )
             if not pts:
                 continue
             x, y = zip(*pts)
-            style = (dict(marker="*", ms=12, ls="none") if m in closed else
-                     dict(marker=".", ls="--" if ":" in m else "-"))
+            style = (
+                dict(marker="*", ms=12, ls="none")
+                if m in closed
+                else dict(marker=".", ls="--" if ":" in m else "-")
+            )
             ax.loglog(x, y, label=m, color=colors[i % len(colors)], **style)
         ax.axhline(1e-6, color="0.6", lw=0.8, ls="--")
         ax.set_title(c.label(), fontsize=8)
         ax.set_xlabel("wall time per steady state (s)")
         ax.set_ylabel("relative error")
         ax.grid(True, which="major", alpha=0.3)
-    for ax in list(axes.flat)[len(cases):]:
+    for ax in list(axes.flat)[len(cases) :]:
         ax.axis("off")
     handles, labels = axes.flat[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower right", fontsize=8, ncol=2)
@@ -463,22 +593,38 @@ def richardson(rows, case: str, method: str = "explicit", order: float = 2.0) ->
     W independent of the exact solver. Returns the steps, W_rich, the reference, and the
     relative errors of W_rich and of the finest run against the reference (None with fewer
     than two runs)."""
-    pts = sorted((r["steps_per_cycle"], r["W"], r["exact"]) for r in rows
-                 if r["case"] == case and r["method"] == method and r["rel_error"] != "")
+    pts = sorted(
+        (r["steps_per_cycle"], r["W"], r["exact"])
+        for r in rows
+        if r["case"] == case and r["method"] == method and r["rel_error"] != ""
+    )
     if len(pts) < 2:
         return None
     (n1, w1, _), (n2, w2, ref) = pts[-2:]
     w = w2 + (w2 - w1) / ((n2 / n1) ** order - 1.0)
     scale = abs(ref) or 1.0
-    return dict(case=case, method=method, steps=(n1, n2), W_rich=w, W_exact=ref,
-                abs_error=abs(w - ref), rich_error=abs(w - ref) / scale,
-                finest_error=abs(w2 - ref) / scale)
+    return dict(
+        case=case,
+        method=method,
+        steps=(n1, n2),
+        W_rich=w,
+        W_exact=ref,
+        abs_error=abs(w - ref),
+        rich_error=abs(w - ref) / scale,
+        finest_error=abs(w2 - ref) / scale,
+    )
 
 
 def _per_cycle(rows, case: str, method: str):
     """Seconds per cycle of a method's finest run (its time over its cycles), and its steps."""
-    ok = [r for r in rows if r["case"] == case and r["method"] == method
-          and r["seconds"] != "" and r["cycles"] not in ("", 0)]
+    ok = [
+        r
+        for r in rows
+        if r["case"] == case
+        and r["method"] == method
+        and r["seconds"] != ""
+        and r["cycles"] not in ("", 0)
+    ]
     if not ok:
         return None
     r = max(ok, key=lambda r: r["steps_per_cycle"])
@@ -496,57 +642,88 @@ def write_coupled_outputs(rows, out_dir: str, cases=COUPLED_CASES, command: str 
     closed = {m for m in methods if _closed_form(m)}
     steppers = [m for m in methods if m not in closed]
     headline = {"orders": {}, "richardson": {}, "reference": {}}
-    lines = [f"Reproduce: `{command}`" if command else "", "",
-             "Reference: `steady_state(model, method=\"exact\").W`, once per case. Errors are "
-             "|W - W_exact| / W_exact.", "",
-             "## Measured convergence order (least-squares slope of log error against log "
-             "steps, runs with >= 200 steps and error above 1e-13)", "",
-             *_order_table(rows, cases, steppers, headline["orders"])]
-    lines += ["", "## Independent check of the reference: Richardson extrapolation of explicit",
-              "", "W_rich = W(n2) + (W(n2) - W(n1))/3 at explicit's two finest grids n1 < n2 "
-              "(second order).", "",
-              "| case | W_exact | n1, n2 | explicit error at n2 | W_rich | abs. error of W_rich "
-              "| relative |", "|---|---|---|---|---|---|---|"]
+    lines = [
+        f"Reproduce: `{command}`" if command else "",
+        "",
+        'Reference: `steady_state(model, method="exact").W`, once per case. Errors are '
+        "|W - W_exact| / W_exact.",
+        "",
+        "## Measured convergence order (least-squares slope of log error against log "
+        "steps, runs with >= 200 steps and error above 1e-13)",
+        "",
+        *_order_table(rows, cases, steppers, headline["orders"]),
+    ]
+    lines += [
+        "",
+        "## Independent check of the reference: Richardson extrapolation of explicit",
+        "",
+        "W_rich = W(n2) + (W(n2) - W(n1))/3 at explicit's two finest grids n1 < n2 (second order).",
+        "",
+        "| case | W_exact | n1, n2 | explicit error at n2 | W_rich | abs. error of W_rich "
+        "| relative |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for c in cases:
         rc = richardson(rows, c.name)
         headline["richardson"][c.name] = rc
         if rc:
-            lines.append(f"| {c.name} | {rc['W_exact']:.12g} | {rc['steps'][0]}, "
-                         f"{rc['steps'][1]} | {rc['finest_error']:.1e} | {rc['W_rich']:.12g} "
-                         f"| {rc['abs_error']:.1e} | {rc['rich_error']:.1e} |")
-    lines += ["", "## Cost of the reference (`exact`)", "",
-              "| case | seconds per steady state | events per cycle | cycles |",
-              "|---|---|---|---|"]
+            lines.append(
+                f"| {c.name} | {rc['W_exact']:.12g} | {rc['steps'][0]}, "
+                f"{rc['steps'][1]} | {rc['finest_error']:.1e} | {rc['W_rich']:.12g} "
+                f"| {rc['abs_error']:.1e} | {rc['rich_error']:.1e} |"
+            )
+    lines += [
+        "",
+        "## Cost of the reference (`exact`)",
+        "",
+        "| case | seconds per steady state | events per cycle | cycles |",
+        "|---|---|---|---|",
+    ]
     for c in cases:
-        hit = [r for r in rows if r["case"] == c.name and r["method"] in closed
-               and r["seconds"] != ""]
+        hit = [
+            r for r in rows if r["case"] == c.name and r["method"] in closed and r["seconds"] != ""
+        ]
         if not hit and c.name not in _REFERENCES:
             continue
         W, sec, stats = _REFERENCES.get(c.name, (None, None, {}))
         sec = hit[0]["seconds"] if hit else sec
-        headline["reference"][c.name] = dict(seconds=sec, **{
-            k: stats.get(k) for k in ("events_per_cycle", "cycles")})
-        lines.append(f"| {c.name} | {sec:.3g} | {stats.get('events_per_cycle', '')} | "
-                     f"{stats.get('cycles', '')} |")
-    lines += ["", "## Relative error against exact, per case", "",
-              "Time per cycle: the finest run's wall time over the cycles the periodic driver "
-              "ran (the steps per cycle in brackets).", ""]
+        headline["reference"][c.name] = dict(
+            seconds=sec, **{k: stats.get(k) for k in ("events_per_cycle", "cycles")}
+        )
+        lines.append(
+            f"| {c.name} | {sec:.3g} | {stats.get('events_per_cycle', '')} | "
+            f"{stats.get('cycles', '')} |"
+        )
+    lines += [
+        "",
+        "## Relative error against exact, per case",
+        "",
+        "Time per cycle: the finest run's wall time over the cycles the periodic driver "
+        "ran (the steps per cycle in brackets).",
+        "",
+    ]
     for c in cases:
         sub = [r for r in rows if r["case"] == c.name]
         steps = sorted({r["steps_per_cycle"] for r in sub if r["method"] not in closed})
-        lines += [f"### {c.label()}", "",
-                  "| method | " + " | ".join(str(s) for s in steps) + " | order | s per cycle |",
-                  "|---|" + "---|" * (len(steps) + 2)]
+        lines += [
+            f"### {c.label()}",
+            "",
+            "| method | " + " | ".join(str(s) for s in steps) + " | order | s per cycle |",
+            "|---|" + "---|" * (len(steps) + 2),
+        ]
         for m in steppers:
             cells = []
             for s in steps:
                 hit = [r for r in sub if r["method"] == m and r["steps_per_cycle"] == s]
-                cells.append(f"{hit[0]['rel_error']:.1e}" if hit and hit[0]["rel_error"] != ""
-                             else "")
+                cells.append(
+                    f"{hit[0]['rel_error']:.1e}" if hit and hit[0]["rel_error"] != "" else ""
+                )
             o = convergence_order(rows, c.name, m)
             pc = _per_cycle(rows, c.name, m)
-            cells += ["-" if o is None else f"{o:.2f}",
-                      "-" if pc is None else f"{pc[0]:.2e} ({pc[1]})"]
+            cells += [
+                "-" if o is None else f"{o:.2f}",
+                "-" if pc is None else f"{pc[0]:.2e} ({pc[1]})",
+            ]
             lines.append(f"| {m} | " + " | ".join(cells) + " |")
         notes = {r["method"]: r["note"] for r in sub if r["note"].startswith("error")}
         for m, note in notes.items():
@@ -580,31 +757,50 @@ def _plot_coupled(rows, cases, steppers, closed, path) -> bool:
         for ax, c in zip(axes.flat, cases):
             for i, m in enumerate(steppers):
                 # in the order of refinement (run times are noisy, step counts are not)
-                pts = sorted((r["steps_per_cycle"], r["seconds"], max(r["rel_error"], 1e-16))
-                             for r in rows if r["case"] == c.name and r["method"] == m
-                             and r["rel_error"] != "")
+                pts = sorted(
+                    (r["steps_per_cycle"], r["seconds"], max(r["rel_error"], 1e-16))
+                    for r in rows
+                    if r["case"] == c.name and r["method"] == m and r["rel_error"] != ""
+                )
                 if not pts:
                     continue
                 _, x, y = zip(*pts)
-                ax.loglog(x, y, label=m, color=colors[i % len(colors)],
-                          **pl.curve_style(i, len(steppers), len(pts)))
-            ref = [r for r in rows if r["case"] == c.name and r["method"] in closed
-                   and r["seconds"] != ""]
+                ax.loglog(
+                    x,
+                    y,
+                    label=m,
+                    color=colors[i % len(colors)],
+                    **pl.curve_style(i, len(steppers), len(pts)),
+                )
+            ref = [
+                r
+                for r in rows
+                if r["case"] == c.name and r["method"] in closed and r["seconds"] != ""
+            ]
             if ref:
-                ax.axvline(ref[0]["seconds"], color="k", lw=0.8, ls=(0, (1, 1.5)),
-                           label="exact (the reference): its run time")
+                ax.axvline(
+                    ref[0]["seconds"],
+                    color="k",
+                    lw=0.8,
+                    ls=(0, (1, 1.5)),
+                    label="exact (the reference): its run time",
+                )
             ax.set_title(f"{c.name}\n{c.description}", fontsize=pl.SMALL)
             ax.set_xlabel("wall time per steady state (s)")
             ax.set_ylabel(r"$|W - W_{\mathrm{exact}}|\,/\,W_{\mathrm{exact}}$")
             ax.grid(True, which="major", alpha=0.3)
-        for ax in list(axes.flat)[len(cases):]:
+        for ax in list(axes.flat)[len(cases) :]:
             ax.axis("off")
         handles = {}
         for ax in axes.flat:
             for h, lab in zip(*ax.get_legend_handles_labels()):
                 handles.setdefault(lab, h)
-        fig.legend(list(handles.values()), list(handles), loc="outside lower center",
-                   ncol=min(len(handles), 4))
+        fig.legend(
+            list(handles.values()),
+            list(handles),
+            loc="outside lower center",
+            ncol=min(len(handles), 4),
+        )
         pl.finish(fig)
         fig.savefig(path, dpi=pl.DPI)
     return True

@@ -23,8 +23,12 @@ from pathlib import Path as _Path
 # the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
 # shared cases and references (tests/support)
 _ROOT = _Path(__file__).resolve().parents[2]
-_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
-                 str(_ROOT / "tests")]
+_sys.path[:0] = [
+    str(_ROOT),
+    str(_ROOT / "benchmarks"),
+    str(_ROOT / "benchmarks" / "perf"),
+    str(_ROOT / "tests"),
+]
 
 import argparse
 import sys
@@ -41,8 +45,9 @@ def chain(n, sep=False, seed=0):
     """n nodes, k_coupling = 10, k_ground = 1; P1 in [0.1, 0.8] (full contact) or [1.2, 2]."""
     rng = np.random.default_rng(seed)
     P1 = rng.uniform(1.2, 2.0, n) if sep else rng.uniform(0.1, 0.8, n)
-    return lcpfric.chain(n, k_coupling=10.0, P1=P1, Q1=rng.uniform(0.5, 2.0, n),
-                         phi=rng.uniform(0, 2 * np.pi, n))
+    return lcpfric.chain(
+        n, k_coupling=10.0, P1=P1, Q1=rng.uniform(0.5, 2.0, n), phi=rng.uniform(0, 2 * np.pi, n)
+    )
 
 
 def dense(n, sep=False, seed=0):
@@ -52,8 +57,12 @@ def dense(n, sep=False, seed=0):
     K = A @ A.T + np.eye(n)
     P1 = rng.uniform(1.2, 2.0, n) if sep else rng.uniform(0.1, 0.8, n)
     Q1, phi = rng.uniform(0.5, 2.0, n), rng.uniform(0, 2 * np.pi, n)
-    return ContactSystem(K, np.ones(n), tuple(Harmonic(0.0, Q1[i], phi[i]) for i in range(n)),
-                         IndependentSprings(tuple(Harmonic(1.0, P1[i]) for i in range(n))))
+    return ContactSystem(
+        K,
+        np.ones(n),
+        tuple(Harmonic(0.0, Q1[i], phi[i]) for i in range(n)),
+        IndependentSprings(tuple(Harmonic(1.0, P1[i]) for i in range(n))),
+    )
 
 
 def single(sep):
@@ -84,46 +93,69 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true", help="n <= 100 and no part 2")
     ap.add_argument("--out", default=None, help="write the markdown tables here")
     args = ap.parse_args(argv)
-    run_exact(single(True))   # imports and first calls out of the timings
-    lines = ["| system | n | CPU s | cycles | Newton steps | events per cycle | ms per event "
-             "| floor ms | W |", "|---|---|---|---|---|---|---|---|---|"]
-    cases = [("single node (0.5, 2, 0.6π)", lambda n, s: single(False), 1, False),
-             ("single node (1.5, 2, 0.6π)", lambda n, s: single(True), 1, True),
-             ("chain, full contact", chain, 10, False), ("chain, separation", chain, 10, True),
-             ("chain, full contact", chain, 100, False), ("chain, separation", chain, 100, True),
-             ("dense SPD, full contact", dense, 100, False),
-             ("dense SPD, separation", dense, 100, True)]
+    run_exact(single(True))  # imports and first calls out of the timings
+    lines = [
+        "| system | n | CPU s | cycles | Newton steps | events per cycle | ms per event "
+        "| floor ms | W |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    cases = [
+        ("single node (0.5, 2, 0.6π)", lambda n, s: single(False), 1, False),
+        ("single node (1.5, 2, 0.6π)", lambda n, s: single(True), 1, True),
+        ("chain, full contact", chain, 10, False),
+        ("chain, separation", chain, 10, True),
+        ("chain, full contact", chain, 100, False),
+        ("chain, separation", chain, 100, True),
+        ("dense SPD, full contact", dense, 100, False),
+        ("dense SPD, separation", dense, 100, True),
+    ]
     if not args.quick:
-        cases += [("chain, full contact", chain, 1000, False),
-                  ("chain, separation", chain, 1000, True),
-                  ("dense SPD, full contact", dense, 1000, False),
-                  ("dense SPD, separation", dense, 1000, True)]
+        cases += [
+            ("chain, full contact", chain, 1000, False),
+            ("chain, separation", chain, 1000, True),
+            ("dense SPD, full contact", dense, 1000, False),
+            ("dense SPD, separation", dense, 1000, True),
+        ]
     for name, make, n, sep in cases:
         r, sec = run_exact(make(n, sep))
         st = r.solver_stats
         events = st["events_per_cycle"] * st["cycles"]
         per = 1e3 * sec / max(events, 1)
         floor = 1e3 * floor_seconds(n, max(1, n // 2))
-        lines.append(f"| {name} | {n} | {sec:.3g} | {st['cycles']} | {st['newton_steps']} "
-                     f"| {st['events_per_cycle']} | {per:.3g} | {floor:.2g} | {r.W:.15g} |")
+        lines.append(
+            f"| {name} | {n} | {sec:.3g} | {st['cycles']} | {st['newton_steps']} "
+            f"| {st['events_per_cycle']} | {per:.3g} | {floor:.2g} | {r.W:.15g} |"
+        )
         print(lines[-1], flush=True)
     command = "OPENBLAS_NUM_THREADS=1 python benchmarks/perf/exact_discrete.py" + (
-        " --quick" if args.quick else "")
-    out = ["## exact on discrete systems", "", f"`{command}`; CPU seconds; floor: one K z and one "
-           "rank-one update of an (n/2) x (n/2) block", "", *lines, ""]
+        " --quick" if args.quick else ""
+    )
+    out = [
+        "## exact on discrete systems",
+        "",
+        f"`{command}`; CPU seconds; floor: one K z and one "
+        "rank-one update of an (n/2) x (n/2) block",
+        "",
+        *lines,
+        "",
+    ]
     if not args.quick:
         system = chain(100)
         ref, t_exact = run_exact(system)
-        out += ["## 100-node chain (k_coupling = 10, full contact): explicit to 1e-6 against "
-                "exact", "", "| method | steps per cycle | cycles | relative error | CPU s |",
-                "|---|---|---|---|---|", f"| exact | events | {ref.cycles} | reference | "
-                f"{t_exact:.3g} |"]
+        out += [
+            "## 100-node chain (k_coupling = 10, full contact): explicit to 1e-6 against exact",
+            "",
+            "| method | steps per cycle | cycles | relative error | CPU s |",
+            "|---|---|---|---|---|",
+            f"| exact | events | {ref.cycles} | reference | {t_exact:.3g} |",
+        ]
         print(out[-1], flush=True)
         steps = 1000
         while True:
             t = time.process_time()
-            r = lcpfric.steady_state(system, method="explicit", steps_per_cycle=steps,
-                                     max_cycles=200)
+            r = lcpfric.steady_state(
+                system, method="explicit", steps_per_cycle=steps, max_cycles=200
+            )
             sec = time.process_time() - t
             err = abs(r.W - ref.W) / ref.W
             out.append(f"| explicit | {steps} | {r.cycles} | {err:.2e} | {sec:.3g} |")

@@ -32,8 +32,12 @@ from pathlib import Path as _Path
 # the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
 # shared cases and references (tests/support)
 _ROOT = _Path(__file__).resolve().parents[2]
-_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
-                 str(_ROOT / "tests")]
+_sys.path[:0] = [
+    str(_ROOT),
+    str(_ROOT / "benchmarks"),
+    str(_ROOT / "benchmarks" / "perf"),
+    str(_ROOT / "tests"),
+]
 
 import argparse
 import json
@@ -51,8 +55,13 @@ from lcpfric.scene import make_scene
 
 def separating_chain(n, seed=0):
     rng = np.random.default_rng(seed)
-    return lcpfric.chain(n, k_coupling=0.5, P1=rng.uniform(1.2, 2.0, n),
-                         Q1=rng.uniform(0.5, 2.0, n), phi=rng.uniform(0, 2 * np.pi, n))
+    return lcpfric.chain(
+        n,
+        k_coupling=0.5,
+        P1=rng.uniform(1.2, 2.0, n),
+        Q1=rng.uniform(0.5, 2.0, n),
+        phi=rng.uniform(0, 2 * np.pi, n),
+    )
 
 
 def dense_spd(n, seed=0):
@@ -62,8 +71,12 @@ def dense_spd(n, seed=0):
     A = rng.standard_normal((n, n)) / np.sqrt(n)
     K = A @ A.T + np.eye(n)
     P1, Q1, phi = rng.uniform(0.1, 0.8, n), rng.uniform(0.5, 2.0, n), rng.uniform(0, 6.3, n)
-    return ContactSystem(K, np.ones(n), tuple(Harmonic(0.0, Q1[i], phi[i]) for i in range(n)),
-                         IndependentSprings(tuple(Harmonic(1.0, P1[i]) for i in range(n))))
+    return ContactSystem(
+        K,
+        np.ones(n),
+        tuple(Harmonic(0.0, Q1[i], phi[i]) for i in range(n)),
+        IndependentSprings(tuple(Harmonic(1.0, P1[i]) for i in range(n))),
+    )
 
 
 def cycle_seconds(method, scene, cycles=1, **options):
@@ -135,10 +148,19 @@ def goal_matrix_free(n, steps=500):
     products = (after["products"] - before["products"]) / scene.steps
     cg = (after["cg_iterations"] - before["cg_iterations"]) / scene.steps
     floor = product_seconds(op)
-    _, W_dense = cycle_seconds("active-set", make_scene(dense, steps), cycles=2,
-                               locate_events=False)
-    return {"n": n, "steps": scene.steps, "seconds": sec, "products": products, "cg": cg,
-            "floor": floor, "W": cyc.W, "W_dense": W_dense}
+    _, W_dense = cycle_seconds(
+        "active-set", make_scene(dense, steps), cycles=2, locate_events=False
+    )
+    return {
+        "n": n,
+        "steps": scene.steps,
+        "seconds": sec,
+        "products": products,
+        "cg": cg,
+        "floor": floor,
+        "W": cyc.W,
+        "W_dense": W_dense,
+    }
 
 
 def goal_sparse(n, steps=2000):
@@ -156,8 +178,7 @@ print(json.dumps({{"seconds": time.perf_counter() - t0, "cycles": r.cycles, "W":
                   "converged": r.converged, "steps": r.steps_used,
                   "rss_mb": int(hwm) / 1024}}))
 """
-    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         check=True)
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     return {"n": n, **json.loads(res.stdout.strip().splitlines()[-1])}
 
 
@@ -167,43 +188,65 @@ def main(argv=None):
     ap.add_argument("--out", default="benchmarks/results")
     args = ap.parse_args(argv)
     n1, n2, n3, n4 = (100, 1000, 10_000, 1000) if args.quick else (400, 4000, 100_000, 4000)
-    lines = ["# Many nodes: the active-set backend's goals", "",
-             f"Reproduce: `OPENBLAS_NUM_THREADS=1 python benchmarks/perf/many_nodes.py"
-             f"{' --quick' if args.quick else ''}` (CPU seconds; wall seconds for the sparse "
-             f"steady state).", ""]
+    lines = [
+        "# Many nodes: the active-set backend's goals",
+        "",
+        f"Reproduce: `OPENBLAS_NUM_THREADS=1 python benchmarks/perf/many_nodes.py"
+        f"{' --quick' if args.quick else ''}` (CPU seconds; wall seconds for the sparse "
+        f"steady state).",
+        "",
+    ]
     r = goal_ratios(n1)
     Ws = [r[m][1] for m in ("active-set", "osqp", "clarabel")]
     spread = (max(Ws) - min(Ws)) / max(abs(w) for w in Ws)
     a, o, c = (r[m][0] for m in ("active-set", "osqp", "clarabel"))
-    lines += [f"## Dense chain, n = {n1} ({r['steps']} steps in the cycle, events located)", "",
-              "| method | ms per step | active-set faster by | W |", "|---|---|---|---|",
-              f"| active-set | {1e3 * a:.3g} | 1 | {Ws[0]!r} |",
-              f"| osqp | {1e3 * o:.3g} | {o / a:.1f}x | {Ws[1]!r} |",
-              f"| clarabel | {1e3 * c:.3g} | {c / a:.1f}x | {Ws[2]!r} |", "",
-              f"Largest relative difference of W: {spread:.1e}.", ""]
+    lines += [
+        f"## Dense chain, n = {n1} ({r['steps']} steps in the cycle, events located)",
+        "",
+        "| method | ms per step | active-set faster by | W |",
+        "|---|---|---|---|",
+        f"| active-set | {1e3 * a:.3g} | 1 | {Ws[0]!r} |",
+        f"| osqp | {1e3 * o:.3g} | {o / a:.1f}x | {Ws[1]!r} |",
+        f"| clarabel | {1e3 * c:.3g} | {c / a:.1f}x | {Ws[2]!r} |",
+        "",
+        f"Largest relative difference of W: {spread:.1e}.",
+        "",
+    ]
     print("\n".join(lines[-9:]), flush=True)
     p = goal_products(n2)
-    lines += [f"## Dense SPD K, n = {n2} (full contact, {p['steps']} steps, third cycle, "
-              f"events not located)", "",
-              f"{1e3 * p['seconds']:.3g} ms per step; one product with C: "
-              f"{1e3 * p['floor']:.3g} ms; **{p['seconds'] / p['floor']:.1f} products per "
-              f"step**.", ""]
+    lines += [
+        f"## Dense SPD K, n = {n2} (full contact, {p['steps']} steps, third cycle, "
+        f"events not located)",
+        "",
+        f"{1e3 * p['seconds']:.3g} ms per step; one product with C: "
+        f"{1e3 * p['floor']:.3g} ms; **{p['seconds'] / p['floor']:.1f} products per "
+        f"step**.",
+        "",
+    ]
     print("\n".join(lines[-3:]), flush=True)
     s = goal_sparse(n3)
-    lines += [f"## Sparse chain, n = {n3:g} (2000 steps per cycle, history=False)", "",
-              f"Full steady state (build, scene, cycles): {s['seconds']:.1f} s wall, "
-              f"{s['cycles']} cycles (converged: {s['converged']}), {s['steps']} steps per "
-              f"cycle, peak resident memory {s['rss_mb']:.0f} MB, W = {s['W']!r}.", ""]
+    lines += [
+        f"## Sparse chain, n = {n3:g} (2000 steps per cycle, history=False)",
+        "",
+        f"Full steady state (build, scene, cycles): {s['seconds']:.1f} s wall, "
+        f"{s['cycles']} cycles (converged: {s['converged']}), {s['steps']} steps per "
+        f"cycle, peak resident memory {s['rss_mb']:.0f} MB, W = {s['W']!r}.",
+        "",
+    ]
     print("\n".join(lines[-3:]), flush=True)
     f = goal_matrix_free(n4)
-    lines += [f"## Matrix-free, n = {n4} (FFT Toeplitz compliance, {f['steps']} steps, second "
-              f"cycle, events not located)", "",
-              f"{1e3 * f['seconds']:.3g} ms per step; {f['products']:.1f} products with C per "
-              f"step ({f['cg']:.1f} of them conjugate-gradient iterations); one product (one "
-              f"FFT pair): {1e3 * f['floor']:.3g} ms; **{f['seconds'] / f['floor']:.1f} "
-              f"products' time per step**. W = {f['W']!r}; with K = C⁻¹ (dense path) "
-              f"{f['W_dense']!r}: relative difference "
-              f"{abs(f['W'] - f['W_dense']) / abs(f['W_dense']):.1e}.", ""]
+    lines += [
+        f"## Matrix-free, n = {n4} (FFT Toeplitz compliance, {f['steps']} steps, second "
+        f"cycle, events not located)",
+        "",
+        f"{1e3 * f['seconds']:.3g} ms per step; {f['products']:.1f} products with C per "
+        f"step ({f['cg']:.1f} of them conjugate-gradient iterations); one product (one "
+        f"FFT pair): {1e3 * f['floor']:.3g} ms; **{f['seconds'] / f['floor']:.1f} "
+        f"products' time per step**. W = {f['W']!r}; with K = C⁻¹ (dense path) "
+        f"{f['W_dense']!r}: relative difference "
+        f"{abs(f['W'] - f['W_dense']) / abs(f['W_dense']):.1e}.",
+        "",
+    ]
     print("\n".join(lines[-3:]), flush=True)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

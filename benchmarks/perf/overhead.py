@@ -28,8 +28,12 @@ from pathlib import Path as _Path
 # the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
 # shared cases and references (tests/support)
 _ROOT = _Path(__file__).resolve().parents[2]
-_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
-                 str(_ROOT / "tests")]
+_sys.path[:0] = [
+    str(_ROOT),
+    str(_ROOT / "benchmarks"),
+    str(_ROOT / "benchmarks" / "perf"),
+    str(_ROOT / "tests"),
+]
 
 from _report import results_file  # noqa: E402 (benchmarks/ on the path above)
 import argparse
@@ -50,8 +54,14 @@ STEPS = {"clarabel": 1000, "osqp": 1000, "qpsolvers": 200, "cvxpy": 100}
 def make(size: int, steps: int):
     if size == 1:  # the paper's node, with separation
         return make_scene(SingleNode.normalized(1.5, 2.0, 0.6 * np.pi), steps)
-    system = chain(size, k_coupling=0.5, P1=0.5, Q1=np.linspace(1.5, 2.5, size),
-                   phi=0.6 * np.pi, normal_phase=np.linspace(0.0, 1.0, size))
+    system = chain(
+        size,
+        k_coupling=0.5,
+        P1=0.5,
+        Q1=np.linspace(1.5, 2.5, size),
+        phi=0.6 * np.pi,
+        normal_phase=np.linspace(0.0, 1.0, size),
+    )
     return make_scene(system, steps)
 
 
@@ -59,12 +69,14 @@ def raw_call(stepper):
     """The backend's own update + solve, for one recorded call."""
     name = stepper.name
     if name == "clarabel":
+
         def call(prob, q, bdata):
             h = prob.handle
             h.update(q=q, b=bdata)
             sol = h.solve()
             return sol.x
     elif name == "osqp":
+
         def call(prob, q, bdata):
             h = prob.handle
             h.update(q=q, l=bdata[0], u=bdata[1])
@@ -74,10 +86,11 @@ def raw_call(stepper):
 
         def call(prob, q, bdata):
             problem = qpsolvers.Problem(prob.handle["P"], q, lb=bdata[0], ub=bdata[1])
-            return qpsolvers.solve_problem(problem, solver=stepper.solver,
-                                           initvals=prob.handle["x"],
-                                           **prob.handle["settings"]).x
+            return qpsolvers.solve_problem(
+                problem, solver=stepper.solver, initvals=prob.handle["x"], **prob.handle["settings"]
+            ).x
     elif name == "cvxpy":
+
         def call(prob, q, bdata):
             problem, F, lin, bnd, settings = prob.handle
             lin.value = q
@@ -118,8 +131,15 @@ def measure(method: str, size: int, steps: int, repeat: int) -> dict:
         t_raw.append(time.perf_counter() - t0)
     ncalls = max(1, len(calls))
     lcp, rw = min(t_lcp) / ncalls, min(t_raw) / ncalls
-    return {"method": method, "n": size, "steps": scene.steps, "solves": len(calls),
-            "lcpfric_us": 1e6 * lcp, "raw_us": 1e6 * rw, "ratio": lcp / rw}
+    return {
+        "method": method,
+        "n": size,
+        "steps": scene.steps,
+        "solves": len(calls),
+        "lcpfric_us": 1e6 * lcp,
+        "raw_us": 1e6 * rw,
+        "ratio": lcp / rw,
+    }
 
 
 def main(argv=None) -> int:
@@ -128,18 +148,27 @@ def main(argv=None) -> int:
     parser.add_argument("--backends", default=",".join(DEFAULT_BACKENDS))
     parser.add_argument("--sizes", default="1,10", help="scene sizes n (1 = the paper's node)")
     parser.add_argument("--repeat", type=int, default=15)
-    parser.add_argument("--steps", type=int, default=0,
-                        help="steps per cycle (default: per backend, see STEPS)")
-    parser.add_argument("--out", default=str(_ROOT / "benchmarks" / "results" / "overhead.md"),
-                    help="the results file (default: %(default)s; \"-\": print only)")
+    parser.add_argument(
+        "--steps", type=int, default=0, help="steps per cycle (default: per backend, see STEPS)"
+    )
+    parser.add_argument(
+        "--out",
+        default=str(_ROOT / "benchmarks" / "results" / "overhead.md"),
+        help='the results file (default: %(default)s; "-": print only)',
+    )
     args = parser.parse_args(argv)
-    with results_file(None if args.out == "-" else args.out, "The convex backends' overhead over the raw solver call",
-                      "perf/overhead.py" + "".join(f" {a}" for a in (sys.argv[1:] if argv is None else argv))):
+    with results_file(
+        None if args.out == "-" else args.out,
+        "The convex backends' overhead over the raw solver call",
+        "perf/overhead.py" + "".join(f" {a}" for a in (sys.argv[1:] if argv is None else argv)),
+    ):
         have = set(available_methods())
         sizes = [int(s) for s in args.sizes.split(",")]
         ratios = {}
-        print(f"{'backend':18s} {'n':>4s} {'steps':>6s} {'lcpfric us/solve':>17s} "
-              f"{'raw us/solve':>13s} {'ratio':>6s}")
+        print(
+            f"{'backend':18s} {'n':>4s} {'steps':>6s} {'lcpfric us/solve':>17s} "
+            f"{'raw us/solve':>13s} {'ratio':>6s}"
+        )
         for method in args.backends.split(","):
             if method not in have:
                 print(f"{method:18s} not installed: skipped")
@@ -147,8 +176,11 @@ def main(argv=None) -> int:
             steps = args.steps or STEPS[method.split(":")[0]]
             for i, size in enumerate(sizes):
                 r = measure(method, size, steps, args.repeat)
-                print(f"{method:18s} {size:4d} {r['steps']:6d} {r['lcpfric_us']:17.1f} "
-                      f"{r['raw_us']:13.1f} {r['ratio']:6.2f}", flush=True)
+                print(
+                    f"{method:18s} {size:4d} {r['steps']:6d} {r['lcpfric_us']:17.1f} "
+                    f"{r['raw_us']:13.1f} {r['ratio']:6.2f}",
+                    flush=True,
+                )
                 ratios[method if i == 0 else f"{method}@n={size}"] = round(r["ratio"], 3)
         if args.json:
             print(json.dumps(ratios))

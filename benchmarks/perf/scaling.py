@@ -85,8 +85,12 @@ from pathlib import Path as _Path
 # the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
 # shared cases and references (tests/support)
 _ROOT = _Path(__file__).resolve().parents[2]
-_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
-                 str(_ROOT / "tests")]
+_sys.path[:0] = [
+    str(_ROOT),
+    str(_ROOT / "benchmarks"),
+    str(_ROOT / "benchmarks" / "perf"),
+    str(_ROOT / "tests"),
+]
 
 import argparse
 import csv
@@ -107,30 +111,56 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 #: the rows' method -> (lcpfric method, options)
-METHODS = {"explicit": ("explicit", {}),
-           "clarabel": ("clarabel", {"locate_events": True}),
-           "osqp": ("osqp", {"locate_events": True}),
-           "active-set": ("active-set", {"locate_events": True}),
-           "active-set-no-events": ("active-set", {"locate_events": False})}
+METHODS = {
+    "explicit": ("explicit", {}),
+    "clarabel": ("clarabel", {"locate_events": True}),
+    "osqp": ("osqp", {"locate_events": True}),
+    "active-set": ("active-set", {"locate_events": True}),
+    "active-set-no-events": ("active-set", {"locate_events": False}),
+}
 #: methods with one discretization (events located inside the increment by the same rule)
 LOCATED = ("clarabel", "osqp", "active-set")
 AGREE_TOL = 1e-10
 AGREE_CYCLES = 50
 #: system -> (description, sizes, sizes with --quick)
 SYSTEMS = {
-    "chain": ("chain, k_coupling 0.5, per-node separation, dense K",
-              (10, 40, 100, 400, 1000, 4000), (10, 40, 100, 400)),
-    "dense-spd": ("dense SPD K = A Aᵀ/n + I, per-node separation",
-                  (10, 40, 100, 400, 1000, 4000), ()),
+    "chain": (
+        "chain, k_coupling 0.5, per-node separation, dense K",
+        (10, 40, 100, 400, 1000, 4000),
+        (10, 40, 100, 400),
+    ),
+    "dense-spd": (
+        "dense SPD K = A Aᵀ/n + I, per-node separation",
+        (10, 40, 100, 400, 1000, 4000),
+        (),
+    ),
     "chain-sparse": ("chain, k_coupling 0.5, per-node separation, sparse K", (1000,), ()),
-    "chain-sparse-common": ("chain, k_coupling 0.5, separation common to all nodes, sparse K",
-                            (1000, 10000, 100000), (1000, 10000)),
+    "chain-sparse-common": (
+        "chain, k_coupling 0.5, separation common to all nodes, sparse K",
+        (1000, 10000, 100000),
+        (1000, 10000),
+    ),
 }
 SPARSE = ("chain-sparse", "chain-sparse-common")
-FIELDS = ("system", "n", "method", "status", "scene_steps", "cycles", "setup_s", "cpu_s",
-          "s_per_step",
-          "floor_s", "ratio", "peak_mb", "W", "W_converged", "converged", "cycles_converged",
-          "note")
+FIELDS = (
+    "system",
+    "n",
+    "method",
+    "status",
+    "scene_steps",
+    "cycles",
+    "setup_s",
+    "cpu_s",
+    "s_per_step",
+    "floor_s",
+    "ratio",
+    "peak_mb",
+    "W",
+    "W_converged",
+    "converged",
+    "cycles_converged",
+    "note",
+)
 
 
 # -- the systems ------------------------------------------------------------------------------
@@ -144,11 +174,24 @@ def build(system: str, n: int):
 
         return dense(n, sep=True, seed=n)
     if system == "chain-sparse-common":
-        return lcpfric.chain(n, k_coupling=0.5, P0=1.0, P1=1.5, Q1=rng.uniform(0.5, 2.0, n),
-                             phi=rng.uniform(0, 2 * np.pi, n), sparse=True)
-    return lcpfric.chain(n, k_coupling=0.5, P0=1.0, P1=rng.uniform(1.2, 2.0, n),
-                         Q1=rng.uniform(0.5, 2.0, n), phi=rng.uniform(0, 2 * np.pi, n),
-                         sparse=system in SPARSE)
+        return lcpfric.chain(
+            n,
+            k_coupling=0.5,
+            P0=1.0,
+            P1=1.5,
+            Q1=rng.uniform(0.5, 2.0, n),
+            phi=rng.uniform(0, 2 * np.pi, n),
+            sparse=True,
+        )
+    return lcpfric.chain(
+        n,
+        k_coupling=0.5,
+        P0=1.0,
+        P1=rng.uniform(1.2, 2.0, n),
+        Q1=rng.uniform(0.5, 2.0, n),
+        phi=rng.uniform(0, 2 * np.pi, n),
+        sparse=system in SPARSE,
+    )
 
 
 def steps_per_cycle(n: int, steps: int = 500) -> int:
@@ -162,8 +205,10 @@ def history_option() -> bool:
 
     from lcpfric import periodic
 
-    return ("history" in getattr(periodic, "DRIVER_OPTIONS", ())
-            or "history" in inspect.signature(periodic.steady_state).parameters)
+    return (
+        "history" in getattr(periodic, "DRIVER_OPTIONS", ())
+        or "history" in inspect.signature(periodic.steady_state).parameters
+    )
 
 
 # -- what one child measures --------------------------------------------------------------------
@@ -288,8 +333,15 @@ class Watchdog:
         signal.signal(signal.SIGUSR1, self.previous)
 
 
-def measure_case(system: str, n: int, method: str, cycles: int, agree: bool,
-                 budget: float | None = None, steps: int = 500) -> dict:
+def measure_case(
+    system: str,
+    n: int,
+    method: str,
+    cycles: int,
+    agree: bool,
+    budget: float | None = None,
+    steps: int = 500,
+) -> dict:
     """One (system, n, method): timed cycles, peak memory, and the converged W if ``agree``."""
     import lcpfric
 
@@ -298,21 +350,36 @@ def measure_case(system: str, n: int, method: str, cycles: int, agree: bool,
     name, opts = METHODS[method]
     extra = {"history": False} if n >= 100_000 else {}
     out = {"scene_steps": scene.steps}
-    lcpfric.steady_state(build("chain", 3), name, 50, max_cycles=1,
-                         on_nonconvergence="ignore", **opts)  # imports, first calls
+    lcpfric.steady_state(
+        build("chain", 3), name, 50, max_cycles=1, on_nonconvergence="ignore", **opts
+    )  # imports, first calls
     watch = Watchdog(budget) if budget is not None else None  # covers K⁻¹ and the runs
     t = time.process_time()
     try:
         out["setup_s"] = inverse_seconds(model, method)
         t = time.process_time()
-        r = lcpfric.steady_state(scene, name, tol=1e-300, max_cycles=cycles,
-                                 on_nonconvergence="ignore", **opts, **extra)
+        r = lcpfric.steady_state(
+            scene, name, tol=1e-300, max_cycles=cycles, on_nonconvergence="ignore", **opts, **extra
+        )
         cpu = time.process_time() - t
-        out.update(status="ok", cycles=r.cycles, cpu_s=cpu,
-                   s_per_step=cpu / (r.cycles * scene.steps), W=r.W, peak_mb=peak_mb())
+        out.update(
+            status="ok",
+            cycles=r.cycles,
+            cpu_s=cpu,
+            s_per_step=cpu / (r.cycles * scene.steps),
+            W=r.W,
+            peak_mb=peak_mb(),
+        )
         if agree:
-            c = lcpfric.steady_state(scene, name, tol=1e-12, max_cycles=AGREE_CYCLES,
-                                     on_nonconvergence="ignore", **opts, **extra)
+            c = lcpfric.steady_state(
+                scene,
+                name,
+                tol=1e-12,
+                max_cycles=AGREE_CYCLES,
+                on_nonconvergence="ignore",
+                **opts,
+                **extra,
+            )
             out.update(W_converged=c.W, converged=c.converged, cycles_converged=c.cycles)
     except OverBudget as stop:
         cpu = time.process_time() - t
@@ -322,17 +389,26 @@ def measure_case(system: str, n: int, method: str, cycles: int, agree: bool,
             return {**out, "peak_mb": peak_mb()}
         done = None if where is None or "setup_s" not in out else where[0] * scene.steps + where[1]
         if done:  # the steps finished before the budget ran out: timed over them
-            out.update(status="partial", cpu_s=cpu, s_per_step=cpu / done, peak_mb=peak_mb(),
-                       note=f"the budget of {budget:g} CPU s ran out after {done} of "
-                            f"{cycles * scene.steps} steps: s/step over those (with the run's "
-                            f"setup)")
+            out.update(
+                status="partial",
+                cpu_s=cpu,
+                s_per_step=cpu / done,
+                peak_mb=peak_mb(),
+                note=f"the budget of {budget:g} CPU s ran out after {done} of "
+                f"{cycles * scene.steps} steps: s/step over those (with the run's "
+                f"setup)",
+            )
         else:
-            out.update(status="over budget", cpu_s=cpu,
-                       note=f"stopped at the budget of {budget:g} CPU s"
-                            + ("" if "setup_s" in out else ", forming K⁻¹"))
+            out.update(
+                status="over budget",
+                cpu_s=cpu,
+                note=f"stopped at the budget of {budget:g} CPU s"
+                + ("" if "setup_s" in out else ", forming K⁻¹"),
+            )
     except Exception as exc:  # recorded, not raised: a failing method is a result
-        out.update(status="error", cpu_s=time.process_time() - t,
-                   note=f"{type(exc).__name__}: {exc}")
+        out.update(
+            status="error", cpu_s=time.process_time() - t, note=f"{type(exc).__name__}: {exc}"
+        )
     finally:
         if watch is not None:
             watch.stop()
@@ -359,13 +435,21 @@ class Settings:
 def child(kind: str, **spec) -> dict:
     """Run ``measure_floor`` or ``measure_case`` in a fresh interpreter; its JSON answer."""
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
-    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH"))
-                                        if p)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH")) if p)
     budget = spec.get("budget") or 600.0
     try:
-        p = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--child",
-                            json.dumps({"kind": kind, **spec})], env=env, capture_output=True,
-                           text=True, timeout=4 * budget + 120)
+        p = subprocess.run(
+            [
+                sys.executable,
+                str(Path(__file__).resolve()),
+                "--child",
+                json.dumps({"kind": kind, **spec}),
+            ],
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=4 * budget + 120,
+        )
     except subprocess.TimeoutExpired:
         return {"status": "timeout", "note": f"no answer after {4 * budget + 120:.0f} s wall"}
     if p.returncode != 0:
@@ -383,8 +467,10 @@ def too_big(n: int, method: str) -> str:
     have = memory.physical_memory() or math.inf
     if not forms_inverse(n, method) or need <= 0.5 * have:
         return ""
-    return (f"it forms the dense K⁻¹ ({memory.format_bytes(need)} at its peak; memory "
-            f"{memory.format_bytes(have)})")
+    return (
+        f"it forms the dense K⁻¹ ({memory.format_bytes(need)} at its peak; memory "
+        f"{memory.format_bytes(have)})"
+    )
 
 
 def predict(done: list, n: int, steps: int, runs: float) -> float | None:
@@ -409,39 +495,67 @@ def run(settings: Settings) -> list[dict]:
         stopped = {}
         for n in sizes:
             base = dict(system=system, n=n)
-            fixed = {m: _fixed_reason(settings, system, n, m, stopped, has_history)
-                     for m in settings.methods}
+            fixed = {
+                m: _fixed_reason(settings, system, n, m, stopped, has_history)
+                for m in settings.methods
+            }
             if all(fixed.values()):
-                rows += [_row(settings, {**base, "method": m, "status": "skipped",
-                                         "note": fixed[m]}) for m in settings.methods]
+                rows += [
+                    _row(settings, {**base, "method": m, "status": "skipped", "note": fixed[m]})
+                    for m in settings.methods
+                ]
                 continue
-            floor = (child("floor", system=system, n=n, steps=settings.steps)
-                     if settings.isolate else measure_floor(system, n, settings.steps))
+            floor = (
+                child("floor", system=system, n=n, steps=settings.steps)
+                if settings.isolate
+                else measure_floor(system, n, settings.steps)
+            )
             if "floor_s" not in floor:
-                floor = {"floor_s": math.nan, "scene_steps": 0, "baseline_mb": math.nan,
-                         "note": floor.get("note", "")}
+                floor = {
+                    "floor_s": math.nan,
+                    "scene_steps": 0,
+                    "baseline_mb": math.nan,
+                    "note": floor.get("note", ""),
+                }
             if floor.get("setup_s") is not None:
                 setups.append((n, floor["setup_s"]))
             agree = n <= settings.agree_max
             runs = settings.cycles + (3 if agree else 0)  # the converged runs take ~3 cycles
             for m in settings.methods:
-                row = {**base, "method": m, "floor_s": floor["floor_s"],
-                       "scene_steps": floor["scene_steps"]}
+                row = {
+                    **base,
+                    "method": m,
+                    "floor_s": floor["floor_s"],
+                    "scene_steps": floor["scene_steps"],
+                }
                 guess = predict(done[m], n, floor["scene_steps"], runs)
-                inverse = (setups[-1][1] * (n / setups[-1][0]) ** 3  # K⁻¹: O(n³)
-                           if setups and setups[-1][0] >= 100 and forms_inverse(n, m) else 0.0)
+                inverse = (
+                    setups[-1][1] * (n / setups[-1][0]) ** 3  # K⁻¹: O(n³)
+                    if setups and setups[-1][0] >= 100 and forms_inverse(n, m)
+                    else 0.0
+                )
                 if fixed[m]:
                     row.update(status="skipped", note=fixed[m])
-                elif (guess is not None and guess + inverse > settings.budget
-                      and not settings.partial):
+                elif (
+                    guess is not None and guess + inverse > settings.budget and not settings.partial
+                ):
                     part = f" (K⁻¹ {inverse:.2g})" if inverse else ""
-                    row.update(status="skipped", note=f"predicted {guess + inverse:.3g} CPU s"
-                                                      f"{part} > budget {settings.budget:g}")
+                    row.update(
+                        status="skipped",
+                        note=f"predicted {guess + inverse:.3g} CPU s"
+                        f"{part} > budget {settings.budget:g}",
+                    )
                 else:
                     over = guess is not None and guess + inverse > settings.budget
-                    spec = dict(system=system, n=n, method=m, cycles=settings.cycles,
-                                agree=agree and not over, budget=settings.budget,
-                                steps=settings.steps)
+                    spec = dict(
+                        system=system,
+                        n=n,
+                        method=m,
+                        cycles=settings.cycles,
+                        agree=agree and not over,
+                        budget=settings.budget,
+                        steps=settings.steps,
+                    )
                     got = child("case", **spec) if settings.isolate else measure_case(**spec)
                     row.update(got)
                     if settings.isolate and "peak_mb" in got:
@@ -462,8 +576,9 @@ def run(settings: Settings) -> list[dict]:
     return rows
 
 
-def _fixed_reason(settings, system: str, n: int, method: str, stopped: dict,
-                  has_history: bool) -> str:
+def _fixed_reason(
+    settings, system: str, n: int, method: str, stopped: dict, has_history: bool
+) -> str:
     """Why (system, n, method) is not run, before any measurement ('' if it may be)."""
     if system in SPARSE and method not in (settings.sparse_methods or (method,)):
         return "the sparse systems run only " + ", ".join(settings.sparse_methods)
@@ -491,10 +606,12 @@ def _fmt(x, spec=".3g") -> str:
 def _line(r: dict) -> str:
     """One row of the main table (markdown)."""
     what = _fmt(r["W"], ".15g") if r["status"] == "ok" else f"{r['status']}: {r['note']}"
-    return (f"| {r['system']} | {r['n']} | {r['method']} | {_fmt(r['scene_steps'], 'd')} "
-            f"| {_fmt(r['cycles'])} | {_fmt(r['setup_s'])} | {_fmt(r['s_per_step'])} "
-            f"| {_fmt(r['floor_s'])} "
-            f"| {_fmt(r['ratio'], '.3g')} | {_fmt(r['peak_mb'], '.0f')} | {what} |")
+    return (
+        f"| {r['system']} | {r['n']} | {r['method']} | {_fmt(r['scene_steps'], 'd')} "
+        f"| {_fmt(r['cycles'])} | {_fmt(r['setup_s'])} | {_fmt(r['s_per_step'])} "
+        f"| {_fmt(r['floor_s'])} "
+        f"| {_fmt(r['ratio'], '.3g')} | {_fmt(r['peak_mb'], '.0f')} | {what} |"
+    )
 
 
 def agreement(rows: list[dict]) -> list[dict]:
@@ -503,17 +620,34 @@ def agreement(rows: list[dict]) -> list[dict]:
     out = []
     keys = sorted({(r["system"], r["n"]) for r in rows}, key=lambda k: (k[0], k[1]))
     for system, n in keys:
-        W = {r["method"]: r["W_converged"] for r in rows
-             if (r["system"], r["n"]) == (system, n) and r["converged"] is True}
+        W = {
+            r["method"]: r["W_converged"]
+            for r in rows
+            if (r["system"], r["n"]) == (system, n) and r["converged"] is True
+        }
         same = {m: w for m, w in W.items() if m in LOCATED}
         if not W:
             continue
-        spread = (max(same.values()) - min(same.values())) / max(abs(w) for w in same.values()) \
-            if len(same) > 1 else math.nan
-        expl = (max(abs(W["explicit"] - w) / abs(w) for w in same.values())
-                if "explicit" in W and same else math.nan)
-        out.append(dict(system=system, n=n, methods=", ".join(sorted(same)), spread=spread,
-                        explicit=expl, ok=bool(spread <= AGREE_TOL) if len(same) > 1 else None))
+        spread = (
+            (max(same.values()) - min(same.values())) / max(abs(w) for w in same.values())
+            if len(same) > 1
+            else math.nan
+        )
+        expl = (
+            max(abs(W["explicit"] - w) / abs(w) for w in same.values())
+            if "explicit" in W and same
+            else math.nan
+        )
+        out.append(
+            dict(
+                system=system,
+                n=n,
+                methods=", ".join(sorted(same)),
+                spread=spread,
+                explicit=expl,
+                ok=bool(spread <= AGREE_TOL) if len(same) > 1 else None,
+            )
+        )
     return out
 
 
@@ -525,15 +659,18 @@ def write(rows: list[dict], settings: Settings, out_dir: Path) -> list[Path]:
         w.writerows(rows)
     agree = agreement(rows)
     lines = [
-        "# Time per step and peak memory against n", "",
-        f"`{settings.command}`" + _revision(), "",
+        "# Time per step and peak memory against n",
+        "",
+        f"`{settings.command}`" + _revision(),
+        "",
         f"{platform.processor() or platform.machine()}, Python {platform.python_version()}, "
         f"numpy {np.__version__}; CPU seconds, one thread; {settings.cycles} cycle(s) per case; "
         f"budget {settings.budget:g} CPU s per case; steps per cycle {settings.steps} "
         f"({4 * settings.steps} at n = 1e5) "
-        "plus the separation instants (scene steps).", "",
-        "Systems: " + "; ".join(f"**{k}**: {SYSTEMS[k][0]}"
-                                for k in settings.systems) + ".", "",
+        "plus the separation instants (scene steps).",
+        "",
+        "Systems: " + "; ".join(f"**{k}**: {SYSTEMS[k][0]}" for k in settings.systems) + ".",
+        "",
         "Floor: one product with C = K⁻¹ (dense systems) or with the sparse K, median of 7; "
         "ratio = s/step / floor. K⁻¹ s: the dense K⁻¹ that the case's steady state forms "
         "(the convex backends; the driver up to 2000 unknowns), formed before the timed "
@@ -541,26 +678,44 @@ def write(rows: list[dict], settings: Settings, out_dir: Path) -> list[Path]:
         "the system. active-set-no-events: a different (coarser) discretization, timed only.",
         "",
         "| system | n | method | scene steps | cycles | K⁻¹ s | s/step | floor s "
-        "| ratio to floor | peak MB | W |", "|---|---|---|---|---|---|---|---|---|---|---|",
-        *(_line(r) for r in rows), "",
-        f"## Agreement (tol = 1e-12, up to {AGREE_CYCLES} cycles; target {AGREE_TOL:g})", "",
+        "| ratio to floor | peak MB | W |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
+        *(_line(r) for r in rows),
+        "",
+        f"## Agreement (tol = 1e-12, up to {AGREE_CYCLES} cycles; target {AGREE_TOL:g})",
+        "",
         "Largest relative difference of the converged W among the methods of one "
         "discretization (events located inside the increment), and explicit's (its own "
-        "discretization) largest difference to them.", "",
+        "discretization) largest difference to them.",
+        "",
         "| system | n | methods compared | max rel. difference | <= 1e-10 | explicit's |",
         "|---|---|---|---|---|---|",
-        *(f"| {a['system']} | {a['n']} | {a['methods']} | {_fmt(a['spread'], '.2e')} "
-          f"| {'-' if a['ok'] is None else ('yes' if a['ok'] else '**no**')} "
-          f"| {_fmt(a['explicit'], '.2e')} |" for a in agree), ""]
+        *(
+            f"| {a['system']} | {a['n']} | {a['methods']} | {_fmt(a['spread'], '.2e')} "
+            f"| {'-' if a['ok'] is None else ('yes' if a['ok'] else '**no**')} "
+            f"| {_fmt(a['explicit'], '.2e')} |"
+            for a in agree
+        ),
+        "",
+    ]
     (out_dir / "scaling.md").write_text("\n".join(lines))
     return [out_dir / "scaling.csv", out_dir / "scaling.md", *plot(rows, out_dir)]
 
 
-MARKERS = {"explicit": "o", "clarabel": "s", "osqp": "^", "active-set": "D",
-           "active-set-no-events": "v"}
+MARKERS = {
+    "explicit": "o",
+    "clarabel": "s",
+    "osqp": "^",
+    "active-set": "D",
+    "active-set-no-events": "v",
+}
 #: line style per system (dashes are the floors')
-LINES = {"chain": "-", "dense-spd": ":", "chain-sparse": (0, (4, 1, 1, 1, 1, 1)),
-         "chain-sparse-common": "-."}
+LINES = {
+    "chain": "-",
+    "dense-spd": ":",
+    "chain-sparse": (0, (4, 1, 1, 1, 1, 1)),
+    "chain-sparse-common": "-.",
+}
 
 
 def plot(rows: list[dict], out_dir: Path) -> list[Path]:
@@ -568,6 +723,7 @@ def plot(rows: list[dict], out_dir: Path) -> list[Path]:
     line style per system, the floors dashed (nothing written without matplotlib)."""
     try:
         from lcpfric.figures import style as plotting
+
         fig = plotting.figure(figsize=(6.5, 4.0))
     except Exception:
         return []
@@ -580,56 +736,126 @@ def plot(rows: list[dict], out_dir: Path) -> list[Path]:
         systems = [s for s in SYSTEMS if any(r["system"] == s for r in rows)]
         for s in systems:
             for m in METHODS:
-                pts = sorted((r["n"], r["s_per_step"], r["status"]) for r in ok
-                             if r["system"] == s and r["method"] == m)
+                pts = sorted(
+                    (r["n"], r["s_per_step"], r["status"])
+                    for r in ok
+                    if r["system"] == s and r["method"] == m
+                )
                 if pts:
-                    ax.loglog([p[0] for p in pts], [p[1] for p in pts], color=colors[m],
-                              marker=MARKERS[m], ms=4, ls=LINES[s], lw=1.0,
-                              mfc="none" if s in SPARSE else colors[m])
+                    ax.loglog(
+                        [p[0] for p in pts],
+                        [p[1] for p in pts],
+                        color=colors[m],
+                        marker=MARKERS[m],
+                        ms=4,
+                        ls=LINES[s],
+                        lw=1.0,
+                        mfc="none" if s in SPARSE else colors[m],
+                    )
                     part = [p for p in pts if p[2] == "partial"]
                     if part:  # timed over part of a cycle: ringed
-                        ax.loglog([p[0] for p in part], [p[1] for p in part], ls="none",
-                                  marker="o", ms=9, mfc="none", mec="0.2", mew=0.7)
+                        ax.loglog(
+                            [p[0] for p in part],
+                            [p[1] for p in part],
+                            ls="none",
+                            marker="o",
+                            ms=9,
+                            mfc="none",
+                            mec="0.2",
+                            mew=0.7,
+                        )
         for kind, gray in (("dense", "0.15"), ("sparse", "0.55")):
-            pts = sorted({(r["n"], r["floor_s"]) for r in rows
-                          if (r["system"] in SPARSE) == (kind == "sparse")
-                          and isinstance(r["floor_s"], float) and r["floor_s"] > 0
-                          and r["system"] in ("chain", "chain-sparse-common")})
+            pts = sorted(
+                {
+                    (r["n"], r["floor_s"])
+                    for r in rows
+                    if (r["system"] in SPARSE) == (kind == "sparse")
+                    and isinstance(r["floor_s"], float)
+                    and r["floor_s"] > 0
+                    and r["system"] in ("chain", "chain-sparse-common")
+                }
+            )
             if pts:
                 ax.loglog(*zip(*pts), color=gray, ls=(0, (5, 3)), lw=1.2)
         ax.set_xlabel("nodes n", fontsize=9)
         ax.set_ylabel("CPU seconds per step", fontsize=9)
         ax.tick_params(which="both", labelsize=8)
         ax.grid(True, which="major", alpha=0.3, lw=0.5)
-        h1 = [Line2D([], [], color=colors[m], marker=MARKERS[m], ms=4, lw=1.0, label=m)
-              for m in METHODS if any(r["method"] == m for r in ok)]
-        h2 = [Line2D([], [], color="0.3", ls=LINES[s], lw=1.0, marker="o", ms=4,
-                     mfc="none" if s in SPARSE else "0.3", label=s) for s in systems]
-        h3 = [Line2D([], [], ls="none", marker="o", ms=9, mfc="none", mec="0.2", mew=0.7,
-                     label="ringed: part of a cycle\n(budget ran out)")] \
-            if any(r["status"] == "partial" for r in ok) else []
-        h3 += [Line2D([], [], color="0.15", ls=(0, (5, 3)), lw=1.2, label="floor: C x (dense)"),
-              Line2D([], [], color="0.55", ls=(0, (5, 3)), lw=1.2,
-                     label="floor: K x (sparse)")]
-        ax.legend(handles=h1 + h2 + h3, fontsize=8, loc="center left",
-                  bbox_to_anchor=(1.01, 0.5), frameon=False)
+        h1 = [
+            Line2D([], [], color=colors[m], marker=MARKERS[m], ms=4, lw=1.0, label=m)
+            for m in METHODS
+            if any(r["method"] == m for r in ok)
+        ]
+        h2 = [
+            Line2D(
+                [],
+                [],
+                color="0.3",
+                ls=LINES[s],
+                lw=1.0,
+                marker="o",
+                ms=4,
+                mfc="none" if s in SPARSE else "0.3",
+                label=s,
+            )
+            for s in systems
+        ]
+        h3 = (
+            [
+                Line2D(
+                    [],
+                    [],
+                    ls="none",
+                    marker="o",
+                    ms=9,
+                    mfc="none",
+                    mec="0.2",
+                    mew=0.7,
+                    label="ringed: part of a cycle\n(budget ran out)",
+                )
+            ]
+            if any(r["status"] == "partial" for r in ok)
+            else []
+        )
+        h3 += [
+            Line2D([], [], color="0.15", ls=(0, (5, 3)), lw=1.2, label="floor: C x (dense)"),
+            Line2D([], [], color="0.55", ls=(0, (5, 3)), lw=1.2, label="floor: K x (sparse)"),
+        ]
+        ax.legend(
+            handles=h1 + h2 + h3,
+            fontsize=8,
+            loc="center left",
+            bbox_to_anchor=(1.01, 0.5),
+            frameon=False,
+        )
         fig.tight_layout()
     return plotting.save(fig, out_dir, "scaling", ("png", "pdf"))
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true",
-                    help="dense chain to n = 400, sparse (active-set only) to 1e4, 100 steps, "
-                         "one cycle (about a minute)")
+    ap.add_argument(
+        "--quick",
+        action="store_true",
+        help="dense chain to n = 400, sparse (active-set only) to 1e4, 100 steps, "
+        "one cycle (about a minute)",
+    )
     ap.add_argument("--out", default=str(HERE.parent / "results"), help="output directory")
-    ap.add_argument("--budget", type=float, default=None,
-                    help="CPU seconds per case (default 600; 20 with --quick)")
-    ap.add_argument("--cycles", type=int, default=None,
-                    help="cycles timed per case (default 3; 1 with --quick)")
-    ap.add_argument("--partial", action="store_true",
-                    help="run the cases predicted over the budget too, timed over the steps "
-                         "the budget allows (status 'partial')")
+    ap.add_argument(
+        "--budget",
+        type=float,
+        default=None,
+        help="CPU seconds per case (default 600; 20 with --quick)",
+    )
+    ap.add_argument(
+        "--cycles", type=int, default=None, help="cycles timed per case (default 3; 1 with --quick)"
+    )
+    ap.add_argument(
+        "--partial",
+        action="store_true",
+        help="run the cases predicted over the budget too, timed over the steps "
+        "the budget allows (status 'partial')",
+    )
     ap.add_argument("--methods", default=",".join(METHODS))
     ap.add_argument("--systems", default=None, help=f"from {', '.join(SYSTEMS)}")
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
@@ -639,8 +865,9 @@ def main(argv=None) -> int:
         kind = spec.pop("kind")
         print(json.dumps(measure_floor(**spec) if kind == "floor" else measure_case(**spec)))
         return 0
-    settings = quick_settings() if args.quick else Settings(
-        systems={k: v[1] for k, v in SYSTEMS.items()})
+    settings = (
+        quick_settings() if args.quick else Settings(systems={k: v[1] for k, v in SYSTEMS.items()})
+    )
     if args.systems:
         names = args.systems.split(",")
         settings.systems = {k: SYSTEMS[k][2 if args.quick else 1] for k in names}
@@ -653,7 +880,8 @@ def main(argv=None) -> int:
         settings.cycles = args.cycles
     settings.partial = args.partial
     settings.command = "OPENBLAS_NUM_THREADS=1 python benchmarks/perf/scaling.py " + " ".join(
-        argv if argv is not None else sys.argv[1:])
+        argv if argv is not None else sys.argv[1:]
+    )
     rows = run(settings)
     for path in write(rows, settings, Path(args.out)):
         print(f"wrote {path}")
@@ -663,8 +891,12 @@ def main(argv=None) -> int:
 def _revision() -> str:
     """`` (lcpfric at commit abc1234)`` when run from a git checkout, else nothing."""
     try:
-        rev = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
-                             capture_output=True, text=True, timeout=10).stdout.strip()
+        rev = subprocess.run(
+            ["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
+            capture_output=True,
+            text=True,
+            timeout=10,
+        ).stdout.strip()
     except (OSError, subprocess.SubprocessError):
         return ""
     return f" (lcpfric at commit {rev})" if rev else ""
@@ -672,9 +904,14 @@ def _revision() -> str:
 
 def quick_settings(**changes) -> Settings:
     """The ``--quick`` subset (``changes`` override it: the test's tiny sizes, in-process)."""
-    base = Settings(systems={k: v[2] for k, v in SYSTEMS.items() if v[2]}, cycles=1, steps=100,
-                    budget=20.0, agree_max=40,
-                    sparse_methods=("active-set", "active-set-no-events"))
+    base = Settings(
+        systems={k: v[2] for k, v in SYSTEMS.items() if v[2]},
+        cycles=1,
+        steps=100,
+        budget=20.0,
+        agree_max=40,
+        sparse_methods=("active-set", "active-set-no-events"),
+    )
     for k, v in changes.items():
         setattr(base, k, v)
     return base

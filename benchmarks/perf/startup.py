@@ -27,8 +27,12 @@ from pathlib import Path as _Path
 # the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
 # shared cases and references (tests/support)
 _ROOT = _Path(__file__).resolve().parents[2]
-_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
-                 str(_ROOT / "tests")]
+_sys.path[:0] = [
+    str(_ROOT),
+    str(_ROOT / "benchmarks"),
+    str(_ROOT / "benchmarks" / "perf"),
+    str(_ROOT / "tests"),
+]
 
 import argparse
 import os
@@ -46,13 +50,29 @@ OUT = ROOT / "benchmarks" / "results" / "startup.md"
 COMMANDS = {
     "lcpfric --help": (["--help"], 1.5),
     "lcpfric shakedown": (["shakedown", "--P1", "0.5", "--Q1", "0.7", "--phi", "0.3pi"], 1.5),
-    "lcpfric dissipation (exact)": (["dissipation", "--P1", "1.5", "--Q1", "2", "--phi", "0.6pi"],
-                                    3.0),
+    "lcpfric dissipation (exact)": (
+        ["dissipation", "--P1", "1.5", "--Q1", "2", "--phi", "0.6pi"],
+        3.0,
+    ),
     "lcpfric methods": (["methods"], None),
 }
-BASELINE = "python -c \"import numpy\""
-HEAVY = ("scipy", "xarray", "pandas", "matplotlib", "dask", "distributed", "h5py", "h5netcdf",
-         "cvxpy", "qpsolvers", "clarabel", "osqp", "tqdm")
+BASELINE = 'python -c "import numpy"'
+HEAVY = (
+    "scipy",
+    "xarray",
+    "pandas",
+    "matplotlib",
+    "dask",
+    "distributed",
+    "h5py",
+    "h5netcdf",
+    "cvxpy",
+    "qpsolvers",
+    "clarabel",
+    "osqp",
+    "tqdm",
+)
+
 
 def _env() -> dict:
     env = dict(os.environ)
@@ -66,8 +86,9 @@ def command(args: list[str]) -> list[str]:
 
 def _once(cmd: list[str], env: dict) -> float:
     t0 = time.perf_counter()
-    run = subprocess.run(cmd, env=env, cwd=ROOT, stdout=subprocess.DEVNULL,
-                         stderr=subprocess.PIPE, text=True)
+    run = subprocess.run(
+        cmd, env=env, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True
+    )
     seconds = time.perf_counter() - t0
     if run.returncode != 0:
         raise SystemExit(f"{' '.join(cmd)} failed ({run.returncode}): {run.stderr.strip()}")
@@ -99,7 +120,7 @@ def import_profile(args: list[str], top: int = 6) -> tuple[float, list]:
     for line in run.stderr.splitlines():
         if not line.startswith("import time:") or "self [us]" in line:
             continue
-        self_us, _cumulative, name = (f.strip() for f in line[len("import time:"):].split("|"))
+        self_us, _cumulative, name = (f.strip() for f in line[len("import time:") :].split("|"))
         per[name.split(".")[0]] += int(self_us) / 1e6
     total = sum(per.values())
     return total, sorted(per.items(), key=lambda kv: -kv[1])[:top]
@@ -110,8 +131,11 @@ def heavy_imports(args: list[str]) -> list[str]:
     cmd.insert(1, "-X")
     cmd.insert(2, "importtime")
     run = subprocess.run(cmd, env=_env(), cwd=ROOT, capture_output=True, text=True)
-    found = {line.split("|")[-1].strip().split(".")[0] for line in run.stderr.splitlines()
-             if line.startswith("import time:")}
+    found = {
+        line.split("|")[-1].strip().split(".")[0]
+        for line in run.stderr.splitlines()
+        if line.startswith("import time:")
+    }
     return [h for h in HEAVY if h in found]
 
 
@@ -127,12 +151,19 @@ def main(argv=None) -> int:
     rows = [[BASELINE, f"{base:.3f}", "1.00", "", ""]]
     for name, (cmd_args, target) in COMMANDS.items():
         med = res[name]["median"]
-        row = [name, f"{med:.3f}", f"{med / base:.2f}", "" if target is None else f"<= {target}",
-               "" if target is None else ("yes" if med / base <= target else "no")]
+        row = [
+            name,
+            f"{med:.3f}",
+            f"{med / base:.2f}",
+            "" if target is None else f"<= {target}",
+            "" if target is None else ("yes" if med / base <= target else "no"),
+        ]
         rows.append(row)
 
-    profile = ["| command | heavy packages imported | top packages by import time (s) |",
-               "|---|---|---|"]
+    profile = [
+        "| command | heavy packages imported | top packages by import time (s) |",
+        "|---|---|---|",
+    ]
     for name, (cmd_args, _) in COMMANDS.items():
         total, top = import_profile(cmd_args)
         heavy = ", ".join(heavy_imports(cmd_args)) or "none"
@@ -141,15 +172,24 @@ def main(argv=None) -> int:
 
     table = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     table += ["| " + " | ".join(r) + " |" for r in rows]
-    text = "\n".join([
-        "# Start-up time of the command line", "",
-        f"Median wall time of {args.runs} runs per command (after one warm-up run, round "
-        f"robin), {time.strftime('%Y-%m-%d')}, Python {platform.python_version()} on "
-        f"{platform.platform()}, {os.cpu_count()} CPUs. Reproduce: "
-        "`PYTHONPATH=. python benchmarks/perf/startup.py`.", "",
-        *table, "",
-        "## What the commands import (`python -X importtime`, self time summed per top-level "
-        "package, one run)", "", *profile, ""])
+    text = "\n".join(
+        [
+            "# Start-up time of the command line",
+            "",
+            f"Median wall time of {args.runs} runs per command (after one warm-up run, round "
+            f"robin), {time.strftime('%Y-%m-%d')}, Python {platform.python_version()} on "
+            f"{platform.platform()}, {os.cpu_count()} CPUs. Reproduce: "
+            "`PYTHONPATH=. python benchmarks/perf/startup.py`.",
+            "",
+            *table,
+            "",
+            "## What the commands import (`python -X importtime`, self time summed per top-level "
+            "package, one run)",
+            "",
+            *profile,
+            "",
+        ]
+    )
     print(text)
     if not args.no_write:
         OUT.parent.mkdir(parents=True, exist_ok=True)

@@ -31,8 +31,12 @@ from pathlib import Path as _Path
 # the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
 # shared cases and references (tests/support)
 _ROOT = _Path(__file__).resolve().parents[2]
-_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
-                 str(_ROOT / "tests")]
+_sys.path[:0] = [
+    str(_ROOT),
+    str(_ROOT / "benchmarks"),
+    str(_ROOT / "benchmarks" / "perf"),
+    str(_ROOT / "tests"),
+]
 
 import argparse
 import math
@@ -58,21 +62,39 @@ def cases():
         m = m.with_support(m.k_t0)
         return m, {"grid": make_scene(m.system(), 200).t, "tol": 1e-10}
 
-    out = [("grid 10, support k_t0, P1/P0 = 0, Q1/(μP0) = 0.6, φ = 0.7π (the backends' case)",
-            backends)]
+    out = [
+        (
+            "grid 10, support k_t0, P1/P0 = 0, Q1/(μP0) = 0.6, φ = 0.7π (the backends' case)",
+            backends,
+        )
+    ]
     for P1, Q1, phi in ((0.5, 0.4, 0.5), (0.3, 0.6, 0.7), (0.8, 0.2, 0.2)):
-        out.append((f"grid 20, 100 steps, tol 1e-8, P1/P0 = {P1}, Q1/(μP0) = {Q1}, φ = {phi}π "
-                    f"(a map's point)",
-                    lambda P1=P1, Q1=Q1, phi=phi: (sphere(P1, Q1, phi * PI, nu=0.3, grid=20,
-                                                          dims=2),
-                                                   {"steps_per_cycle": 100, "tol": 1e-8})))
+        out.append(
+            (
+                f"grid 20, 100 steps, tol 1e-8, P1/P0 = {P1}, Q1/(μP0) = {Q1}, φ = {phi}π "
+                f"(a map's point)",
+                lambda P1=P1, Q1=Q1, phi=phi: (
+                    sphere(P1, Q1, phi * PI, nu=0.3, grid=20, dims=2),
+                    {"steps_per_cycle": 100, "tol": 1e-8},
+                ),
+            )
+        )
     for g in (40, 56):
-        out.append((f"grid {g}, 200 steps, Mindlin-Deresiewicz (Q1/(μP0) = 0.5)",
-                    lambda g=g: (sphere(0.0, 0.5, 0.0, nu=0.3, grid=g, dims=2),
-                                 {"steps_per_cycle": 200})))
-    out.append(("grid 32, 200 steps, P1/P0 = 0.3, Q1/(μP0) = 0.6, φ = 0.7π",
-                lambda: (sphere(0.3, 0.6, 0.7 * PI, nu=0.3, grid=32, dims=2),
-                         {"steps_per_cycle": 200})))
+        out.append(
+            (
+                f"grid {g}, 200 steps, Mindlin-Deresiewicz (Q1/(μP0) = 0.5)",
+                lambda g=g: (
+                    sphere(0.0, 0.5, 0.0, nu=0.3, grid=g, dims=2),
+                    {"steps_per_cycle": 200},
+                ),
+            )
+        )
+    out.append(
+        (
+            "grid 32, 200 steps, P1/P0 = 0.3, Q1/(μP0) = 0.6, φ = 0.7π",
+            lambda: (sphere(0.3, 0.6, 0.7 * PI, nu=0.3, grid=32, dims=2), {"steps_per_cycle": 200}),
+        )
+    )
     return out
 
 
@@ -104,8 +126,14 @@ def run(factory, depth, memory=True):
     acceleration.Anderson = (lambda: plain) if depth is None else (lambda: Anderson(depth))
     try:
         w = time.perf_counter()
-        r = lcpfric.steady_state(target, "newton-cg", max_cycles=200,
-                                 on_nonconvergence="ignore", slip_memory=memory, **kw)
+        r = lcpfric.steady_state(
+            target,
+            "newton-cg",
+            max_cycles=200,
+            on_nonconvergence="ignore",
+            slip_memory=memory,
+            **kw,
+        )
         seconds = time.perf_counter() - w
     finally:
         acceleration.Anderson = Anderson
@@ -138,17 +166,34 @@ def discrete(out: Path):
         return keep(scene, stepper, False, start)
 
     rows = [(name, (lambda s=system: s), "clarabel", {}) for name, system in chains()]
-    rows.insert(0, ("1 node, non-collinear, projection (uncoupled)",
-                    lambda: dict(chains())["1 node, non-collinear"], "projection", {}))
-    rows.append(("grid 10 half-space (196 nodes, ν = 0.3, support k_t0, 200 steps)",
-                 half_space, "clarabel", {"check_tol": 1e-4, "locate_events": False}))
-    lines = ["# The discrete driver's d = 2 cycles, with and without the memory", "",
-             f"`OPENBLAS_NUM_THREADS=1 python benchmarks/studies/cycle_acceleration.py --discrete`, "
-             f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. Cycle tolerance 1e-10, "
-             f"200 steps per cycle (the chains of `benchmarks/validation/order_d2.py`). Cycles, wall "
-             f"seconds; W's difference of Aitken's run from the memory's.", "",
-             "| system | method | memory (default) | Aitken alone | W difference |",
-             "|---|---|---|---|---|"]
+    rows.insert(
+        0,
+        (
+            "1 node, non-collinear, projection (uncoupled)",
+            lambda: dict(chains())["1 node, non-collinear"],
+            "projection",
+            {},
+        ),
+    )
+    rows.append(
+        (
+            "grid 10 half-space (196 nodes, ν = 0.3, support k_t0, 200 steps)",
+            half_space,
+            "clarabel",
+            {"check_tol": 1e-4, "locate_events": False},
+        )
+    )
+    lines = [
+        "# The discrete driver's d = 2 cycles, with and without the memory",
+        "",
+        f"`OPENBLAS_NUM_THREADS=1 python benchmarks/studies/cycle_acceleration.py --discrete`, "
+        f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. Cycle tolerance 1e-10, "
+        f"200 steps per cycle (the chains of `benchmarks/validation/order_d2.py`). Cycles, wall "
+        f"seconds; W's difference of Aitken's run from the memory's.",
+        "",
+        "| system | method | memory (default) | Aitken alone | W difference |",
+        "|---|---|---|---|---|",
+    ]
     print("\n".join(lines), flush=True)
     keep = driver.choose
     for name, make, method, opts in rows:
@@ -162,8 +207,10 @@ def discrete(out: Path):
             finally:
                 driver.choose = keep
         (a, sa), (b, sb) = runs
-        row = (f"| {name} | {method} | {a.cycles}, {sa:.1f} s | {b.cycles}, {sb:.1f} s | "
-               f"{(b.W - a.W) / a.W:+.1e} |")
+        row = (
+            f"| {name} | {method} | {a.cycles}, {sa:.1f} s | {b.cycles}, {sb:.1f} s | "
+            f"{(b.W - a.W) / a.W:+.1e} |"
+        )
         print(row, flush=True)
         lines.append(row)
     lines.append("")
@@ -179,12 +226,16 @@ def figure(out: Path):
 
     runs = {}
     for g in (40, 56):
+
         def factory(g=g):
             return sphere(0.0, 0.5, 0.0, nu=0.3, grid=g, dims=2), {"steps_per_cycle": 200}
 
-        for depth, memory, name in ((10, True, "memory + Anderson (default)"),
-                                    (10, False, "Anderson alone"),
-                                    (None, True, "memory alone"), (None, False, "neither")):
+        for depth, memory, name in (
+            (10, True, "memory + Anderson (default)"),
+            (10, False, "Anderson alone"),
+            (None, True, "memory alone"),
+            (None, False, "neither"),
+        ):
             r, s, _ = run(factory, depth, memory)
             runs[g, name] = r
             print(f"grid {g}, {name}: {r.cycles} cycles, {s:.1f} s", flush=True)
@@ -197,23 +248,47 @@ def figure(out: Path):
             for i, name in enumerate(names):
                 r = runs[g, name]
                 y = r.changes
-                ax.semilogy(np.arange(2, y.size + 2), y, color=colours[i], label=name,
-                            **plotting.curve_style(i, len(names), y.size))
+                ax.semilogy(
+                    np.arange(2, y.size + 2),
+                    y,
+                    color=colours[i],
+                    label=name,
+                    **plotting.curve_style(i, len(names), y.size),
+                )
             ax.axhline(1e-10, color="0.45", lw=0.8, ls=(0, (4, 2)))
-            ax.text(0.5, 0.8e-10, "tolerance 1e-10", transform=ax.get_yaxis_transform(),
-                    ha="center", va="top", fontsize=plotting.SMALL, color="0.3")
+            ax.text(
+                0.5,
+                0.8e-10,
+                "tolerance 1e-10",
+                transform=ax.get_yaxis_transform(),
+                ha="center",
+                va="top",
+                fontsize=plotting.SMALL,
+                color="0.3",
+            )
             ax.set_xlim(0, 110)
             ax.set_ylim(1e-12, 0.1)
             late = [name for name in names if runs[g, name].cycles > 110]
             if late:
-                ax.text(0.97, 0.6, "cut at 110:\n" + "\n".join(
-                    f"{name}, {runs[g, name].cycles} cycles"
-                    + ("" if runs[g, name].converged else " (no repeat)") for name in late),
-                    transform=ax.transAxes, ha="right", va="top", fontsize=plotting.SMALL,
-                    color="0.3")
+                ax.text(
+                    0.97,
+                    0.6,
+                    "cut at 110:\n"
+                    + "\n".join(
+                        f"{name}, {runs[g, name].cycles} cycles"
+                        + ("" if runs[g, name].converged else " (no repeat)")
+                        for name in late
+                    ),
+                    transform=ax.transAxes,
+                    ha="right",
+                    va="top",
+                    fontsize=plotting.SMALL,
+                    color="0.3",
+                )
             ax.set_xlabel("cycle")
-            ax.set_title(f"grid {g} ({runs[g, names[0]].contact.nodes_in_contact_max} elements in "
-                         f"contact)")
+            ax.set_title(
+                f"grid {g} ({runs[g, names[0]].contact.nodes_in_contact_max} elements in contact)"
+            )
             ax.grid(True, which="major", alpha=0.3)
         axes[0].set_ylabel("relative change of the cycle")
         axes[1].legend(loc="upper right", frameon=False)
@@ -226,11 +301,16 @@ def figure(out: Path):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=str(Path(__file__).resolve().parents[1] / "results"))
-    ap.add_argument("--discrete", action="store_true",
-                    help="the discrete driver's d = 2 systems only (about 1 minute)")
-    ap.add_argument("--figure", action="store_true",
-                    help="only the figure of the cycles' changes on grids 40 and 56 (about 5 "
-                         "minutes)")
+    ap.add_argument(
+        "--discrete",
+        action="store_true",
+        help="the discrete driver's d = 2 systems only (about 1 minute)",
+    )
+    ap.add_argument(
+        "--figure",
+        action="store_true",
+        help="only the figure of the cycles' changes on grids 40 and 56 (about 5 minutes)",
+    )
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -238,22 +318,27 @@ def main():
         return discrete(out)
     if args.figure:
         return figure(out)
-    lines = ["# Cycles of the d = 2 half-space by how the cycles' starts are moved", "",
-             f"`OPENBLAS_NUM_THREADS=1 python benchmarks/studies/cycle_acceleration.py`, "
-             f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. ν = 0.3, d = 2; cycle "
-             f"tolerance 1e-10 unless given. Cycles, wall seconds, W's difference from the "
-             f"default (memory and Anderson at depth 10).",
-             "", "| case | memory + Anderson 10 (default) | Anderson 10 | Anderson 5 | memory "
-                 "alone | neither | its contraction per cycle | largest late change at r/a | "
-                 "its transverse share |",
-             "|---|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "# Cycles of the d = 2 half-space by how the cycles' starts are moved",
+        "",
+        f"`OPENBLAS_NUM_THREADS=1 python benchmarks/studies/cycle_acceleration.py`, "
+        f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. ν = 0.3, d = 2; cycle "
+        f"tolerance 1e-10 unless given. Cycles, wall seconds, W's difference from the "
+        f"default (memory and Anderson at depth 10).",
+        "",
+        "| case | memory + Anderson 10 (default) | Anderson 10 | Anderson 5 | memory "
+        "alone | neither | its contraction per cycle | largest late change at r/a | "
+        "its transverse share |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
     print("\n".join(lines), flush=True)
     for label, factory in cases():
         ref, s_ref, _ = run(factory, 10)
         cells = []
         for depth, memory in ((10, True), (10, False), (5, False), (None, True), (None, False)):
-            r, s, rho = (ref, s_ref, None) if (depth, memory) == (10, True) else run(
-                factory, depth, memory)
+            r, s, rho = (
+                (ref, s_ref, None) if (depth, memory) == (10, True) else run(factory, depth, memory)
+            )
             diff = (r.W - ref.W) / ref.W
             mark = "" if r.converged else " (no)"
             cells.append(f"{r.cycles}{mark}, {s:.1f} s, {diff:+.1e}")

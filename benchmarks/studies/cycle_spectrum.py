@@ -23,8 +23,12 @@ from pathlib import Path as _Path
 # the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
 # shared cases and references (tests/support)
 _ROOT = _Path(__file__).resolve().parents[2]
-_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
-                 str(_ROOT / "tests")]
+_sys.path[:0] = [
+    str(_ROOT),
+    str(_ROOT / "benchmarks"),
+    str(_ROOT / "benchmarks" / "perf"),
+    str(_ROOT / "tests"),
+]
 
 import argparse
 import time
@@ -99,7 +103,7 @@ def ritz(model, steps, krylov=KRYLOV):
     k = krylov
     for j in range(krylov):
         w = (cycle(restart(state, x + eps * V[:, j])).v - g) / eps
-        for i in range(j + 1):                        # modified Gram-Schmidt
+        for i in range(j + 1):  # modified Gram-Schmidt
             H[i, j] = V[:, i] @ w
             w -= H[i, j] * V[:, i]
         H[j + 1, j] = np.linalg.norm(w)
@@ -118,28 +122,38 @@ def main(argv=None):
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(exist_ok=True)
-    lines = Report(["# The spectrum of the d = 2 half-space's cycle map", "",
-             f"{stamp('cycle_spectrum.py' + (' --quick' if args.quick else ''))}. "
-             f"Mindlin-Deresiewicz, "
-             f"Q1/(μP0) = 0.5, ν = 0.3, d = 2, model tol 1e-13; {KRYLOV} Arnoldi steps, each a "
-             f"finite difference of two whole cycles at the steady state.", ""])
+    lines = Report(
+        [
+            "# The spectrum of the d = 2 half-space's cycle map",
+            "",
+            f"{stamp('cycle_spectrum.py' + (' --quick' if args.quick else ''))}. "
+            f"Mindlin-Deresiewicz, "
+            f"Q1/(μP0) = 0.5, ν = 0.3, d = 2, model tol 1e-13; {KRYLOV} Arnoldi steps, each a "
+            f"finite difference of two whole cycles at the steady state.",
+            "",
+        ]
+    )
     emit = lines.emit
 
-    emit("| grid | steps | moduli of the Ritz values, largest first (1: the stuck nodes, "
-         "neutral) | non-neutral ≥ 0.2 | seconds |")
+    emit(
+        "| grid | steps | moduli of the Ritz values, largest first (1: the stuck nodes, "
+        "neutral) | non-neutral ≥ 0.2 | seconds |"
+    )
     emit("|---|---|---|---|---|")
     for grid, steps in ((20, 100),) if args.quick else ((20, 100), (40, 200)):
-        model = sphere(Q1=0.5, grid=grid, nu=0.3, dims=2)       # increments to 1e-13
+        model = sphere(Q1=0.5, grid=grid, nu=0.3, dims=2)  # increments to 1e-13
         values, seconds, _ = ritz(model, steps)
         mags = np.abs(values)
         slow = int(np.count_nonzero((mags >= 0.2) & (mags < 1.0 - 1e-6)))
         shown = " ".join(f"{m:.3f}" for m in mags[:24])
         emit(f"| {grid} | {steps} | {shown} … | {slow} | {seconds:.0f} |")
     emit("")
-    emit("Plain cycles contract by the largest non-neutral value per cycle; a Krylov method "
-         "(Anderson's acceleration is one) on values up to λ contracts by about "
-         "(√κ − 1)/(√κ + 1) per product with κ = 1/(1 − λ), better on a few isolated values. "
-         "The values come in groups of 2 to 4 (the contact's reflection symmetries).")
+    emit(
+        "Plain cycles contract by the largest non-neutral value per cycle; a Krylov method "
+        "(Anderson's acceleration is one) on values up to λ contracts by about "
+        "(√κ − 1)/(√κ + 1) per product with κ = 1/(1 − λ), better on a few isolated values. "
+        "The values come in groups of 2 to 4 (the contact's reflection symmetries)."
+    )
     lines.write(out / "cycle_spectrum.md")
     print(f"wrote {out / 'cycle_spectrum.md'}")
 

@@ -31,8 +31,12 @@ from pathlib import Path as _Path
 # the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
 # shared cases and references (tests/support)
 _ROOT = _Path(__file__).resolve().parents[2]
-_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
-                 str(_ROOT / "tests")]
+_sys.path[:0] = [
+    str(_ROOT),
+    str(_ROOT / "benchmarks"),
+    str(_ROOT / "benchmarks" / "perf"),
+    str(_ROOT / "tests"),
+]
 
 import argparse
 import math
@@ -88,8 +92,15 @@ class _Counted(hs.NewtonCGStepper):
         self.probe["first"] = math.nan
         out = super().increment(context, state, b, Q, guess, tol=tol)
         tolF = tol * context._tolerance_scale()
-        self.incs.append((st["tangential_products"] - before[0], st["newton"] - before[1],
-                          st["cg"] - before[2], tol, self.probe["first"] / tolF))
+        self.incs.append(
+            (
+                st["tangential_products"] - before[0],
+                st["newton"] - before[1],
+                st["cg"] - before[2],
+                tol,
+                self.probe["first"] / tolF,
+            )
+        )
         return out
 
 
@@ -109,7 +120,7 @@ def run(record=False):
         start = float(np.max(np.abs(r))) / tol
         n = stats["cg"]
         out = cg(M, g, x, project, pre, tol, stats, step, max_iter, res)
-        steps.append((start, stats["cg"] - n, len(incs)))     # its increment's index
+        steps.append((start, stats["cg"] - n, len(incs)))  # its increment's index
         return out
 
     if record:
@@ -134,16 +145,18 @@ def variant(label, **settings):
     finally:
         for name, (mod, attr, _) in settings.items():
             setattr(mod, attr, saved[name])
-    per = [int(incs[c * STEPS:(c + 1) * STEPS, 0].sum()) for c in range(res.cycles)]
+    per = [int(incs[c * STEPS : (c + 1) * STEPS, 0].sum()) for c in range(res.cycles)]
     return label, res, stats, seconds, per
 
 
 def rounded(base):
     """The default schedule rounded down to a power of ``base`` (cycles at the same level
     share their tolerance)."""
+
     def schedule(change):
         x = min(driver._LOOSE_MAX, driver._LOOSE * change)
         return base ** math.floor(math.log(x) / math.log(base) + 1e-9)
+
     return schedule
 
 
@@ -153,36 +166,50 @@ def main(argv=None):
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(exist_ok=True)
-    lines = Report(["# The d = 2 half-space's cycles, one by one", "",
-                    f"{stamp('late_cycles.py')}. Mindlin-Deresiewicz, Q1/(μP0) = 0.5, ν = 0.3, "
-                    f"d = 2, grid 40, {STEPS} steps per cycle, cycle tolerance 1e-10 (the "
-                    f"issue's d = 2 goal case).", ""])
+    lines = Report(
+        [
+            "# The d = 2 half-space's cycles, one by one",
+            "",
+            f"{stamp('late_cycles.py')}. Mindlin-Deresiewicz, Q1/(μP0) = 0.5, ν = 0.3, "
+            f"d = 2, grid 40, {STEPS} steps per cycle, cycle tolerance 1e-10 (the "
+            f"issue's d = 2 goal case).",
+            "",
+        ]
+    )
     emit = lines.emit
 
     stats, res, seconds, incs, steps = run(record=True)
-    emit(f"W = {res.W:.12e}, {res.cycles} cycles, {stats['tangential_products']} "
-         f"tangential FFT products, {stats['newton']} Newton steps, "
-         f"{stats['cg']} CG iterations ({seconds:.1f} s with the probes).")
+    emit(
+        f"W = {res.W:.12e}, {res.cycles} cycles, {stats['tangential_products']} "
+        f"tangential FFT products, {stats['newton']} Newton steps, "
+        f"{stats['cg']} CG iterations ({seconds:.1f} s with the probes)."
+    )
     emit("")
-    emit("| cycle | increments' tolerance | products | Newton steps | increments solved by "
-         "their start | start's residual / tolerance (10th, 50th, 90th percentile) | CG "
-         "iterations per Newton step | change after the cycle |")
+    emit(
+        "| cycle | increments' tolerance | products | Newton steps | increments solved by "
+        "their start | start's residual / tolerance (10th, 50th, 90th percentile) | CG "
+        "iterations per Newton step | change after the cycle |"
+    )
     emit("|---|---|---|---|---|---|---|---|")
     changes = [math.nan] + list(res.changes)
     for c in range(res.cycles):
-        blk = incs[c * STEPS:(c + 1) * STEPS]
+        blk = incs[c * STEPS : (c + 1) * STEPS]
         p10, p50, p90 = np.percentile(blk[:, 4], [10, 50, 90])
         newton = int(blk[:, 1].sum())
-        emit(f"| {c + 1} | {blk[0, 3]:.1e} | {int(blk[:, 0].sum())} | {newton} | "
-             f"{int(np.count_nonzero(blk[:, 1] == 0))} | {p10:.2g}, {p50:.2g}, {p90:.2g} | "
-             f"{blk[:, 2].sum() / max(newton, 1):.2f} | "
-             f"{'—' if c == 0 else f'{changes[c]:.1e}'} |")
+        emit(
+            f"| {c + 1} | {blk[0, 3]:.1e} | {int(blk[:, 0].sum())} | {newton} | "
+            f"{int(np.count_nonzero(blk[:, 1] == 0))} | {p10:.2g}, {p50:.2g}, {p90:.2g} | "
+            f"{blk[:, 2].sum() / max(newton, 1):.2f} | "
+            f"{'—' if c == 0 else f'{changes[c]:.1e}'} |"
+        )
     emit("")
     late = steps[steps[:, 2] >= LATE * STEPS]
-    emit(f"Newton steps of cycles {LATE + 1} to {res.cycles} ({late.shape[0]}): each step's "
-         f"conjugate gradients start at the residual r0 (max norm) and stop below their "
-         f"tolerance (c times 0.9 of the increment's, or 1e-2 of the step's starting "
-         f"residual where that is larger):")
+    emit(
+        f"Newton steps of cycles {LATE + 1} to {res.cycles} ({late.shape[0]}): each step's "
+        f"conjugate gradients start at the residual r0 (max norm) and stop below their "
+        f"tolerance (c times 0.9 of the increment's, or 1e-2 of the step's starting "
+        f"residual where that is larger):"
+    )
     emit("")
     emit("| CG iterations | steps | r0 / tolerance (median) |")
     emit("|---|---|---|")
@@ -190,14 +217,18 @@ def main(argv=None):
         sel = late[:, 1] == k
         emit(f"| {k} | {int(sel.sum())} | {np.median(late[sel, 0]):.2f} |")
     emit("")
-    emit("Each iteration costs two FFT products (the operator's and the preconditioner's), and "
-         "each Newton step one more (its known forces and start).")
+    emit(
+        "Each iteration costs two FFT products (the operator's and the preconditioner's), and "
+        "each Newton step one more (its known forces and start)."
+    )
     emit("")
 
     emit("## Other schedules (same case, W against the default's)")
     emit("")
-    emit("| variant | cycles | products | Newton steps | seconds | W − W(default), relative | "
-         "products of each cycle |")
+    emit(
+        "| variant | cycles | products | Newton steps | seconds | W − W(default), relative | "
+        "products of each cycle |"
+    )
     emit("|---|---|---|---|---|---|---|")
     W0 = res.W
     runs = [
@@ -205,10 +236,14 @@ def main(argv=None):
         ("a tenth of the last change", {"loose": (driver, "_LOOSE", 0.1)}),
         ("3/100 of the last change", {"loose": (driver, "_LOOSE", 0.03)}),
         ("3/1000 of the last change", {"loose": (driver, "_LOOSE", 0.003)}),
-        ("the default rounded down to a power of 10", {
-            "sched": (driver, "loose_tolerance", rounded(10.0))}),
-        ("the default rounded down to a power of 100", {
-            "sched": (driver, "loose_tolerance", rounded(100.0))}),
+        (
+            "the default rounded down to a power of 10",
+            {"sched": (driver, "loose_tolerance", rounded(10.0))},
+        ),
+        (
+            "the default rounded down to a power of 100",
+            {"sched": (driver, "loose_tolerance", rounded(100.0))},
+        ),
         ("the early cycles' cap 1e-5 (default 1e-6)", {"cap": (driver, "_LOOSE_MAX", 1e-5)}),
         ("the early cycles' cap 1e-4", {"cap": (driver, "_LOOSE_MAX", 1e-4)}),
         ("CG to 0.3 of the tolerance (default 0.9)", {"cg": (hs, "CG_TOL", 0.3)}),
@@ -216,9 +251,11 @@ def main(argv=None):
     ]
     for label, settings in runs:
         label, r, st, s, per = variant(label, **settings)
-        emit(f"| {label} | {r.cycles} | {st['tangential_products']} | "
-             f"{st['newton']} | {s:.1f} | {(r.W - W0) / W0:+.1e} | "
-             f"{' '.join(str(p) for p in per)} |")
+        emit(
+            f"| {label} | {r.cycles} | {st['tangential_products']} | "
+            f"{st['newton']} | {s:.1f} | {(r.W - W0) / W0:+.1e} | "
+            f"{' '.join(str(p) for p in per)} |"
+        )
     emit("")
     lines.write(out / "late_cycles.md")
     print(f"wrote {out / 'late_cycles.md'}")

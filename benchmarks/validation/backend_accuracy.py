@@ -22,8 +22,12 @@ from pathlib import Path as _Path
 # the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
 # shared cases and references (tests/support)
 _ROOT = _Path(__file__).resolve().parents[2]
-_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
-                 str(_ROOT / "tests")]
+_sys.path[:0] = [
+    str(_ROOT),
+    str(_ROOT / "benchmarks"),
+    str(_ROOT / "benchmarks" / "perf"),
+    str(_ROOT / "tests"),
+]
 
 from _report import results_file  # noqa: E402 (benchmarks/ on the path above)
 import argparse
@@ -46,49 +50,71 @@ def run(method: str, steps: int, refine: bool | None) -> dict:
     options = {} if refine is None else {"refine": refine}
     t0 = time.perf_counter()
     # unrefined answers carry the solver's noise: a looser cycle-to-cycle test
-    res = steady_state(node, method, steps, tol=1e-10 if refine is not False else 1e-7,
-                       **options)
+    res = steady_state(node, method, steps, tol=1e-10 if refine is not False else 1e-7, **options)
     seconds = time.perf_counter() - t0
     exact = exact_W_hat(*CASE)
-    return {"method": method, "refine": refine, "W_hat": res.W_hat,
-            "error": (res.W_hat - exact) / exact, "cycles": res.cycles,
-            "us_per_step": 1e6 * seconds / (res.cycles * res.steps_per_cycle),
-            "max_residual": res.solver_stats.get("max_residual")}
+    return {
+        "method": method,
+        "refine": refine,
+        "W_hat": res.W_hat,
+        "error": (res.W_hat - exact) / exact,
+        "cycles": res.cycles,
+        "us_per_step": 1e6 * seconds / (res.cycles * res.steps_per_cycle),
+        "max_residual": res.solver_stats.get("max_residual"),
+    }
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--steps", type=int, default=4000)
     parser.add_argument("--json", action="store_true", help="last line: JSON of the rows")
-    parser.add_argument("--out", default=str(_ROOT / "benchmarks" / "results" / "backend-accuracy.md"),
-                    help="the results file (default: %(default)s; \"-\": print only)")
+    parser.add_argument(
+        "--out",
+        default=str(_ROOT / "benchmarks" / "results" / "backend-accuracy.md"),
+        help='the results file (default: %(default)s; "-": print only)',
+    )
     args = parser.parse_args(argv)
-    with results_file(None if args.out == "-" else args.out, "The backends against exact and against the projection",
-                      "validation/backend_accuracy.py" + "".join(f" {a}" for a in (sys.argv[1:] if argv is None else argv))):
+    with results_file(
+        None if args.out == "-" else args.out,
+        "The backends against exact and against the projection",
+        "validation/backend_accuracy.py"
+        + "".join(f" {a}" for a in (sys.argv[1:] if argv is None else argv)),
+    ):
         rows = [run("projection", args.steps, None), run("explicit", args.steps, None)]
         for method in methods_for(SingleNode.normalized(*CASE)):
             if method in ("exact", "explicit", "projection"):
                 continue
             # the convex backends with and without their refinement; the others as they are
             convex = isinstance(get_stepper(method), ConvexStepper)
-            for refine in ((True, False) if convex else (None,)):
+            for refine in (True, False) if convex else (None,):
                 try:
                     rows.append(run(method, args.steps, refine))
                 except Exception as exc:  # report, do not stop: a backend may fail unrefined
-                    rows.append({"method": method, "refine": refine, "error": None,
-                                 "failure": f"{type(exc).__name__}: {str(exc)[:90]}"})
+                    rows.append(
+                        {
+                            "method": method,
+                            "refine": refine,
+                            "error": None,
+                            "failure": f"{type(exc).__name__}: {str(exc)[:90]}",
+                        }
+                    )
         projected = rows[0]["W_hat"]
-        print(f"{'method':20s} {'refine':>6s} {'rel. error vs exact':>20s} "
-              f"{'vs projection':>14s} {'us/step':>9s} {'cycles':>6s} {'max residual':>12s}")
+        print(
+            f"{'method':20s} {'refine':>6s} {'rel. error vs exact':>20s} "
+            f"{'vs projection':>14s} {'us/step':>9s} {'cycles':>6s} {'max residual':>12s}"
+        )
         for r in rows:
             if r.get("error") is None:
                 print(f"{r['method']:20s} {str(r['refine']):>6s}  failed: {r['failure']}")
                 continue
             resid = r.get("max_residual")
             r["vs_projection"] = abs(r["W_hat"] - projected) / abs(projected)
-            print(f"{r['method']:20s} {str(r['refine']):>6s} {r['error']:20.3e} "
-                  f"{r['vs_projection']:14.1e} {r['us_per_step']:9.1f} {r['cycles']:6d} "
-                  f"{'' if resid is None else f'{resid:.1e}':>12s}", flush=True)
+            print(
+                f"{r['method']:20s} {str(r['refine']):>6s} {r['error']:20.3e} "
+                f"{r['vs_projection']:14.1e} {r['us_per_step']:9.1f} {r['cycles']:6d} "
+                f"{'' if resid is None else f'{resid:.1e}':>12s}",
+                flush=True,
+            )
         if args.json:
             print(json.dumps(rows))
         return 0

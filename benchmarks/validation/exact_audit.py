@@ -27,8 +27,12 @@ from pathlib import Path as _Path
 # the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
 # shared cases and references (tests/support)
 _ROOT = _Path(__file__).resolve().parents[2]
-_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
-                 str(_ROOT / "tests")]
+_sys.path[:0] = [
+    str(_ROOT),
+    str(_ROOT / "benchmarks"),
+    str(_ROOT / "benchmarks" / "perf"),
+    str(_ROOT / "tests"),
+]
 
 import argparse
 import os
@@ -83,17 +87,32 @@ def audit(points: np.ndarray, processes: int = 1) -> dict:
         out[name] = dict(
             well_conditioned=int(np.sum(well)),
             worst_rel_well=float(np.max(rel[well])) if well.any() else 0.0,
-            worst_rel_well_point=(points[np.nonzero(well)[0][np.argmax(rel[well])]].tolist()
-                                  if well.any() else None),
-            worst_rel=float(np.max(rel)), worst_rel_point=points[int(np.argmax(rel))].tolist(),
-            within_rel=int(np.sum(err <= REL * ref)), ill_conditioned=int(bad.size - fail.size),
+            worst_rel_well_point=(
+                points[np.nonzero(well)[0][np.argmax(rel[well])]].tolist() if well.any() else None
+            ),
+            worst_rel=float(np.max(rel)),
+            worst_rel_point=points[int(np.argmax(rel))].tolist(),
+            within_rel=int(np.sum(err <= REL * ref)),
+            ill_conditioned=int(bad.size - fail.size),
             fail=[(points[j].tolist(), float(val[j]), float(ref[j])) for j in fail],
             worst_rel_of_passing=float(np.max(ok_rel)) if ok_rel.size else 0.0,
-            worst_ill=(max(((float(err[j] / spread[j]) if spread[j] else float("inf")),
-                            points[j].tolist(), float(val[j]), float(ref[j])) for j in bad)
-                       if bad.size else None))
-    out["scalar_vs_vector_max_rel"] = float(np.max(np.abs(scalar - vector)
-                                                   / np.maximum(np.abs(ref), 1e-300)))
+            worst_ill=(
+                max(
+                    (
+                        (float(err[j] / spread[j]) if spread[j] else float("inf")),
+                        points[j].tolist(),
+                        float(val[j]),
+                        float(ref[j]),
+                    )
+                    for j in bad
+                )
+                if bad.size
+                else None
+            ),
+        )
+    out["scalar_vs_vector_max_rel"] = float(
+        np.max(np.abs(scalar - vector) / np.maximum(np.abs(ref), 1e-300))
+    )
     return out
 
 
@@ -107,26 +126,36 @@ def main(argv=None):
     pts = draw(args.n, args.seed)
     t0 = time.perf_counter()
     res = audit(pts, args.processes)
-    lines = [f"Reproduce: `python benchmarks/validation/exact_audit.py --n {args.n} --seed {args.seed}`", "",
-             f"{res['n']} points (mixture of the module docstring), mpmath reference "
-             f"({res['reference_seconds']:.0f} s), total {time.perf_counter() - t0:.0f} s.", ""]
+    lines = [
+        f"Reproduce: `python benchmarks/validation/exact_audit.py --n {args.n} --seed {args.seed}`",
+        "",
+        f"{res['n']} points (mixture of the module docstring), mpmath reference "
+        f"({res['reference_seconds']:.0f} s), total {time.perf_counter() - t0:.0f} s.",
+        "",
+    ]
     for name in ("scalar", "vectorized"):
         r = res[name]
-        lines += [f"- {name}: worst relative error {r['worst_rel_well']:.2e} over the "
-                  f"{r['well_conditioned']} well-conditioned points (16-ulp input spread of Ŵ "
-                  f"below 1e-10 relative), at {r['worst_rel_well_point']}",
-                  f"- {name}: {r['within_rel']} within 1e-9 relative (worst there "
-                  f"{r['worst_rel_of_passing']:.2e}); {r['ill_conditioned']} ill-conditioned "
-                  f"points within the 16-ulp input spread; {len(r['fail'])} failures; worst "
-                  f"relative error overall {r['worst_rel']:.2e} at {r['worst_rel_point']}"]
+        lines += [
+            f"- {name}: worst relative error {r['worst_rel_well']:.2e} over the "
+            f"{r['well_conditioned']} well-conditioned points (16-ulp input spread of Ŵ "
+            f"below 1e-10 relative), at {r['worst_rel_well_point']}",
+            f"- {name}: {r['within_rel']} within 1e-9 relative (worst there "
+            f"{r['worst_rel_of_passing']:.2e}); {r['ill_conditioned']} ill-conditioned "
+            f"points within the 16-ulp input spread; {len(r['fail'])} failures; worst "
+            f"relative error overall {r['worst_rel']:.2e} at {r['worst_rel_point']}",
+        ]
         if r["worst_ill"]:
-            lines.append(f"  - largest error / spread among the ill-conditioned: "
-                         f"{r['worst_ill'][0]:.2e} at {r['worst_ill'][1]} "
-                         f"(value {r['worst_ill'][2]!r}, reference {r['worst_ill'][3]!r})")
+            lines.append(
+                f"  - largest error / spread among the ill-conditioned: "
+                f"{r['worst_ill'][0]:.2e} at {r['worst_ill'][1]} "
+                f"(value {r['worst_ill'][2]!r}, reference {r['worst_ill'][3]!r})"
+            )
         for pt, val, ref in r["fail"][:20]:
             lines.append(f"  - FAIL {pt}: {val!r} vs reference {ref!r}")
-    lines.append(f"- scalar vs vectorized: max difference {res['scalar_vs_vector_max_rel']:.2e} "
-                 f"of the reference")
+    lines.append(
+        f"- scalar vs vectorized: max difference {res['scalar_vs_vector_max_rel']:.2e} "
+        f"of the reference"
+    )
     text = "\n".join(lines) + "\n"
     print(text)
     if args.out:

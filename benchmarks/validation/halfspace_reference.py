@@ -57,8 +57,12 @@ from pathlib import Path as _Path
 # the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
 # shared cases and references (tests/support)
 _ROOT = _Path(__file__).resolve().parents[2]
-_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
-                 str(_ROOT / "tests")]
+_sys.path[:0] = [
+    str(_ROOT),
+    str(_ROOT / "benchmarks"),
+    str(_ROOT / "benchmarks" / "perf"),
+    str(_ROOT / "tests"),
+]
 
 import math
 import os
@@ -121,7 +125,7 @@ def direct_displacement(p: np.ndarray, h: float, Estar: float) -> np.ndarray:
     k = love_kernel(N, h, Estar)
     w = np.zeros_like(p)
     for j1, j2 in zip(*np.nonzero(p)):
-        w += p[j1, j2] * k[N - 1 - j1:2 * N - 1 - j1, N - 1 - j2:2 * N - 1 - j2]
+        w += p[j1, j2] * k[N - 1 - j1 : 2 * N - 1 - j1, N - 1 - j2 : 2 * N - 1 - j2]
     return w
 
 
@@ -131,8 +135,9 @@ def solve_case(N: int, h: float):
     substrate = FreeFFTElasticHalfSpace((N, N), ESTAR, physical_sizes=(L, L), check_boundaries=True)
     topography = Topography(-z, physical_sizes=(L, L), periodic=False)
     system = make_system(surface=topography, substrate=substrate)
-    res = system.minimize_proxy(external_force=P, pentol=1e-13, forcetol=1e-16,
-                                thermotol=1e-15, maxiter=100000)
+    res = system.minimize_proxy(
+        external_force=P, pentol=1e-13, forcetol=1e-16, thermotol=1e-15, maxiter=100000
+    )
     if not res.success:
         raise RuntimeError(f"ContactMechanics did not converge for N={N}: {res.message}")
     pressure = np.asarray(res.jac, dtype=float) / h**2
@@ -148,8 +153,14 @@ def check_case(N: int, h: float, z: np.ndarray, p: np.ndarray, delta: float) -> 
         "gap_in_contact": float(np.max(np.abs(gap[c]))) / delta,
         "min_gap_outside": float(np.min(gap[~c])) / delta if (~c).any() else float("nan"),
         "min_contact_pressure": float(p[c].min()),
-        "edge_pressure": float(max(np.abs(p[0]).max(), np.abs(p[-1]).max(),
-                                   np.abs(p[:, 0]).max(), np.abs(p[:, -1]).max())),
+        "edge_pressure": float(
+            max(
+                np.abs(p[0]).max(),
+                np.abs(p[-1]).max(),
+                np.abs(p[:, 0]).max(),
+                np.abs(p[:, -1]).max(),
+            )
+        ),
     }
 
 
@@ -160,33 +171,47 @@ def main() -> int:
             f"ContactMechanics {ContactMechanics.__version__} "
             f"(SurfaceTopography {SurfaceTopography.__version__}); "
             "FreeFFTElasticHalfSpace + make_system(...).minimize_proxy(external_force=P) "
-            "[Polonsky-Keer CCG]"),
+            "[Polonsky-Keer CCG]"
+        ),
     }
     a = (3.0 * P * R / (4.0 * ESTAR)) ** (1.0 / 3.0)
     p0 = 3.0 * P / (2.0 * math.pi * a * a)
     print(f"{data['version']}")
-    print(f"Hertz: P = {P:.12g}, a = {a:.6g}, p0 = {p0:.6f}, pi a^2 = {math.pi * a * a:.6f}, "
-          f"delta = a^2/R = {a * a / R:.6f}")
+    print(
+        f"Hertz: P = {P:.12g}, a = {a:.6g}, p0 = {p0:.6f}, pi a^2 = {math.pi * a * a:.6f}, "
+        f"delta = a^2/R = {a * a / R:.6f}"
+    )
     for suffix, (N, h) in CASES.items():
         z, p, delta, nit = solve_case(N, h)
         chk = check_case(N, h, z, p, delta)
         area = np.count_nonzero(p > 0) * h * h
         print(f"case {suffix}: N = {N}, h = {h}: iterations {nit}")
         print(f"  max pressure   {p.max():.6f}   (Hertz p0 {p0:.6f}, ratio {p.max() / p0:.4f})")
-        print(f"  contact area   {area:.6f}   (Hertz pi a^2 {math.pi * a * a:.6f}, "
-              f"ratio {area / (math.pi * a * a):.4f}; {np.count_nonzero(p > 0)} elements)")
+        print(
+            f"  contact area   {area:.6f}   (Hertz pi a^2 {math.pi * a * a:.6f}, "
+            f"ratio {area / (math.pi * a * a):.4f}; {np.count_nonzero(p > 0)} elements)"
+        )
         print(f"  approach       {delta:.8f}   (Hertz a^2/R {a * a / R:.6f})")
         print(f"  total force    {p.sum() * h * h:.15g}   (rel. error {chk['force_error']:.2e})")
-        print(f"  direct Love check: max |gap| in contact / delta = {chk['gap_in_contact']:.2e}, "
-              f"min gap outside / delta = {chk['min_gap_outside']:.3e},\n"
-              f"                     min pressure in contact = {chk['min_contact_pressure']:.3e}, "
-              f"max edge pressure = {chk['edge_pressure']:.1e}")
-        data.update({
-            f"N_{suffix}": np.int64(N), f"h_{suffix}": np.float64(h), f"R_{suffix}": np.float64(R),
-            f"Estar_{suffix}": np.float64(ESTAR), f"P_{suffix}": np.float64(P),
-            f"heights_{suffix}": z, f"pressure_{suffix}": p,
-            f"approach_{suffix}": np.float64(delta), f"iterations_{suffix}": np.int64(nit),
-        })
+        print(
+            f"  direct Love check: max |gap| in contact / delta = {chk['gap_in_contact']:.2e}, "
+            f"min gap outside / delta = {chk['min_gap_outside']:.3e},\n"
+            f"                     min pressure in contact = {chk['min_contact_pressure']:.3e}, "
+            f"max edge pressure = {chk['edge_pressure']:.1e}"
+        )
+        data.update(
+            {
+                f"N_{suffix}": np.int64(N),
+                f"h_{suffix}": np.float64(h),
+                f"R_{suffix}": np.float64(R),
+                f"Estar_{suffix}": np.float64(ESTAR),
+                f"P_{suffix}": np.float64(P),
+                f"heights_{suffix}": z,
+                f"pressure_{suffix}": p,
+                f"approach_{suffix}": np.float64(delta),
+                f"iterations_{suffix}": np.int64(nit),
+            }
+        )
     os.makedirs(os.path.dirname(OUT), exist_ok=True)
     np.savez_compressed(OUT, **data)
     print(f"wrote {os.path.normpath(OUT)}")

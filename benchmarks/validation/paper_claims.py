@@ -12,8 +12,12 @@ from pathlib import Path as _Path
 # the repository, the shared report writer, the perf scripts (halfspace's cases) and the tests'
 # shared cases and references (tests/support)
 _ROOT = _Path(__file__).resolve().parents[2]
-_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "benchmarks" / "perf"),
-                 str(_ROOT / "tests")]
+_sys.path[:0] = [
+    str(_ROOT),
+    str(_ROOT / "benchmarks"),
+    str(_ROOT / "benchmarks" / "perf"),
+    str(_ROOT / "tests"),
+]
 
 import argparse
 import sys

@@ -86,8 +86,9 @@ class ChunkStore:
         self.path = Path(path)
         self.chunk_sizes = [int(s) for s in chunk_sizes]
         # through JSON once, so that it compares equal to the manifest read back (tuples -> lists)
-        self.description = json.loads(json.dumps({"format": _FORMAT, **description,
-                                                  "chunk_sizes": self.chunk_sizes}))
+        self.description = json.loads(
+            json.dumps({"format": _FORMAT, **description, "chunk_sizes": self.chunk_sizes})
+        )
         self.key = fingerprint(self.description)
         self._open(resume)
 
@@ -106,9 +107,11 @@ class ChunkStore:
                 old = None
             if old != self.description and resume and self._chunk_files():
                 raise InputError(
-                    "store", f"{self.path} holds chunks of a different sweep (other grid, method "
-                             "or options); choose another store directory, or pass resume=False "
-                             "(CLI: --restart) to discard them")
+                    "store",
+                    f"{self.path} holds chunks of a different sweep (other grid, method "
+                    "or options); choose another store directory, or pass resume=False "
+                    "(CLI: --restart) to discard them",
+                )
             if old != self.description or not resume:
                 self.clear_chunks()
         elif not resume:
@@ -131,8 +134,11 @@ class ChunkStore:
             values = np.load(f, allow_pickle=False)
         except (OSError, ValueError, EOFError):
             values = None
-        if (values is None or values.shape != (self.chunk_sizes[index],)
-                or values.dtype != np.float64):
+        if (
+            values is None
+            or values.shape != (self.chunk_sizes[index],)
+            or values.dtype != np.float64
+        ):
             f.unlink(missing_ok=True)  # never trust it; the chunk is computed again
             return None
         return values
@@ -141,8 +147,9 @@ class ChunkStore:
         """Store a finished chunk atomically."""
         values = np.ascontiguousarray(values, dtype=np.float64).ravel()
         if values.shape != (self.chunk_sizes[index],):
-            raise ValueError(f"chunk {index}: expected {self.chunk_sizes[index]} values, "
-                             f"got {values.size}")
+            raise ValueError(
+                f"chunk {index}: expected {self.chunk_sizes[index]} values, got {values.size}"
+            )
         _atomic_write(self._file(index), lambda fh: np.save(fh, values, allow_pickle=False))
 
     def clear_chunks(self) -> None:

@@ -33,8 +33,15 @@ from ..periodic import batched
 from ..steppers.dissipation import node_shares
 from ..steppers.mdr_bar import bar_increment
 
-__all__ = ["mdr_W_normalized", "halfspace_W_normalized", "gross_sliding_points", "map_spec",
-           "unconverged_points", "CONTACT_DEFAULTS", "HALFSPACE_DEFAULTS"]
+__all__ = [
+    "mdr_W_normalized",
+    "halfspace_W_normalized",
+    "gross_sliding_points",
+    "map_spec",
+    "unconverged_points",
+    "CONTACT_DEFAULTS",
+    "HALFSPACE_DEFAULTS",
+]
 
 _SAMPLES = 20001
 
@@ -71,27 +78,50 @@ def _points(P1, Q1, phi, steps_per_cycle, k_support, reach=False):
     return P1, Q1, phi, steps, ks, out, run
 
 
-def mdr_W_normalized(P1, Q1, phi, *, nodes: int = 200, steps_per_cycle: int = 200,
-                     k_support: float = 0.0, tol: float = 1e-8, max_cycles: int = 200,
-                     on_nonconvergence: str = "warn"):
+def mdr_W_normalized(
+    P1,
+    Q1,
+    phi,
+    *,
+    nodes: int = 200,
+    steps_per_cycle: int = 200,
+    k_support: float = 0.0,
+    tol: float = 1e-8,
+    max_cycles: int = 200,
+    on_nonconvergence: str = "warn",
+):
     """``W k_t0 / (μ² P0²)`` of the MDR sphere at the points ``(P1, Q1, phi)`` (flat arrays of
     P̂1, Q̂1 and φ); ``k_support`` in units of k_t0. NaN where pure load control has no
     equilibrium, and where a point reaches no steady state in ``max_cycles`` (module
     docstring); 0 where Q̂1 = 0."""
     nodes = _checks.positive_int("nodes", nodes)
-    tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
-                                                                on_nonconvergence)
+    tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles, on_nonconvergence)
     P1, Q1, phi, steps, ks, out, run = _points(P1, Q1, phi, steps_per_cycle, k_support)
     idx = np.flatnonzero(run)
     if idx.size:
         points = _MDRPoints(P1[idx], Q1[idx], phi[idx], nodes, steps, ks)
-        res = batched.run(points, tol=tol, max_cycles=max_cycles, on_nonconvergence="ignore",
-                          measure="map", quantity="W_normalized", values=lambda W: W,
-                          method="mdr-bar", steps_requested=steps)
+        res = batched.run(
+            points,
+            tol=tol,
+            max_cycles=max_cycles,
+            on_nonconvergence="ignore",
+            measure="map",
+            quantity="W_normalized",
+            values=lambda W: W,
+            method="mdr-bar",
+            steps_requested=steps,
+        )
         out[idx] = res.values
         late = ~res.converged
-        _unconverged("", int(late.sum()), P1.size, max_cycles,
-                     float(np.max(res.change[late], initial=0.0)), tol, on_nonconvergence)
+        _unconverged(
+            "",
+            int(late.sum()),
+            P1.size,
+            max_cycles,
+            float(np.max(res.change[late], initial=0.0)),
+            tol,
+            on_nonconvergence,
+        )
     return out
 
 
@@ -99,9 +129,11 @@ def _unconverged(what, failed, total, max_cycles, worst, tol, on_nonconvergence)
     """Report a map's points that reached no steady state (their values are NaN)."""
     if not failed:
         return
-    msg = (f"{failed} of {total} {what}points reached no periodic steady state in "
-           f"{max_cycles} cycles (largest relative change {worst:.3g} > tol {tol:g}; their "
-           f"values are NaN); raise max_cycles or loosen tol")
+    msg = (
+        f"{failed} of {total} {what}points reached no periodic steady state in "
+        f"{max_cycles} cycles (largest relative change {worst:.3g} > tol {tol:g}; their "
+        f"values are NaN); raise max_cycles or loosen tol"
+    )
     if on_nonconvergence == "raise":
         raise ConvergenceError(msg)
     if on_nonconvergence == "warn":
@@ -116,12 +148,12 @@ class _MDRPoints:
         m = P1.size
         self.size, self.steps, self.ks, self.n = m, steps, ks, n
         self.P1, self.Q1 = P1, Q1
-        a_max = (1.0 + P1) ** (1.0 / 3.0)                       # (m,)
+        a_max = (1.0 + P1) ** (1.0 / 3.0)  # (m,)
         dx = a_max / n
-        x = (np.arange(n)[None, :] + 0.5) * dx[:, None]         # (m, n)
+        x = (np.arange(n)[None, :] + 0.5) * dx[:, None]  # (m, n)
         self.k = dx[:, None] * np.ones((1, n))
         theta = np.linspace(0.0, 2 * math.pi, steps + 1)
-        P = np.maximum(1.0 + P1[:, None] * np.sin(theta)[None, :], 0.0)   # (m, steps + 1)
+        P = np.maximum(1.0 + P1[:, None] * np.sin(theta)[None, :], 0.0)  # (m, steps + 1)
         self.Q = Q1[:, None] * np.sin(theta[None, :] + phi[:, None])
         self.a = P ** (1.0 / 3.0)
         self.lo_x, self.hi_x = x - 0.5 * dx[:, None], x + 0.5 * dx[:, None]
@@ -151,10 +183,20 @@ class _MDRPoints:
         return self.Q1, 1.0 + self.P1
 
 
-def halfspace_W_normalized(P1, Q1, phi, *, grid: int = 20, dims: int = 1, nu: float = 0.0,
-                           steps_per_cycle: int = 100, k_support: float = 0.0,
-                           tol: float = 1e-8, max_cycles: int = 200,
-                           on_nonconvergence: str = "warn"):
+def halfspace_W_normalized(
+    P1,
+    Q1,
+    phi,
+    *,
+    grid: int = 20,
+    dims: int = 1,
+    nu: float = 0.0,
+    steps_per_cycle: int = 100,
+    k_support: float = 0.0,
+    tol: float = 1e-8,
+    max_cycles: int = 200,
+    on_nonconvergence: str = "warn",
+):
     """``W k_t0 / (μ² P0²)`` of the sphere on the half-space
     (:class:`~lcpfric.model.continuum.halfspace.HalfSpace`) at the points ``(P1, Q1, phi)``
     (flat arrays of P̂1, Q̂1, φ), ``grid`` elements across the largest contact, ``k_support``
@@ -169,28 +211,31 @@ def halfspace_W_normalized(P1, Q1, phi, *, grid: int = 20, dims: int = 1, nu: fl
     from ..periodic import steady_state
     from ..scene import make_scene, with_tangential_load
 
-    tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
-                                                                on_nonconvergence)
-    P1, Q1, phi, steps, ks, out, run = _points(P1, Q1, phi, steps_per_cycle, k_support,
-                                               reach=dims == 2)
+    tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles, on_nonconvergence)
+    P1, Q1, phi, steps, ks, out, run = _points(
+        P1, Q1, phi, steps_per_cycle, k_support, reach=dims == 2
+    )
     two_pi = 2.0 * math.pi
     failed, worst = 0, 0.0
     for p1 in np.unique(P1[run]):
         idx = np.flatnonzero(run & (P1 == p1))
         # P0 = μ = 1, R = E = 1: W k_t0 / (μ² P0²) does not depend on them
-        model = HalfSpace.sphere(1.0, 1.0, nu, 1.0, Harmonic(1.0, p1, 0.0, two_pi), 0.0,
-                                 grid=grid, dims=dims)
+        model = HalfSpace.sphere(
+            1.0, 1.0, nu, 1.0, Harmonic(1.0, p1, 0.0, two_pi), 0.0, grid=grid, dims=dims
+        )
         model = model.with_support(ks * model.k_t0)
         scene = make_scene(model, steps)
         for i in idx:
             try:
-                point = with_tangential_load(scene, Harmonic(0.0, float(Q1[i]), float(phi[i]),
-                                                             two_pi))
-            except _Input:              # |Q| > μP on the grid's own instants: no equilibrium
+                point = with_tangential_load(
+                    scene, Harmonic(0.0, float(Q1[i]), float(phi[i]), two_pi)
+                )
+            except _Input:  # |Q| > μP on the grid's own instants: no equilibrium
                 out[i] = np.nan
                 continue
-            r = steady_state(point, "newton-cg", tol=tol, max_cycles=max_cycles,
-                             on_nonconvergence="ignore")
+            r = steady_state(
+                point, "newton-cg", tol=tol, max_cycles=max_cycles, on_nonconvergence="ignore"
+            )
             if r.converged:
                 out[i] = r.W_normalized
             else:
@@ -202,10 +247,24 @@ def halfspace_W_normalized(P1, Q1, phi, *, grid: int = 20, dims: int = 1, nu: fl
 
 
 #: a continuum contact's map options and defaults (``sweep(..., contact=)``), per model
-CONTACT_DEFAULTS = {"geometry": "sphere", "model": "mdr", "nodes": 200, "k_support": 0.0,
-                    "tol": 1e-8, "max_cycles": 200}
-HALFSPACE_DEFAULTS = {"geometry": "sphere", "model": "halfspace", "grid": 20, "dims": 1,
-                      "nu": 0.0, "k_support": 0.0, "tol": 1e-8, "max_cycles": 200}
+CONTACT_DEFAULTS = {
+    "geometry": "sphere",
+    "model": "mdr",
+    "nodes": 200,
+    "k_support": 0.0,
+    "tol": 1e-8,
+    "max_cycles": 200,
+}
+HALFSPACE_DEFAULTS = {
+    "geometry": "sphere",
+    "model": "halfspace",
+    "grid": 20,
+    "dims": 1,
+    "nu": 0.0,
+    "k_support": 0.0,
+    "tol": 1e-8,
+    "max_cycles": 200,
+}
 #: each map model's model class (the registry's ``models``: the methods that solve it)
 MODEL_CLASSES = {"mdr": "MDRSphere", "halfspace": "HalfSpace"}
 _CONTACT_STEPS = 200
@@ -219,46 +278,63 @@ def map_spec(contact, steps_per_cycle, method=None):
     from ..methods import get_method
 
     if not isinstance(contact, dict):
-        raise InputError("contact", f"must be a dict of {sorted(CONTACT_DEFAULTS)}, got "
-                                    f"{type(contact).__name__}")
+        raise InputError(
+            "contact", f"must be a dict of {sorted(CONTACT_DEFAULTS)}, got {type(contact).__name__}"
+        )
     model = contact.get("model", "mdr")
     if model not in MODEL_CLASSES:
         raise InputError("contact", f"model must be 'mdr' or 'halfspace', got {model!r}")
     defaults = CONTACT_DEFAULTS if model == "mdr" else HALFSPACE_DEFAULTS
     unknown = sorted(set(contact) - set(defaults))
     if unknown:
-        raise InputError("contact", f"unknown key {unknown[0]!r}; keys: "
-                                    f"{', '.join(sorted(defaults))}")
+        raise InputError(
+            "contact", f"unknown key {unknown[0]!r}; keys: {', '.join(sorted(defaults))}"
+        )
     spec = {**defaults, **contact}
     if spec["geometry"] != "sphere":
-        raise InputError("contact", f"maps are available for the sphere, got geometry "
-                                    f"{spec['geometry']!r}")
+        raise InputError(
+            "contact", f"maps are available for the sphere, got geometry {spec['geometry']!r}"
+        )
     own = "mdr-bar" if model == "mdr" else "newton-cg"
     if method is not None:
         entry, _ = get_method(method)
         if MODEL_CLASSES[model] not in entry.models:
-            raise InputError("method", f"{entry.name!r} does not solve the {model} model's "
-                                       f"{MODEL_CLASSES[model]}; its map uses {own!r}")
+            raise InputError(
+                "method",
+                f"{entry.name!r} does not solve the {model} model's "
+                f"{MODEL_CLASSES[model]}; its map uses {own!r}",
+            )
     if model == "halfspace":
         steps = _checks.positive_int("steps_per_cycle", steps_per_cycle or _HALFSPACE_STEPS, 4)
         grid = _checks.positive_int("grid", spec["grid"], 8)
         if spec["dims"] not in (1, 2):
             raise InputError("dims", f"must be 1 or 2, got {spec['dims']!r}")
-        options = {"grid": grid, "dims": int(spec["dims"]),
-                   "nu": _checks.nonnegative("nu", spec["nu"]),
-                   "k_support": _checks.nonnegative("k_support", spec["k_support"]),
-                   "tol": _checks.positive("tol", spec["tol"]), "steps_per_cycle": steps,
-                   "max_cycles": _checks.positive_int("max_cycles", spec["max_cycles"]),
-                   "on_nonconvergence": "ignore"}
+        options = {
+            "grid": grid,
+            "dims": int(spec["dims"]),
+            "nu": _checks.nonnegative("nu", spec["nu"]),
+            "k_support": _checks.nonnegative("k_support", spec["k_support"]),
+            "tol": _checks.positive("tol", spec["tol"]),
+            "steps_per_cycle": steps,
+            "max_cycles": _checks.positive_int("max_cycles", spec["max_cycles"]),
+            "on_nonconvergence": "ignore",
+        }
         # measured: about 35 ns per grid node, step and cycle at d = 1 (three cycles)
-        return halfspace_W_normalized, options, 1.1e-7 * 1.8 * grid * grid * steps * \
-            (3 if options["dims"] == 2 else 1), own
+        return (
+            halfspace_W_normalized,
+            options,
+            1.1e-7 * 1.8 * grid * grid * steps * (3 if options["dims"] == 2 else 1),
+            own,
+        )
     steps = _checks.positive_int("steps_per_cycle", steps_per_cycle or _CONTACT_STEPS, 4)
-    options = {"nodes": _checks.positive_int("nodes", spec["nodes"]),
-               "k_support": _checks.nonnegative("k_support", spec["k_support"]),
-               "tol": _checks.positive("tol", spec["tol"]), "steps_per_cycle": steps,
-               "max_cycles": _checks.positive_int("max_cycles", spec["max_cycles"]),
-               "on_nonconvergence": "ignore"}
+    options = {
+        "nodes": _checks.positive_int("nodes", spec["nodes"]),
+        "k_support": _checks.nonnegative("k_support", spec["k_support"]),
+        "tol": _checks.positive("tol", spec["tol"]),
+        "steps_per_cycle": steps,
+        "max_cycles": _checks.positive_int("max_cycles", spec["max_cycles"]),
+        "on_nonconvergence": "ignore",
+    }
     # measured: about 60 ns per node, step and cycle, four cycles
     return mdr_W_normalized, options, 2.4e-7 * options["nodes"] * steps, own
 
@@ -266,8 +342,11 @@ def map_spec(contact, steps_per_cycle, method=None):
 def map_bytes(options, points: int, in_flight: int, workers: int, axes: int) -> float:
     """Estimated peak bytes of a contact map: its values, and the MDR batch of the points in
     flight or one half-space model per worker."""
-    work = (8.0 * 24 * options["nodes"] * in_flight if "nodes" in options else
-            8.0 * 40 * 1.2 * options["grid"] ** 2 * options["steps_per_cycle"] * workers)
+    work = (
+        8.0 * 24 * options["nodes"] * in_flight
+        if "nodes" in options
+        else 8.0 * 40 * 1.2 * options["grid"] ** 2 * options["steps_per_cycle"] * workers
+    )
     return 8.0 * (4 * points + axes) + work
 
 

@@ -60,8 +60,9 @@ def hysteresis_loop(result: SteadyState, node: int = 0) -> HysteresisLoop:
     that direction's share of the node's dissipation).
     """
     if not isinstance(result, SteadyState):
-        raise InputError("result", f"expected a SteadyState (lcpfric.steady_state), got "
-                                   f"{type(result).__name__}")
+        raise InputError(
+            "result", f"expected a SteadyState (lcpfric.steady_state), got {type(result).__name__}"
+        )
     v, F, state = np.asarray(result.v), np.asarray(result.F), np.asarray(result.state)
     if v.ndim == 1:
         if node != 0:
@@ -72,8 +73,9 @@ def hysteresis_loop(result: SteadyState, node: int = 0) -> HysteresisLoop:
         raise InputError("node", f"must be an integer in [0, {n - 1}], got {node!r}")
     d = v.shape[1] // n
     col = node * d
-    return HysteresisLoop(v[:, col], F[:, col], state[:, node], loop_area(v[:, col], F[:, col]),
-                          result.W, int(node))
+    return HysteresisLoop(
+        v[:, col], F[:, col], state[:, node], loop_area(v[:, col], F[:, col]), result.W, int(node)
+    )
 
 
 #: How each state is drawn: (label, colour, line style); greyscale-safe by style.

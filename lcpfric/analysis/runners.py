@@ -68,8 +68,9 @@ def _run_pool(remaining: dict, compute: Callable, on_result: Callable, workers: 
     pool.shutdown(wait=True)
 
 
-def run_processes(tasks: dict, compute: Callable, on_result: Callable, workers: int,
-                  restarts: int = 2) -> str:
+def run_processes(
+    tasks: dict, compute: Callable, on_result: Callable, workers: int, restarts: int = 2
+) -> str:
     """Run on a local process pool; a pool broken by a killed worker is restarted ``restarts``
     times for the chunks not yet finished."""
     from concurrent.futures.process import BrokenProcessPool
@@ -83,8 +84,12 @@ def run_processes(tasks: dict, compute: Callable, on_result: Callable, workers: 
         except BrokenProcessPool:
             if attempt == restarts:
                 raise
-            warnings.warn(f"a sweep worker process died; restarting the pool for the "
-                          f"{len(remaining)} unfinished chunks", RuntimeWarning, stacklevel=2)
+            warnings.warn(
+                f"a sweep worker process died; restarting the pool for the "
+                f"{len(remaining)} unfinished chunks",
+                RuntimeWarning,
+                stacklevel=2,
+            )
     return f"processes:{workers}"
 
 
@@ -97,13 +102,18 @@ def connect(scheduler):
     if isinstance(scheduler, Client):
         return scheduler, False
     if not isinstance(scheduler, str) or not _ADDRESS.match(scheduler.strip()):
-        raise InputError("scheduler", "must be a dask.distributed.Client or a scheduler address "
-                                      f"such as tcp://10.0.0.5:8786, got {scheduler!r}")
+        raise InputError(
+            "scheduler",
+            "must be a dask.distributed.Client or a scheduler address "
+            f"such as tcp://10.0.0.5:8786, got {scheduler!r}",
+        )
     try:
         return Client(scheduler.strip(), timeout="20s"), True
     except Exception as exc:  # OSError, TimeoutError, and whatever a non-Dask peer provokes
-        raise InputError("scheduler", f"cannot connect to the Dask scheduler at {scheduler!r}: "
-                                      f"{type(exc).__name__}: {exc}") from exc
+        raise InputError(
+            "scheduler",
+            f"cannot connect to the Dask scheduler at {scheduler!r}: {type(exc).__name__}: {exc}",
+        ) from exc
 
 
 def run_dask(tasks: dict, compute: Callable, on_result: Callable, scheduler) -> str:

@@ -76,8 +76,13 @@ def shakedown_margin(P1, Q1, phi):
     return out if out.ndim else float(out)
 
 
-def shakedown(P1: float | SingleNode | None = None, Q1: float | None = None, phi: float = 0.0,
-              *, model: SingleNode | None = None) -> Shakedown:
+def shakedown(
+    P1: float | SingleNode | None = None,
+    Q1: float | None = None,
+    phi: float = 0.0,
+    *,
+    model: SingleNode | None = None,
+) -> Shakedown:
     """Decide shakedown exactly.
 
     Call as ``shakedown(P1, Q1, phi)`` with normalized parameters, or ``shakedown(model=node)``
@@ -120,10 +125,12 @@ def shakedown(P1: float | SingleNode | None = None, Q1: float | None = None, phi
             Pn, Qn = model.normal_load, model.tangential_load
             from ..model.loads import Periodic
 
-            minus = Periodic(lambda t: (Qn(t) - Qn.mean) / fp0 - Pn(t) / model.P0, model.period,
-                             mean=0.0)
-            plus = Periodic(lambda t: (Qn(t) - Qn.mean) / fp0 + Pn(t) / model.P0, model.period,
-                            mean=0.0)
+            minus = Periodic(
+                lambda t: (Qn(t) - Qn.mean) / fp0 - Pn(t) / model.P0, model.period, mean=0.0
+            )
+            plus = Periodic(
+                lambda t: (Qn(t) - Qn.mean) / fp0 + Pn(t) / model.P0, model.period, mean=0.0
+            )
             lo = minus.extrema()[1]
             hi = plus.extrema()[0]
             ok = lo <= hi

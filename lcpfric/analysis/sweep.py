@@ -44,17 +44,25 @@ from ..errors import InputError, LcpfricError
 from ..methods import CLOSED_FORM, get_stepper, grid_function
 from .chunkstore import ChunkStore, fingerprint
 from .runners import default_workers, run_dask, run_processes, run_serial
-from .sweep_io import (DIMS, check_output, dataset, netcdf_engine, read_dataset, version,
-                       write_dataset, xarray_module)
+from .sweep_io import (
+    DIMS,
+    check_output,
+    dataset,
+    netcdf_engine,
+    read_dataset,
+    version,
+    write_dataset,
+    xarray_module,
+)
 
 __all__ = ["sweep", "per_point_W_hat", "write_dataset", "netcdf_engine"]
 
 # Sizing of the chunks (the methods' own cost estimates are in the registry, lcpfric.methods)
-_DEFAULT_STEPS = 2000    # steady_state's default
-_CHUNK_SECONDS = 2.0     # a chunk this long is worth saving on its own, and short enough to lose
+_DEFAULT_STEPS = 2000  # steady_state's default
+_CHUNK_SECONDS = 2.0  # a chunk this long is worth saving on its own, and short enough to lose
 _PARALLEL_SECONDS = 3.0  # starting worker processes costs ~0.1-0.3 s; below this, stay serial
-_MIN_CHUNKS = 64         # when parallel work pays: enough chunks to balance many workers
-_MIN_BATCH = 4096        # points per chunk of a batched stepper (its per-step overhead is fixed)
+_MIN_CHUNKS = 64  # when parallel work pays: enough chunks to balance many workers
+_MIN_BATCH = 4096  # points per chunk of a batched stepper (its per-step overhead is fixed)
 
 
 def _cost(entry, batched: bool, steps: int) -> float:
@@ -111,22 +119,25 @@ def _axis(name: str, values, nonneg: bool) -> np.ndarray:
 def _options(entry, steps_per_cycle) -> dict:
     if entry.kind == CLOSED_FORM:
         if steps_per_cycle is not None:
-            raise InputError("steps_per_cycle", f"is not used by method {entry.name!r} (it has "
-                                                f"no time steps); leave it unset or choose "
-                                                f"another method")
+            raise InputError(
+                "steps_per_cycle",
+                f"is not used by method {entry.name!r} (it has "
+                f"no time steps); leave it unset or choose "
+                f"another method",
+            )
         return {}
     if steps_per_cycle is None:
         return {}
-    return {"steps_per_cycle": _checks.positive_int("steps_per_cycle", steps_per_cycle,
-                                                    minimum=4)}
+    return {"steps_per_cycle": _checks.positive_int("steps_per_cycle", steps_per_cycle, minimum=4)}
 
 
 def _check_method(method):
     """``(name, function, entry)``: the method's grid function (None: point by point) and its
     registry entry; an unknown name or a missing extra fails here, not in a worker."""
     if not isinstance(method, str) or not method.strip():
-        raise InputError("method", f"must be a method name such as 'exact' or 'projection', "
-                                   f"got {method!r}")
+        raise InputError(
+            "method", f"must be a method name such as 'exact' or 'projection', got {method!r}"
+        )
     method = method.strip()
     func, entry = grid_function(method)
     if func is None:
@@ -153,8 +164,14 @@ def _progress_bar(enabled: bool, total: int, initial: int, method: str):
     if not enabled:
         return None
     tqdm = require("tqdm", "dist", "Progress bars").tqdm
-    return tqdm(total=total, initial=initial, unit="chunk", desc=f"sweep ({method})",
-                file=sys.stderr, dynamic_ncols=True)
+    return tqdm(
+        total=total,
+        initial=initial,
+        unit="chunk",
+        desc=f"sweep ({method})",
+        file=sys.stderr,
+        dynamic_ncols=True,
+    )
 
 
 def _run(tasks: dict, on_result, scheduler, processes, workers: int, seconds: float) -> str:
@@ -170,10 +187,23 @@ def _run(tasks: dict, on_result, scheduler, processes, workers: int, seconds: fl
 
 
 # -- the sweep -------------------------------------------------------------------------------------
-def sweep(P1, Q1, phi, method: str | None = None, *, steps_per_cycle: int | None = None,
-          chunk_size: int | None = None, out=None, store=None, resume: bool = True,
-          scheduler=None, processes: int | None = None, progress: bool = True,
-          on_chunk: Callable | None = None, contact: dict | None = None):
+def sweep(
+    P1,
+    Q1,
+    phi,
+    method: str | None = None,
+    *,
+    steps_per_cycle: int | None = None,
+    chunk_size: int | None = None,
+    out=None,
+    store=None,
+    resume: bool = True,
+    scheduler=None,
+    processes: int | None = None,
+    progress: bool = True,
+    on_chunk: Callable | None = None,
+    contact: dict | None = None,
+):
     """Ŵ on the grid ``phi x P1 x Q1`` as an ``xarray.Dataset``; with ``contact``, the
     dissipation of a continuum contact instead.
 
@@ -253,8 +283,11 @@ def sweep(P1, Q1, phi, method: str | None = None, *, steps_per_cycle: int | None
     n = phi.size * P1.size * Q1.size
     workers = processes or default_workers()
     chunks = _chunking(n, chunk_size, plan["cost"], plan["batched"])
-    memory.check(_bytes(plan, n, chunks, phi, P1, Q1, scheduler, workers), "P1",
-                 f"a map of {n} points ({phi.size} x {P1.size} x {Q1.size})")
+    memory.check(
+        _bytes(plan, n, chunks, phi, P1, Q1, scheduler, workers),
+        "P1",
+        f"a map of {n} points ({phi.size} x {P1.size} x {Q1.size})",
+    )
     description, key, attrs = _describe(plan, phi, P1, Q1, chunks)
     if out is not None and resume and out.exists():
         try:
@@ -262,14 +295,22 @@ def sweep(P1, Q1, phi, method: str | None = None, *, steps_per_cycle: int | None
         except Exception:
             old = None
         if old is not None and old.attrs.get("fingerprint") == key:
-            old.attrs.update(chunks_computed=0, chunks_reused=len(chunks), executor="none",
-                             seconds=time.perf_counter() - t0)
+            old.attrs.update(
+                chunks_computed=0,
+                chunks_reused=len(chunks),
+                executor="none",
+                seconds=time.perf_counter() - t0,
+            )
             return old
     if store is None and out is not None:
         store = out.with_name(out.name + ".parts")
-    chunk_store = (None if store is None else
-                   ChunkStore(store, {**description, "chunks": chunks},
-                              [b - a for a, b in chunks], resume=resume))
+    chunk_store = (
+        None
+        if store is None
+        else ChunkStore(
+            store, {**description, "chunks": chunks}, [b - a for a, b in chunks], resume=resume
+        )
+    )
     values = np.empty(n)
     tasks = {}
     for index, (a, b) in enumerate(chunks):
@@ -294,8 +335,14 @@ def sweep(P1, Q1, phi, method: str | None = None, *, steps_per_cycle: int | None
             on_chunk(index, finished[0], len(chunks))
 
     try:
-        executor = _run(tasks, on_result, scheduler, processes, workers,
-                        sum(b - a for a, b in (chunks[i] for i in tasks)) * plan["cost"])
+        executor = _run(
+            tasks,
+            on_result,
+            scheduler,
+            processes,
+            workers,
+            sum(b - a for a, b in (chunks[i] for i in tasks)) * plan["cost"],
+        )
     finally:
         if bar is not None:
             bar.close()
@@ -318,47 +365,75 @@ def _plan(P1, Q1, phi, method, steps_per_cycle, contact) -> dict:
         from .contact_maps import map_spec
 
         func, options, cost, own = map_spec(contact, steps_per_cycle, method)
-        return dict(func=func, options=options, cost=cost, batched=False, geometry="sphere",
-                    method=own if method is None else str(method).strip(),
-                    model=contact.get("model", "mdr"))
+        return dict(
+            func=func,
+            options=options,
+            cost=cost,
+            batched=False,
+            geometry="sphere",
+            method=own if method is None else str(method).strip(),
+            model=contact.get("model", "mdr"),
+        )
     method, func, entry = _check_method("exact" if method is None else method)
     options = _options(entry, steps_per_cycle)
     steps = options.get("steps_per_cycle", _DEFAULT_STEPS)
     batched = func is not None and entry.kind != CLOSED_FORM
     if func is None:
         func, options = per_point_W_hat, {"method": method, **options}
-    return dict(func=func, options=options, cost=_cost(entry, batched, steps), batched=batched,
-                geometry=None, method=method, steps=steps)
+    return dict(
+        func=func,
+        options=options,
+        cost=_cost(entry, batched, steps),
+        batched=batched,
+        geometry=None,
+        method=method,
+        steps=steps,
+    )
 
 
 def _bytes(plan, n, chunks, phi, P1, Q1, scheduler, workers) -> float:
     largest = max(b - a for a, b in chunks)
     axes = P1.size + Q1.size + phi.size
     if plan["geometry"] is None:
-        return memory.map_bytes(n, axes, plan["method"], plan["steps"], largest,
-                                1 if scheduler is not None else workers)
+        return memory.map_bytes(
+            n, axes, plan["method"], plan["steps"], largest, 1 if scheduler is not None else workers
+        )
     from .contact_maps import map_bytes
 
-    return map_bytes(plan["options"], n, largest * (1 if scheduler is not None else workers),
-                     workers, axes)
+    return map_bytes(
+        plan["options"], n, largest * (1 if scheduler is not None else workers), workers, axes
+    )
 
 
 def _describe(plan, phi, P1, Q1, chunks):
     """The sweep's description (what its chunks store keys on), fingerprint and attributes."""
     options = {k: v for k, v in plan["options"].items() if k not in ("method",)}
     digest = hashlib.sha256(b"".join(a.tobytes() for a in (phi, P1, Q1))).hexdigest()[:16]
-    description = {"dims": list(DIMS), "shape": [phi.size, P1.size, Q1.size],
-                   "coords_sha256": digest, "method": plan["method"],
-                   "options": json.loads(json.dumps(options, default=repr))}
+    description = {
+        "dims": list(DIMS),
+        "shape": [phi.size, P1.size, Q1.size],
+        "coords_sha256": digest,
+        "method": plan["method"],
+        "options": json.loads(json.dumps(options, default=repr)),
+    }
     if plan["geometry"] is not None:
         description["contact"] = plan["geometry"]
     key = fingerprint({**description, "chunks": chunks})
-    attrs = {"title": "lcpfric dissipation map", "method": plan["method"],
-             "steps_per_cycle": options.get("steps_per_cycle", -1),
-             "lcpfric_version": version(), "fingerprint": key, "chunks": len(chunks)}
+    attrs = {
+        "title": "lcpfric dissipation map",
+        "method": plan["method"],
+        "steps_per_cycle": options.get("steps_per_cycle", -1),
+        "lcpfric_version": version(),
+        "fingerprint": key,
+        "chunks": len(chunks),
+    }
     if plan["geometry"] is not None:
-        attrs.update(geometry=plan["geometry"], model=plan["model"],
-                     k_support_over_k_t0=options["k_support"], tol=options["tol"])
+        attrs.update(
+            geometry=plan["geometry"],
+            model=plan["model"],
+            k_support_over_k_t0=options["k_support"],
+            tol=options["tol"],
+        )
         attrs.update({k: options[k] for k in ("nodes", "grid", "dims", "nu") if k in options})
     return description, key, attrs
 
@@ -370,6 +445,12 @@ def _missing(values, phi, P1, Q1, options) -> dict:
 
     grid = np.meshgrid(phi, P1, Q1, indexing="ij")
     nan = int(np.count_nonzero(np.isnan(values)))
-    bad = unconverged_points(values, grid[1].ravel(), grid[2].ravel(), grid[0].ravel(),
-                             options["k_support"], options.get("dims", 1))
+    bad = unconverged_points(
+        values,
+        grid[1].ravel(),
+        grid[2].ravel(),
+        grid[0].ravel(),
+        options["k_support"],
+        options.get("dims", 1),
+    )
     return {"unconverged_points": bad, "no_equilibrium_points": nan - bad}

@@ -11,8 +11,15 @@ from .._optional import require
 from ..errors import InputError
 from .chunkstore import temp_path
 
-__all__ = ["check_output", "netcdf_engine", "write_dataset", "read_dataset", "dataset",
-           "version", "DIMS"]
+__all__ = [
+    "check_output",
+    "netcdf_engine",
+    "write_dataset",
+    "read_dataset",
+    "dataset",
+    "version",
+    "DIMS",
+]
 
 DIMS = ("phi", "P1", "Q1")
 
@@ -26,8 +33,9 @@ def check_output(out) -> Path:
     if out.suffix == ".zarr":
         raise InputError("out", "Zarr output is not supported; write NetCDF (e.g. map.nc)")
     if out.suffix != ".nc":
-        raise InputError("out", f"must end in .nc (the map is written as NetCDF-4), got "
-                                f"{str(out)!r}")
+        raise InputError(
+            "out", f"must end in .nc (the map is written as NetCDF-4), got {str(out)!r}"
+        )
     if out.is_dir():
         raise InputError("out", f"{str(out)!r} is a directory; give a file path ending in .nc")
     if not out.parent.is_dir():
@@ -74,9 +82,11 @@ def read_dataset(out: Path):
 def version() -> str:
     try:
         from .. import __version__
+
         return str(__version__)
     except ImportError:
         from importlib.metadata import PackageNotFoundError, version
+
         try:
             return version("lcpfric")
         except PackageNotFoundError:
@@ -85,14 +95,26 @@ def version() -> str:
 
 #: the map's variable: single node, and a continuum contact (``contact=``)
 _VARIABLES = {
-    None: ("W_hat", {"long_name": "dimensionless dissipation per cycle",
-                     "description": "W_hat = k11 W / (f P0 Q1), Eq. (6) of the paper"}),
-    "sphere": ("W_normalized", {"long_name": "dimensionless dissipation per cycle",
-                                "description": "W k_t0 / (mu^2 P0^2), k_t0 = 2 a0 G*: the "
-                                               "Hertz contact (the attribute 'model': mdr, "
-                                               "dimensionality reduction; halfspace, "
-                                               "boundary elements)"}),
+    None: (
+        "W_hat",
+        {
+            "long_name": "dimensionless dissipation per cycle",
+            "description": "W_hat = k11 W / (f P0 Q1), Eq. (6) of the paper",
+        },
+    ),
+    "sphere": (
+        "W_normalized",
+        {
+            "long_name": "dimensionless dissipation per cycle",
+            "description": "W k_t0 / (mu^2 P0^2), k_t0 = 2 a0 G*: the "
+            "Hertz contact (the attribute 'model': mdr, "
+            "dimensionality reduction; halfspace, "
+            "boundary elements)",
+        },
+    ),
 }
+
+
 def dataset(values, phi, P1, Q1, attrs: dict, geometry=None):
     xr = xarray_module()
     name, meta = _VARIABLES[geometry]
@@ -104,6 +126,5 @@ def dataset(values, phi, P1, Q1, attrs: dict, geometry=None):
             "P1": ("P1", P1, {"long_name": "normal load amplitude P1/P0"}),
             "Q1": ("Q1", Q1, {"long_name": f"tangential load amplitude {q_name}"}),
         },
-        attrs={k: v for k, v in attrs.items() if v is not None})
-
-
+        attrs={k: v for k, v in attrs.items() if v is not None},
+    )

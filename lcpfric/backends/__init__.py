@@ -39,10 +39,29 @@ from .plan import ProblemCache, ScenePlan
 from .problem import DEFAULT_PLAN_BUDGET, IncrementProblem, triu_csc
 from .refine import accept, refine_box, refine_disc
 from .settings import CONIC_METHODS, TIGHT_SETTINGS
-from .status import (INACCURATE, INFEASIBLE, MAX_ITER, NUMERICAL, SOLVED, TIME_LIMIT, UNKNOWN,
-                     advice)
+from .status import INACCURATE, INFEASIBLE, MAX_ITER, NUMERICAL, SOLVED, TIME_LIMIT, UNKNOWN, advice
 
-__all__ = ["ConvexStepper", "ConvexData", "quiet", "accept", "residuals", "IncrementProblem",
-           "ProblemCache", "ScenePlan", "DEFAULT_PLAN_BUDGET", "triu_csc", "refine_box",
-           "refine_disc", "CONIC_METHODS", "TIGHT_SETTINGS", "SOLVED", "INACCURATE", "INFEASIBLE",
-           "MAX_ITER", "TIME_LIMIT", "NUMERICAL", "UNKNOWN", "advice"]
+__all__ = [
+    "ConvexStepper",
+    "ConvexData",
+    "quiet",
+    "accept",
+    "residuals",
+    "IncrementProblem",
+    "ProblemCache",
+    "ScenePlan",
+    "DEFAULT_PLAN_BUDGET",
+    "triu_csc",
+    "refine_box",
+    "refine_disc",
+    "CONIC_METHODS",
+    "TIGHT_SETTINGS",
+    "SOLVED",
+    "INACCURATE",
+    "INFEASIBLE",
+    "MAX_ITER",
+    "TIME_LIMIT",
+    "NUMERICAL",
+    "UNKNOWN",
+    "advice",
+]

@@ -153,9 +153,16 @@ class ConvexStepper(SolverInterface, Increments, ScalarCycle, Stepper):
         finite number > 0, ``plan_budget`` not a number >= 1 (or ``math.inf``).
     """
 
-    def __init__(self, *, refine: bool = True, check_tol: float = 1e-6,
-                 active_tol: float = 1e-6, locate_events: bool = True,
-                 plan_budget: float = DEFAULT_PLAN_BUDGET, **settings: Any) -> None:
+    def __init__(
+        self,
+        *,
+        refine: bool = True,
+        check_tol: float = 1e-6,
+        active_tol: float = 1e-6,
+        locate_events: bool = True,
+        plan_budget: float = DEFAULT_PLAN_BUDGET,
+        **settings: Any,
+    ) -> None:
         self.refine = boolean("refine", refine)
         self.locate_events = boolean("locate_events", locate_events)
         self.check_tol = positive("check_tol", check_tol)
@@ -179,9 +186,12 @@ class ConvexStepper(SolverInterface, Increments, ScalarCycle, Stepper):
             message names the methods that can (:data:`~lcpfric.backends.CONIC_METHODS`).
         """
         if system.dims == 2 and not self.can_soc:
-            raise InputError("method", f"{self.label!r} solves QPs only and cannot express the "
-                                       f"d = 2 friction cone (a disc per node); use "
-                                       f"{CONIC_METHODS}")
+            raise InputError(
+                "method",
+                f"{self.label!r} solves QPs only and cannot express the "
+                f"d = 2 friction cone (a disc per node); use "
+                f"{CONIC_METHODS}",
+            )
 
     def init(self, scene: Scene, u0: ArrayLike | None = None) -> StepState:
         """The initial state at ``scene.t[0]``, with the scene's plan.
@@ -216,8 +226,14 @@ class ConvexStepper(SolverInterface, Increments, ScalarCycle, Stepper):
         first = np.flatnonzero(plan.contact[1:].any(axis=1))
         if first.size:
             plan.problem(int(first[0]) + 1)
-        stats = {"solves": 0, "refined": 0, "unrefined": 0, "max_residual": 0.0, "events": 0,
-                 **plan.problems.counts()}
+        stats = {
+            "solves": 0,
+            "refined": 0,
+            "unrefined": 0,
+            "max_residual": 0.0,
+            "events": 0,
+            **plan.problems.counts(),
+        }
         data = ConvexData(plan, [None] * len(plan.node_bounds), stats)
         return replace(super().init(scene, u0), data=data)
 
@@ -282,9 +298,13 @@ class ConvexStepper(SolverInterface, Increments, ScalarCycle, Stepper):
         self._check_equilibrium(data.plan, scene, rows, u1[None, :], F1[None, :])
         du = u1 - state.u
         s = self._states(data.plan, rows, du[None, :])[0]
-        return StepState(u1, F1, s,
-                         increment_dissipation(state.F, F1, du, data.plan.dims) + extra,
-                         replace(data, stats=stats))
+        return StepState(
+            u1,
+            F1,
+            s,
+            increment_dissipation(state.F, F1, du, data.plan.dims) + extra,
+            replace(data, stats=stats),
+        )
 
     def cycle(self, scene: Scene, state: StepState) -> tuple[StepState, CycleResult]:
         """One cycle from ``state`` at ``scene.t[0]``: :meth:`step` for every increment.
@@ -340,8 +360,7 @@ class ConvexStepper(SolverInterface, Increments, ScalarCycle, Stepper):
         S[0] = state.state
         S[1:] = self._states(plan, rows, dU)
         W = increment_dissipation(Fs[:-1], Fs[1:], dU, plan.dims) + extra
-        end = StepState(U[-1].copy(), Fs[-1].copy(), S[-1].copy(), 0.0,
-                        replace(data, stats=stats))
+        end = StepState(U[-1].copy(), Fs[-1].copy(), S[-1].copy(), 0.0, replace(data, stats=stats))
         return end, CycleResult(scene.t, U, Fs, S, W, self.stats(end))
 
     def stats(self, state: StepState) -> dict[str, Any]:

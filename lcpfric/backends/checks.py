@@ -37,8 +37,9 @@ import numpy as np
 __all__ = ["residuals", "scalar_residuals", "scalar_worst", "worst"]
 
 
-def residuals(F: np.ndarray, g: np.ndarray, b: np.ndarray, dims: int, fscale: float,
-              cscale: float) -> dict[str, float]:
+def residuals(
+    F: np.ndarray, g: np.ndarray, b: np.ndarray, dims: int, fscale: float, cscale: float
+) -> dict[str, float]:
     """The residuals of a candidate answer of (P) (see the module docstring).
 
     Parameters
@@ -99,9 +100,11 @@ def scalar_residuals(F, g, b, c, scale) -> dict:
     """:func:`residuals` of one unknown (d = 1) in Python floats; ``scale = (s_F, c s_F²)``."""
     fs, cfs2 = scale
     t = F - g / c
-    return {"cone": max(abs(F) - b, 0.0) / fs,
-            "complementarity": abs(F * g + b * abs(g)) / cfs2,
-            "stationarity": abs(F - min(max(t, -b), b)) / fs}
+    return {
+        "cone": max(abs(F) - b, 0.0) / fs,
+        "complementarity": abs(F * g + b * abs(g)) / cfs2,
+        "stationarity": abs(F - min(max(t, -b), b)) / fs,
+    }
 
 
 def scalar_worst(F, g, b, c, scale) -> float:

@@ -95,12 +95,14 @@ class ClarabelStepper(ConvexStepper):
         b0 = self.bounds(prob, np.ones(a // prob.dims))
         if prob.dims not in self._settings:
             self._settings[prob.dims] = self._make_settings(prob.dims)
-        solver = cl.DefaultSolver(triu_csc(prob.P), prob.q, A, b0, cones,
-                                  self._settings[prob.dims])
+        solver = cl.DefaultSolver(triu_csc(prob.P), prob.q, A, b0, cones, self._settings[prob.dims])
         if not solver.is_data_update_allowed():
-            raise SolverError("clarabel: the solver does not allow data updates with these "
-                              "settings (presolve, chordal decomposition or dropped zeros)",
-                              backend=self.label, status="update_not_allowed")
+            raise SolverError(
+                "clarabel: the solver does not allow data updates with these "
+                "settings (presolve, chordal decomposition or dropped zeros)",
+                backend=self.label,
+                status="update_not_allowed",
+            )
         return solver
 
     def bounds(self, prob: IncrementProblem, b: np.ndarray):

@@ -73,8 +73,11 @@ class CvxpyStepper(ConvexStepper):
 
         solver = (solver or "CLARABEL").strip().upper()
         if solver not in SOLVERS:
-            raise InputError("method", f"cvxpy solver {solver!r} is not offered for this "
-                                       f"problem; choose from {', '.join(SOLVERS)}")
+            raise InputError(
+                "method",
+                f"cvxpy solver {solver!r} is not offered for this "
+                f"problem; choose from {', '.join(SOLVERS)}",
+            )
         if solver not in installed_solvers():
             raise SolverNotFound(f"cvxpy:{solver}", "cvxpy", package=solver.lower())
         super().__init__(**options)
@@ -96,8 +99,7 @@ class CvxpyStepper(ConvexStepper):
             constraints = [cp.SOC(bnd, cp.reshape(F, (a // 2, 2), order="C"), axis=1)]
         problem = cp.Problem(objective, constraints)
         if not problem.is_dcp(dpp=True):  # pragma: no cover - a guard on the formulation
-            raise SolverError("cvxpy: problem (P) is not DPP", backend=self.label,
-                              status="not_dpp")
+            raise SolverError("cvxpy: problem (P) is not DPP", backend=self.label, status="not_dpp")
         return problem, F, lin, bnd, settings
 
     def bounds(self, prob: IncrementProblem, b: np.ndarray):

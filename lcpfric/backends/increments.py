@@ -41,9 +41,13 @@ class Increments:
         (:mod:`~lcpfric.steppers.rates`), one problem (P) per sub-increment."""
         plan = data.plan
         u1, F1, limit = self._project(data, scene, k, u, stats)
-        if (not self.locate_events or limit is None or plan.dims != 1 or plan.diagonal
-                or path_is_exact(F, plan.bound[k], F1, limit, plan.separating[k + 1],
-                                 plan.force_scale)):
+        if (
+            not self.locate_events
+            or limit is None
+            or plan.dims != 1
+            or plan.diagonal
+            or path_is_exact(F, plan.bound[k], F1, limit, plan.separating[k + 1], plan.force_scale)
+        ):
             return u1, F1, 0.0
         # split at the events: the first one from the rates at the start, solve to it, and
         # again from there while the rest of the increment is not exact
@@ -62,8 +66,9 @@ class Increments:
             W += increment_dissipation(Fa, Fb, ub - ua)
             a, ua, Fa = tau, ub, Fb
             u1, F1, limit = self._project(data, scene, k, ua, stats)
-            if limit is None or path_is_exact(Fa, f * (Nk + a * dN), F1, limit,
-                                              plan.separating[k + 1], plan.force_scale):
+            if limit is None or path_is_exact(
+                Fa, f * (Nk + a * dN), F1, limit, plan.separating[k + 1], plan.force_scale
+            ):
                 break
         W += increment_dissipation(Fa, F1, u1 - ua)
         return u1, F1, W - increment_dissipation(F, F1, u1 - u)
@@ -85,8 +90,9 @@ class Increments:
             prob = plan.interior_problem(k)
             CQ = plan.CQ[k] + frac * (plan.CQ[j] - plan.CQ[k])
             neg_CQ = -(CQ if prob.full else CQ[prob.dofs])
-            b = plan.bound[k, prob.nodes] + frac * (plan.bound[j, prob.nodes]
-                                                    - plan.bound[k, prob.nodes])
+            b = plan.bound[k, prob.nodes] + frac * (
+                plan.bound[j, prob.nodes] - plan.bound[k, prob.nodes]
+            )
             bdata = self.bounds(prob, b)
         q = prob.q
         np.subtract(neg_CQ, u if prob.full else u[prob.dofs], out=q)
@@ -94,10 +100,17 @@ class Increments:
         stats["solves"] += 1
         if not ok:
             self.fail(scene, k, status, None)
-        FA, stick, res, kind = accept(prob, np.array(x, dtype=float), q, b,
-                                      refine=self.refine, active_tol=self.active_tol,
-                                      check_tol=self.check_tol, fscale=plan.force_scale,
-                                      cscale=plan.compliance_scale)
+        FA, stick, res, kind = accept(
+            prob,
+            np.array(x, dtype=float),
+            q,
+            b,
+            refine=self.refine,
+            active_tol=self.active_tol,
+            check_tol=self.check_tol,
+            fscale=plan.force_scale,
+            cscale=plan.compliance_scale,
+        )
         if FA is None:
             self.fail(scene, k, status, res)
         stats[kind] += 1
@@ -140,8 +153,7 @@ class Increments:
         S[~plan.contact[rows]] = State.SEPARATION
         return S
 
-    def fail(self, scene: Scene, k: int, status: Any,
-             res: dict[str, float] | None) -> NoReturn:
+    def fail(self, scene: Scene, k: int, status: Any, res: dict[str, float] | None) -> NoReturn:
         """Raise the SolverError of step k (status not solved, or residuals over tolerance).
 
         Parameters
@@ -165,14 +177,14 @@ class Increments:
         where = f"{self.label}: increment {k} (t = {t0:.6g} -> {t1:.6g})"
         if res is None:
             mapped = self.status_category(status)
-            msg = (f"{where} ended with solver status {status!s} ({mapped}): "
-                   f"{advice(mapped)}")
+            msg = f"{where} ended with solver status {status!s} ({mapped}): {advice(mapped)}"
         else:
             bad = max(res, key=lambda r: math.inf if res[r] != res[r] else res[r])
-            msg = (f"{where}: the solver reported {status!s} but its answer fails lcpfric's "
-                   f"residual check ({bad} {res[bad]:.3g} > check_tol {self.check_tol:g}); "
-                   f"tighten the solver's tolerances"
-                   + ("" if self.refine else " or pass refine=True"))
+            msg = (
+                f"{where}: the solver reported {status!s} but its answer fails lcpfric's "
+                f"residual check ({bad} {res[bad]:.3g} > check_tol {self.check_tol:g}); "
+                f"tighten the solver's tolerances" + ("" if self.refine else " or pass refine=True")
+            )
             if any(v != v for v in res.values()):
                 msg += " (the answer contains NaN: check the loads for NaN or inf)"
         raise SolverError(msg, backend=self.label, status=str(status), residuals=res)

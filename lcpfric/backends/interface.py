@@ -66,8 +66,9 @@ class SolverInterface:
         return self.settings_for(1)
 
     # -- the backend interface (see the class docstring) ------------------------------------
-    def build(self, prob: IncrementProblem,
-              settings: dict[str, Any]) -> Any:  # pragma: no cover - abstract
+    def build(
+        self, prob: IncrementProblem, settings: dict[str, Any]
+    ) -> Any:  # pragma: no cover - abstract
         """Build the solver object for a new problem (each backend implements it).
 
         Called when the plan builds the problem of a contact set. A set whose problem was
@@ -110,8 +111,9 @@ class SolverInterface:
         """
         return -b, b.copy()
 
-    def solve(self, prob: IncrementProblem, q: np.ndarray,
-              bdata: Any) -> tuple[np.ndarray, Any, bool]:  # pragma: no cover
+    def solve(
+        self, prob: IncrementProblem, q: np.ndarray, bdata: Any
+    ) -> tuple[np.ndarray, Any, bool]:  # pragma: no cover
         """Solve (P) for one step (each backend implements it).
 
         Update the linear term and the bounds of the solver object ``prob.handle``, solve, and
@@ -201,8 +203,11 @@ class SolverInterface:
         except (SolverError, InputError):
             raise
         except Exception as exc:  # the backend's own error types vary
-            raise SolverError(f"{self.label}: the solver failed: {type(exc).__name__}: {exc}",
-                              backend=self.label, status=type(exc).__name__) from exc
+            raise SolverError(
+                f"{self.label}: the solver failed: {type(exc).__name__}: {exc}",
+                backend=self.label,
+                status=type(exc).__name__,
+            ) from exc
 
 
 def quiet(fn: Callable[..., Any], *args: Any, **kwargs: Any) -> Any:

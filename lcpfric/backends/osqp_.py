@@ -65,8 +65,14 @@ class OSQPStepper(ConvexStepper):
         a = prob.size
         solver = self._osqp.OSQP()
         try:
-            solver.setup(triu_csc(prob.P), prob.q.copy(), sp.identity(a, format="csc"),
-                         -np.ones(a), np.ones(a), **settings)
+            solver.setup(
+                triu_csc(prob.P),
+                prob.q.copy(),
+                sp.identity(a, format="csc"),
+                -np.ones(a),
+                np.ones(a),
+                **settings,
+            )
         except ValueError as exc:
             if "Unrecognized settings" in str(exc):
                 raise InputError("settings", f"OSQP does not know {exc}") from None

@@ -58,10 +58,16 @@ class ProblemCache:
         The ``budget`` given.
     """
 
-    def __init__(self, C: np.ndarray, n: int, dims: int, diagonal: bool,
-                 build: Callable[[IncrementProblem], Any] | None = None,
-                 handle_bytes: Callable[[IncrementProblem], int] | None = None,
-                 budget: float = DEFAULT_PLAN_BUDGET) -> None:
+    def __init__(
+        self,
+        C: np.ndarray,
+        n: int,
+        dims: int,
+        diagonal: bool,
+        build: Callable[[IncrementProblem], Any] | None = None,
+        handle_bytes: Callable[[IncrementProblem], int] | None = None,
+        budget: float = DEFAULT_PLAN_BUDGET,
+    ) -> None:
         self.C, self.n, self.dims, self.diagonal = C, n, dims, diagonal
         self._build, self._handle_bytes = build, handle_bytes
         self.budget = budget
@@ -91,8 +97,11 @@ class ProblemCache:
             ``plans_built`` (:attr:`built`), ``plans_evicted`` (:attr:`evicted`) and
             ``plan_peak_bytes`` (:attr:`peak_bytes`).
         """
-        return {"plans_built": self.built, "plans_evicted": self.evicted,
-                "plan_peak_bytes": self.peak_bytes}
+        return {
+            "plans_built": self.built,
+            "plans_evicted": self.evicted,
+            "plan_peak_bytes": self.peak_bytes,
+        }
 
     def get(self, row: np.ndarray, key: bytes | None = None) -> IncrementProblem | None:
         """The problem of a contact set, built if not held.
@@ -130,10 +139,16 @@ class ProblemCache:
         dofs = set_dofs(nodes, self.dims)
         s, C = dofs.size, self.C
         self.reserve(None, 8 * s * (s + C.shape[0]))  # P and Cf, float64
-        prob = IncrementProblem(nodes, dofs, self.dims,
-                                np.ascontiguousarray(C[np.ix_(dofs, dofs)]),
-                                np.ascontiguousarray(C[:, dofs]), self.diagonal,
-                                full=bool(nodes.size == self.n), reserve=self.reserve)
+        prob = IncrementProblem(
+            nodes,
+            dofs,
+            self.dims,
+            np.ascontiguousarray(C[np.ix_(dofs, dofs)]),
+            np.ascontiguousarray(C[:, dofs]),
+            self.diagonal,
+            full=bool(nodes.size == self.n),
+            reserve=self.reserve,
+        )
         held[key] = prob
         if self._build is not None:
             try:
@@ -234,15 +249,22 @@ class ScenePlan:
         ``scene``: a tangential load or normal reaction on the grid is NaN or inf.
     """
 
-    def __init__(self, scene: Scene, build: Callable[[IncrementProblem], Any] | None = None,
-                 handle_bytes: Callable[[IncrementProblem], int] | None = None,
-                 budget: float = DEFAULT_PLAN_BUDGET) -> None:
+    def __init__(
+        self,
+        scene: Scene,
+        build: Callable[[IncrementProblem], Any] | None = None,
+        handle_bytes: Callable[[IncrementProblem], int] | None = None,
+        budget: float = DEFAULT_PLAN_BUDGET,
+    ) -> None:
         system = scene.system
         Q = np.asarray(scene.Q, dtype=float)
         N = np.asarray(scene.N, dtype=float)
         if not (np.all(np.isfinite(Q)) and np.all(np.isfinite(N))):
-            raise InputError("scene", "the tangential loads and normal reactions on the grid "
-                                      "must be finite; found NaN or inf")
+            raise InputError(
+                "scene",
+                "the tangential loads and normal reactions on the grid "
+                "must be finite; found NaN or inf",
+            )
         self.n, self.m, self.dims = system.n, system.m, system.dims
         self.C = np.ascontiguousarray(system.compliance_matrix(), dtype=float)
         self.K = np.ascontiguousarray(system.dense_stiffness(), dtype=float)
@@ -269,17 +291,20 @@ class ScenePlan:
         self._set_keys = list(keys)
         nodes = [np.flatnonzero(row) for row in rows]
         dofs = [None if row.all() else set_dofs(idx, self.dims) for row, idx in zip(rows, nodes)]
-        self.node_bounds = [self.bound[k, nodes[s]] if nodes[s].size else None
-                            for k, s in enumerate(set_of_step)]
-        self.neg_CQ = [None if not nodes[s].size else
-                       -(self.CQ[k] if dofs[s] is None else self.CQ[k, dofs[s]])
-                       for k, s in enumerate(set_of_step)]
+        self.node_bounds = [
+            self.bound[k, nodes[s]] if nodes[s].size else None for k, s in enumerate(set_of_step)
+        ]
+        self.neg_CQ = [
+            None if not nodes[s].size else -(self.CQ[k] if dofs[s] is None else self.CQ[k, dofs[s]])
+            for k, s in enumerate(set_of_step)
+        ]
         # per grid instant j, the nodes in contact at t_{j-1} that separate at t_j (None if none)
         leaving = np.zeros_like(contact)
         leaving[1:] = contact[:-1] & ~contact[1:]
         self.separating = [row if row.any() else None for row in leaving]
-        self.problems = ProblemCache(self.C, self.n, self.dims, self.diagonal, build,
-                                     handle_bytes, budget)
+        self.problems = ProblemCache(
+            self.C, self.n, self.dims, self.diagonal, build, handle_bytes, budget
+        )
         scale = max(float(np.max(self.bound, initial=0.0)), float(np.max(np.abs(Q), initial=0.0)))
         self.force_scale = scale if scale > 0 else 1.0
         self.compliance_scale = float(np.max(np.diag(self.C)))

@@ -85,9 +85,7 @@ if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
 
-
-__all__ = ["IncrementProblem", "DEFAULT_PLAN_BUDGET", "triu_csc",
-           "set_dofs", "matrix_bytes"]
+__all__ = ["IncrementProblem", "DEFAULT_PLAN_BUDGET", "triu_csc", "set_dofs", "matrix_bytes"]
 
 #: Bytes a plan's problems may hold (P, C[:, A], operators, solver objects) unless the backend
 #: is given ``plan_budget``: 256 MiB (268435456).
@@ -123,8 +121,11 @@ def matrix_bytes(M) -> int:
         return 0
     if isinstance(M, np.ndarray):
         return int(M.nbytes)
-    return sum(int(getattr(M, name).nbytes) for name in ("data", "indices", "indptr", "offsets")
-               if hasattr(M, name))
+    return sum(
+        int(getattr(M, name).nbytes)
+        for name in ("data", "indices", "indptr", "offsets")
+        if hasattr(M, name)
+    )
 
 
 @dataclass(eq=False)
@@ -220,8 +221,9 @@ class IncrementProblem:
         """Bytes held for this set: P, Cf, the cached operators and ``handle_bytes``."""
         return matrix_bytes(self.P) + matrix_bytes(self.Cf) + self.ops_bytes + self.handle_bytes
 
-    def active_set_operator(self, at: np.ndarray
-                            ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
+    def active_set_operator(
+        self, at: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
         """The operators of the refinement's linear solve for one pattern of limit variables.
 
         ``F = Tq q + Tb (±b on the limit nodes)`` solves ``P_SS F_S = -(q_S + P_SB F_B)`` for

@@ -20,14 +20,36 @@ from .status import INACCURATE, INFEASIBLE, MAX_ITER, NUMERICAL, SOLVED, TIME_LI
 __all__ = ["QpsolversStepper", "installed_solvers"]
 
 # Solvers that ignore (and warn about) initial values: no warm start for them.
-_NO_WARM_START = {"highs", "hpipm", "qpalm", "qpoases", "quadprog", "cvxopt", "daqp", "ecos",
-                  "gurobi", "mosek", "piqp", "qpswift", "sip", "kvxopt", "pdhcg"}
+_NO_WARM_START = {
+    "highs",
+    "hpipm",
+    "qpalm",
+    "qpoases",
+    "quadprog",
+    "cvxopt",
+    "daqp",
+    "ecos",
+    "gurobi",
+    "mosek",
+    "piqp",
+    "qpswift",
+    "sip",
+    "kvxopt",
+    "pdhcg",
+}
 
 # Words in the solvers' own status strings -> lcpfric's statuses (qpsolvers passes each
 # solver's status through unchanged, so there is no single table of codes to map).
-_STATUS_WORDS = (("inaccurate", INACCURATE), ("almost", INACCURATE), ("iter", MAX_ITER),
-                 ("time", TIME_LIMIT), ("infeas", INFEASIBLE), ("numeric", NUMERICAL),
-                 ("solved", SOLVED), ("optimal", SOLVED))
+_STATUS_WORDS = (
+    ("inaccurate", INACCURATE),
+    ("almost", INACCURATE),
+    ("iter", MAX_ITER),
+    ("time", TIME_LIMIT),
+    ("infeas", INFEASIBLE),
+    ("numeric", NUMERICAL),
+    ("solved", SOLVED),
+    ("optimal", SOLVED),
+)
 
 
 def installed_solvers() -> list[str]:
@@ -58,12 +80,18 @@ class QpsolversStepper(ConvexStepper):
         import qpsolvers
 
         if not solver:
-            raise InputError("method", f"name the qpsolvers solver, as 'qpsolvers:<solver>'; "
-                                       f"installed: {', '.join(installed_solvers())}")
+            raise InputError(
+                "method",
+                f"name the qpsolvers solver, as 'qpsolvers:<solver>'; "
+                f"installed: {', '.join(installed_solvers())}",
+            )
         solver = solver.strip().lower()
         if solver not in qpsolvers.available_solvers:
-            raise InputError("method", f"qpsolvers has no usable solver {solver!r} here; "
-                                       f"installed: {', '.join(installed_solvers())}")
+            raise InputError(
+                "method",
+                f"qpsolvers has no usable solver {solver!r} here; "
+                f"installed: {', '.join(installed_solvers())}",
+            )
         super().__init__(**options)
         self.solver = self.settings_key = solver
         self._qpsolvers = qpsolvers
@@ -76,8 +104,11 @@ class QpsolversStepper(ConvexStepper):
     def build(self, prob: IncrementProblem, settings: dict):
         import scipy.sparse as sp
 
-        P = sp.csc_matrix(prob.P) if self._sparse else (
-            prob.P.toarray() if sp.issparse(prob.P) else np.asarray(prob.P))
+        P = (
+            sp.csc_matrix(prob.P)
+            if self._sparse
+            else (prob.P.toarray() if sp.issparse(prob.P) else np.asarray(prob.P))
+        )
         settings = {k: v for k, v in settings.items() if k != "verbose"}
         return {"P": P, "x": None, "settings": settings}
 
@@ -91,9 +122,14 @@ class QpsolversStepper(ConvexStepper):
         handle = prob.handle
         qp = self._qpsolvers
         problem = qp.Problem(handle["P"], q.copy(), lb=bdata[0], ub=bdata[1])
-        sol = quiet(qp.solve_problem, problem, solver=self.solver,
-                    initvals=handle["x"] if self._warm else None, verbose=self._verbose,
-                    **handle["settings"])
+        sol = quiet(
+            qp.solve_problem,
+            problem,
+            solver=self.solver,
+            initvals=handle["x"] if self._warm else None,
+            verbose=self._verbose,
+            **handle["settings"],
+        )
         ok = bool(sol.found) and sol.x is not None
         if ok:
             handle["x"] = sol.x

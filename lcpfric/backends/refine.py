@@ -25,9 +25,16 @@ from .problem import IncrementProblem
 __all__ = ["refine_box", "refine_disc", "accept"]
 
 
-def refine_box(prob: IncrementProblem, F: np.ndarray, q: np.ndarray, b: np.ndarray,
-               delta: float, fscale: float, cscale: float, max_iter: int = 8
-               ) -> tuple[np.ndarray, np.ndarray, dict[str, float]] | None:
+def refine_box(
+    prob: IncrementProblem,
+    F: np.ndarray,
+    q: np.ndarray,
+    b: np.ndarray,
+    delta: float,
+    fscale: float,
+    cscale: float,
+    max_iter: int = 8,
+) -> tuple[np.ndarray, np.ndarray, dict[str, float]] | None:
     """Active-set refinement of a d = 1 answer (see the module docstring).
 
     Identify the limit nodes of ``F`` (``|F_i| >= b_i - delta``), solve the stick nodes exactly,
@@ -80,8 +87,15 @@ def refine_box(prob: IncrementProblem, F: np.ndarray, q: np.ndarray, b: np.ndarr
         over = float((np.abs(Fr) - b).max())
         wrong = float((sb * g).max())
         if over <= 1e-14 * fscale and wrong <= 0.0:
-            return Fr, ~at, {"cone": max(over, 0.0) / fscale, "complementarity": 0.0,
-                             "stationarity": stick_slip / (cscale * fscale)}
+            return (
+                Fr,
+                ~at,
+                {
+                    "cone": max(over, 0.0) / fscale,
+                    "complementarity": 0.0,
+                    "stationarity": stick_slip / (cscale * fscale),
+                },
+            )
         # correct: a stick node over its limit goes to the limit, a limit node slipping the
         # wrong way goes to stick
         over_nodes = ~at & (np.abs(Fr) > b)
@@ -93,9 +107,17 @@ def refine_box(prob: IncrementProblem, F: np.ndarray, q: np.ndarray, b: np.ndarr
     return None
 
 
-def refine_disc(prob: IncrementProblem, F: np.ndarray, q: np.ndarray, b: np.ndarray,
-                delta: float, fscale: float, cscale: float, max_corrections: int = 4,
-                max_newton: int = 30) -> tuple[np.ndarray, np.ndarray, dict[str, float]] | None:
+def refine_disc(
+    prob: IncrementProblem,
+    F: np.ndarray,
+    q: np.ndarray,
+    b: np.ndarray,
+    delta: float,
+    fscale: float,
+    cscale: float,
+    max_corrections: int = 4,
+    max_newton: int = 30,
+) -> tuple[np.ndarray, np.ndarray, dict[str, float]] | None:
     """Active-set refinement of a d = 2 answer.
 
     The nodes with ``||F_i|| >= b_i - delta`` are put on their circle, ``F_i = b_i e_i`` with
@@ -136,7 +158,6 @@ def refine_disc(prob: IncrementProblem, F: np.ndarray, q: np.ndarray, b: np.ndar
     """
     import scipy.sparse as sp
 
-
     a = b.size
     P = prob.P.toarray() if sp.issparse(prob.P) else prob.P
     F2 = np.array(F, dtype=float).reshape(a, 2)
@@ -153,8 +174,7 @@ def refine_disc(prob: IncrementProblem, F: np.ndarray, q: np.ndarray, b: np.ndar
         dn = np.hypot(dirn[:, 0], dirn[:, 1])
         x[B] = b[B, None] * dirn / np.where(dn > 0, dn, 1.0)[:, None]
         g = (P @ x.ravel() + q).reshape(a, 2)
-        lam = np.maximum(-np.einsum("ij,ij->i", g[B], x[B]) / np.maximum(b[B] ** 2, 1e-300),
-                         0.0)
+        lam = np.maximum(-np.einsum("ij,ij->i", g[B], x[B]) / np.maximum(b[B] ** 2, 1e-300), 0.0)
         rows = (2 * B[:, None] + np.arange(2)).ravel()
         for _it in range(max_newton):
             g = P @ x.ravel() + q
@@ -162,18 +182,18 @@ def refine_disc(prob: IncrementProblem, F: np.ndarray, q: np.ndarray, b: np.ndar
             r1[rows] += np.repeat(lam, 2) * x[B].ravel()
             r2 = 0.5 * (np.einsum("ij,ij->i", x[B], x[B]) - b[B] ** 2)
             J = np.zeros((2 * a + nb, 2 * a + nb))
-            J[:2 * a, :2 * a] = P
+            J[: 2 * a, : 2 * a] = P
             J[rows, rows] += np.repeat(lam, 2)
             E = np.zeros((2 * a, nb))
             E[rows, np.repeat(np.arange(nb), 2)] = x[B].ravel()
-            J[:2 * a, 2 * a:] = E
-            J[2 * a:, :2 * a] = E.T
+            J[: 2 * a, 2 * a :] = E
+            J[2 * a :, : 2 * a] = E.T
             try:
                 step = np.linalg.solve(J, -np.concatenate([r1, r2]))
             except np.linalg.LinAlgError:
                 return None
-            x = (x.ravel() + step[:2 * a]).reshape(a, 2)
-            lam = lam + step[2 * a:]
+            x = (x.ravel() + step[: 2 * a]).reshape(a, 2)
+            lam = lam + step[2 * a :]
             if float(np.abs(step).max()) <= 1e-15 * (fscale + 1.0):
                 break
         g = P @ x.ravel() + q
@@ -189,9 +209,18 @@ def refine_disc(prob: IncrementProblem, F: np.ndarray, q: np.ndarray, b: np.ndar
     return None
 
 
-def accept(prob: IncrementProblem, F: np.ndarray, q: np.ndarray, b: np.ndarray, *,
-           refine: bool, active_tol: float, check_tol: float, fscale: float, cscale: float
-           ) -> tuple[np.ndarray | None, np.ndarray | None, dict[str, float], str]:
+def accept(
+    prob: IncrementProblem,
+    F: np.ndarray,
+    q: np.ndarray,
+    b: np.ndarray,
+    *,
+    refine: bool,
+    active_tol: float,
+    check_tol: float,
+    fscale: float,
+    cscale: float,
+) -> tuple[np.ndarray | None, np.ndarray | None, dict[str, float], str]:
     """Accept a solver's answer ``F`` of ``prob`` (linear term ``q``, limits ``b``).
 
     With ``refine`` the answer identifies the active set and the refined point

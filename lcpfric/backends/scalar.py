@@ -15,6 +15,7 @@ from .checks import scalar_residuals, scalar_worst
 
 __all__ = ["ScalarCycle"]
 
+
 class ScalarCycle:
     """The single-node cycle of :class:`~lcpfric.backends.base.ConvexStepper`."""
 
@@ -92,8 +93,7 @@ class ScalarCycle:
                     bad = scalar_worst(F1, c * F1 + qv, b, c, res_scale)
                     if not bad <= tol:
                         g = c * F1 + qv
-                        self.fail(scene, j - 1, status, scalar_residuals(F1, g, b, c,
-                                                                          res_scale))
+                        self.fail(scene, j - 1, status, scalar_residuals(F1, g, b, c, res_scale))
                 if bad > worst_seen:
                     worst_seen = bad
                 # a refined stick node keeps its displacement exactly
@@ -104,8 +104,7 @@ class ScalarCycle:
                     res["equilibrium"] = eq
                     self.fail(scene, j - 1, status, res)
                 du = u1 - u
-                st = (State.FORWARD if du > eps else
-                      (State.BACKWARD if du < -eps else State.STICK))
+                st = State.FORWARD if du > eps else (State.BACKWARD if du < -eps else State.STICK)
                 if b <= 0.0:
                     st = State.SEPARATION
             W += scalar_share(F, F1, u1 - u)
@@ -119,6 +118,7 @@ class ScalarCycle:
         Ua = np.array(U)[:, None]
         Fa = np.array(Fs)[:, None]
         Sa = np.array(S, dtype=np.int8)[:, None]
-        end = StepState(Ua[-1].copy(), Fa[-1].copy(), Sa[-1].copy(), 0.0,
-                        replace(data, stats=stats))
+        end = StepState(
+            Ua[-1].copy(), Fa[-1].copy(), Sa[-1].copy(), 0.0, replace(data, stats=stats)
+        )
         return end, CycleResult(scene.t, Ua, Fa, Sa, W, self.stats(end))

@@ -7,8 +7,17 @@ an unknown code maps to :data:`UNKNOWN`. Only :data:`SOLVED` is accepted; the ot
 
 from __future__ import annotations
 
-__all__ = ["SOLVED", "INACCURATE", "INFEASIBLE", "MAX_ITER", "TIME_LIMIT", "NUMERICAL",
-           "UNKNOWN", "ADVICE", "advice"]
+__all__ = [
+    "SOLVED",
+    "INACCURATE",
+    "INFEASIBLE",
+    "MAX_ITER",
+    "TIME_LIMIT",
+    "NUMERICAL",
+    "UNKNOWN",
+    "ADVICE",
+    "advice",
+]
 
 #: Outcome ``"solved"``: the solver reports the problem solved to its tolerances; the only
 #: outcome accepted (the answer is then checked by :mod:`lcpfric.backends.checks`).
@@ -36,14 +45,14 @@ UNKNOWN = "unknown"
 #: message of the :class:`~lcpfric.errors.SolverError` it raises.
 ADVICE = {
     INACCURATE: "the solver reached only its reduced accuracy; tighten or rescale, or try "
-                "another backend",
+    "another backend",
     INFEASIBLE: "the solver reports the step infeasible, which the data of a consistent scene "
-                "never are (F = 0 is always admissible): check the scene for negative normal "
-                "reactions on nodes marked in contact, or NaN loads",
+    "never are (F = 0 is always admissible): check the scene for negative normal "
+    "reactions on nodes marked in contact, or NaN loads",
     MAX_ITER: "the solver stopped at its iteration limit; raise max_iter (max_iters for SCS)",
     TIME_LIMIT: "the solver stopped at its time limit; raise time_limit",
     NUMERICAL: "the solver ran into numerical trouble; check that K is well conditioned, or "
-               "try another backend",
+    "try another backend",
     UNKNOWN: "the solver returned a status lcpfric does not know; see its documentation",
 }
 

@@ -52,8 +52,13 @@ COMMANDS = {
 class _Version(argparse.Action):
     """``--version``, reading the version only when asked."""
 
-    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS,
-                 help="print the version and exit"):
+    def __init__(
+        self,
+        option_strings,
+        dest=argparse.SUPPRESS,
+        default=argparse.SUPPRESS,
+        help="print the version and exit",
+    ):
         super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
 
     def __call__(self, parser, namespace, values, option_string=None):
@@ -68,14 +73,18 @@ class _Version(argparse.Action):
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``lcpfric`` parser with every subcommand (standard library only)."""
-    parser = Parser(prog="lcpfric", description="Frictional dissipation per load cycle in "
-                                                "elastic contact systems under periodic loads.",
-                    epilog="Negative values may follow an option directly (--phi -0.5pi). Bad "
-                           "input exits with code 2 and one line naming the option; a solver "
-                           "failure exits with code 1.")
+    parser = Parser(
+        prog="lcpfric",
+        description="Frictional dissipation per load cycle in "
+        "elastic contact systems under periodic loads.",
+        epilog="Negative values may follow an option directly (--phi -0.5pi). Bad "
+        "input exits with code 2 and one line naming the option; a solver "
+        "failure exits with code 1.",
+    )
     parser.add_argument("--version", action=_Version)
-    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND",
-                                parser_class=Parser)
+    sub = parser.add_subparsers(
+        dest="command", required=True, metavar="COMMAND", parser_class=Parser
+    )
     for name, module_name in COMMANDS.items():
         module = importlib.import_module(f"{__name__}.{module_name}")
         p = sub.add_parser(name, help=module.HELP, description=module.DESCRIPTION)

@@ -18,21 +18,52 @@ import importlib.util
 import os
 import sys
 
-from ..errors import (ConvergenceError, InputError, LcpfricError, MissingDependency,
-                      SolverError)
+from ..errors import ConvergenceError, InputError, LcpfricError, MissingDependency, SolverError
 
 __all__ = [
-    "Parser", "add_case_options", "case_from_args", "option_names", "option_for", "execute",
-    "values_after_options", "MissingExtras", "require_extras", "installed",
-    "output_file", "output_dir", "written_files", "remove_created",
-    "add_memory_option", "memory_limit", "parse_size", "format_bytes", "check_memory",
-    "steady_state_bytes", "map_bytes", "add_note",
+    "Parser",
+    "add_case_options",
+    "case_from_args",
+    "option_names",
+    "option_for",
+    "execute",
+    "values_after_options",
+    "MissingExtras",
+    "require_extras",
+    "installed",
+    "output_file",
+    "output_dir",
+    "written_files",
+    "remove_created",
+    "add_memory_option",
+    "memory_limit",
+    "parse_size",
+    "format_bytes",
+    "check_memory",
+    "steady_state_bytes",
+    "map_bytes",
+    "add_note",
+    "OUTPUT_RULE",
+    "snapshot",
 ]
 
-from ..memory import (MEMORY_ENV, check, default_limit, format_bytes, map_bytes,  # noqa: F401
-                      parse_size, steady_state_bytes)
-from ._paths import (OUTPUT_RULE, output_dir, output_file, remove_created,  # noqa: F401
-                     snapshot, written_files)
+from ..memory import (
+    MEMORY_ENV,
+    check,
+    default_limit,
+    format_bytes,
+    map_bytes,
+    parse_size,
+    steady_state_bytes,
+)
+from ._paths import (
+    OUTPUT_RULE,
+    output_dir,
+    output_file,
+    remove_created,
+    snapshot,
+    written_files,
+)
 
 
 # -- the parser ------------------------------------------------------------------------------------
@@ -85,7 +116,7 @@ def values_after_options(parser: argparse.ArgumentParser, argv: list[str]) -> li
     subparser = sub.choices[argv[index]]
     options = _value_options(subparser)
     own = set(subparser._option_string_actions)
-    out = argv[:index + 1]
+    out = argv[: index + 1]
     i = index + 1
     while i < len(argv):
         tok = argv[i]
@@ -107,8 +138,9 @@ def values_after_options(parser: argparse.ArgumentParser, argv: list[str]) -> li
 
 
 # -- option names ----------------------------------------------------------------------------------
-def option_names(parser: argparse.ArgumentParser, aliases: dict[str, str] | None = None
-                 ) -> dict[str, str]:
+def option_names(
+    parser: argparse.ArgumentParser, aliases: dict[str, str] | None = None
+) -> dict[str, str]:
     """API parameter name -> the subcommand's option.
 
     Every option maps from its ``dest`` (``max_cycles`` -> ``--max-cycles``, ``P1`` -> ``--P1``);
@@ -168,7 +200,7 @@ def _one_line_warnings(prog):
                 default(message, category, filename, lineno, file, line)
 
         warnings.showwarning = show
-        for category in (ConvergenceWarning, ResolutionWarning):   # shown, never raised
+        for category in (ConvergenceWarning, ResolutionWarning):  # shown, never raised
             warnings.simplefilter("default", category)
         yield
 
@@ -195,20 +227,27 @@ def execute(args) -> int:
         return _fail(prog, "error", _message(exc), 2)
     except (SolverError, ConvergenceError) as exc:
         status = getattr(exc, "status", "")
-        return _fail(prog, "failed", _message(exc) + (f" (solver status: {status})" if status
-                                                       else ""), 1)
+        return _fail(
+            prog, "failed", _message(exc) + (f" (solver status: {status})" if status else ""), 1
+        )
     except LcpfricError as exc:
         return _fail(prog, "failed", _message(exc), 1)
     except ModuleNotFoundError as exc:  # an optional package imported deep inside a method
         name = (exc.name or "").split(".")[0]
         extra = _EXTRA_OF.get(name)
         hint = f': pip install "lcpfric[{extra}]"' if extra else ""
-        return _fail(prog, "error", f"this needs the package {name!r}, which is not "
-                                    f"installed{hint}", 2)
+        return _fail(
+            prog, "error", f"this needs the package {name!r}, which is not installed{hint}", 2
+        )
     except MemoryError:
-        return _fail(prog, "failed", "ran out of memory; ask for less (fewer steps or points), "
-                                     "or lower --max-memory so that lcpfric refuses such runs "
-                                     "before it starts them", 1)
+        return _fail(
+            prog,
+            "failed",
+            "ran out of memory; ask for less (fewer steps or points), "
+            "or lower --max-memory so that lcpfric refuses such runs "
+            "before it starts them",
+            1,
+        )
     except KeyboardInterrupt:
         print(f"{prog}: interrupted", file=sys.stderr)
         return 130
@@ -227,9 +266,19 @@ def _fail(prog: str, kind: str, message: str, code: int) -> int:
 
 # -- extras ----------------------------------------------------------------------------------------
 #: importable module -> the extra that installs it
-_EXTRA_OF = {"matplotlib": "plot", "xarray": "dist", "h5netcdf": "dist", "h5py": "dist",
-             "distributed": "dist", "dask": "dist", "tqdm": "dist", "clarabel": "clarabel",
-             "osqp": "osqp", "qpsolvers": "qpsolvers", "cvxpy": "cvxpy"}
+_EXTRA_OF = {
+    "matplotlib": "plot",
+    "xarray": "dist",
+    "h5netcdf": "dist",
+    "h5py": "dist",
+    "distributed": "dist",
+    "dask": "dist",
+    "tqdm": "dist",
+    "clarabel": "clarabel",
+    "osqp": "osqp",
+    "qpsolvers": "qpsolvers",
+    "cvxpy": "cvxpy",
+}
 
 
 class MissingExtras(LcpfricError):
@@ -276,21 +325,40 @@ ASSUMED = {"k22": 1.0, "Q0": 0.0, "omega": 1.0}
 
 def add_case_options(p: argparse.ArgumentParser) -> None:
     """--P1, --Q1, --phi, the dimensional inputs and --json."""
-    p.add_argument("--P1", required=True, metavar="X",
-                   help="normal load amplitude (P̂1 = P1/P0 unless dimensional inputs are given)")
-    p.add_argument("--Q1", required=True, metavar="X",
-                   help="tangential load amplitude (Q̂1 = Q1/(f P0) unless dimensional)")
-    p.add_argument("--phi", default="0", metavar="ANGLE",
-                   help="phase of Q relative to P: radians, or a multiple of pi such as 0.6pi, "
-                        "pi/2, -0.5pi (negative values may follow the option directly)")
+    p.add_argument(
+        "--P1",
+        required=True,
+        metavar="X",
+        help="normal load amplitude (P̂1 = P1/P0 unless dimensional inputs are given)",
+    )
+    p.add_argument(
+        "--Q1",
+        required=True,
+        metavar="X",
+        help="tangential load amplitude (Q̂1 = Q1/(f P0) unless dimensional)",
+    )
+    p.add_argument(
+        "--phi",
+        default="0",
+        metavar="ANGLE",
+        help="phase of Q relative to P: radians, or a multiple of pi such as 0.6pi, "
+        "pi/2, -0.5pi (negative values may follow the option directly)",
+    )
     g = p.add_argument_group(
-        "dimensional inputs", "Giving any of these makes --P1 and --Q1 dimensional amplitudes. "
+        "dimensional inputs",
+        "Giving any of these makes --P1 and --Q1 dimensional amplitudes. "
         "Then --k11, --f and --P0 are required (they set P̂1 = P1/P0, Q̂1 = Q1/(f P0) and "
         "W = f P0 Q1 Ŵ / k11); --k22, --Q0 and --omega default to 1, 0 and 1 (they do not "
-        "change W) and the defaults used are printed.")
-    for name, text in (("k11", "tangential stiffness"), ("k22", "normal stiffness"),
-                       ("f", "coefficient of friction"), ("P0", "mean normal load"),
-                       ("Q0", "mean tangential load"), ("omega", "angular frequency")):
+        "change W) and the defaults used are printed.",
+    )
+    for name, text in (
+        ("k11", "tangential stiffness"),
+        ("k22", "normal stiffness"),
+        ("f", "coefficient of friction"),
+        ("P0", "mean normal load"),
+        ("Q0", "mean tangential load"),
+        ("omega", "angular frequency"),
+    ):
         g.add_argument(f"--{name}", default=None, metavar="X", help=text)
     p.add_argument("--json", action="store_true", help="print one JSON object")
 
@@ -304,8 +372,11 @@ def case_from_args(args):
     phi = _checks.parse_angle(args.phi, "--phi")
     P1 = _checks.parse_number(args.P1, "--P1")
     Q1 = _checks.parse_number(args.Q1, "--Q1")
-    given = {k: _checks.parse_number(getattr(args, k), f"--{k}") for k in DIMENSIONAL
-             if getattr(args, k) is not None}
+    given = {
+        k: _checks.parse_number(getattr(args, k), f"--{k}")
+        for k in DIMENSIONAL
+        if getattr(args, k) is not None
+    }
     if not given:
         return SingleNode.normalized(P1=P1, Q1=Q1, phi=phi), {}
     # validate what was given first (SingleNode names the parameter), then ask for what is missing
@@ -313,23 +384,34 @@ def case_from_args(args):
     missing = [k for k in REQUIRED_DIMENSIONAL if k not in given]
     if missing:
         options = ", ".join(f"--{k}" for k in missing)
-        raise InputError(options, (
-            f"required with dimensional input (--{next(iter(given))} was given): --k11, --f and "
-            "--P0 set P̂1 = P1/P0, Q̂1 = Q1/(f P0) and W = f P0 Q1 Ŵ / k11; give them, or "
-            "leave out every dimensional option to give P̂1 and Q̂1 directly"))
+        raise InputError(
+            options,
+            (
+                f"required with dimensional input (--{next(iter(given))} was given): --k11, --f and "
+                "--P0 set P̂1 = P1/P0, Q̂1 = Q1/(f P0) and W = f P0 Q1 Ŵ / k11; give them, or "
+                "leave out every dimensional option to give P̂1 and Q̂1 directly"
+            ),
+        )
     return node, {k: v for k, v in ASSUMED.items() if k not in given}
 
 
 def assumed_line(assumed: dict) -> str:
-    return ("assumed: " + ", ".join(f"{k} = {v:g}" for k, v in assumed.items())
-            + " (not given; they do not change W)")
+    return (
+        "assumed: "
+        + ", ".join(f"{k} = {v:g}" for k, v in assumed.items())
+        + " (not given; they do not change W)"
+    )
 
 
 # -- memory ----------------------------------------------------------------------------------------
 def add_memory_option(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--max-memory", default=None, metavar="SIZE",
-                   help=f"refuse runs estimated to need more memory than this (e.g. 8G, 500M, "
-                        f"none); default: ${MEMORY_ENV}, else half the physical memory")
+    p.add_argument(
+        "--max-memory",
+        default=None,
+        metavar="SIZE",
+        help=f"refuse runs estimated to need more memory than this (e.g. 8G, 500M, "
+        f"none); default: ${MEMORY_ENV}, else half the physical memory",
+    )
 
 
 def memory_limit(args) -> tuple[float, str]:
@@ -344,8 +426,7 @@ def memory_limit(args) -> tuple[float, str]:
 def check_memory(need: float, args, option: str, what: str) -> None:
     """Raise InputError naming ``option`` when ``need`` bytes exceed the memory limit."""
     size = format_bytes(need * 1.25).replace(" ", "")
-    check(need, option, what, memory_limit(args),
-          how=f"--max-memory {size} (or ${MEMORY_ENV})")
+    check(need, option, what, memory_limit(args), how=f"--max-memory {size} (or ${MEMORY_ENV})")
 
 
 def workers_for(processes) -> int:

@@ -15,8 +15,11 @@ def parse_grid(text: str, name: str, angle: bool = False) -> np.ndarray:
 
     With ``angle=True`` every number may be written as a multiple of pi (``0.6pi``, ``pi/2``).
     """
-    parse = (lambda s: _checks.parse_angle(s, name)) if angle else (
-        lambda s: _checks.parse_number(s, name))
+    parse = (
+        (lambda s: _checks.parse_angle(s, name))
+        if angle
+        else (lambda s: _checks.parse_number(s, name))
+    )
     text = str(text).strip()
     if ":" in text:
         parts = text.split(":")

@@ -11,21 +11,33 @@ from ..errors import InputError
 if TYPE_CHECKING:  # pathlib imports urllib and ipaddress: not for --help
     from pathlib import Path
 
-__all__ = ["OUTPUT_RULE", "output_file", "output_dir", "snapshot", "written_files",
-           "remove_created"]
+__all__ = [
+    "OUTPUT_RULE",
+    "output_file",
+    "output_dir",
+    "snapshot",
+    "written_files",
+    "remove_created",
+]
 
-OUTPUT_RULE = ("The output's parent directory must exist; lcpfric creates only the output itself "
-               "and removes what it created if the run fails.")
+OUTPUT_RULE = (
+    "The output's parent directory must exist; lcpfric creates only the output itself "
+    "and removes what it created if the run fails."
+)
 
 
 def _parent_writable(path: Path, option: str) -> None:
     parent = path.parent
     if not parent.is_dir():
-        raise InputError(option, f"the directory {str(parent)!r} does not exist; create it "
-                                 "first (lcpfric creates only the output itself)")
+        raise InputError(
+            option,
+            f"the directory {str(parent)!r} does not exist; create it "
+            "first (lcpfric creates only the output itself)",
+        )
     if not os.access(parent, os.W_OK | os.X_OK):
-        raise InputError(option, f"cannot write in the directory {str(parent)!r} (permission "
-                                 "denied)")
+        raise InputError(
+            option, f"cannot write in the directory {str(parent)!r} (permission denied)"
+        )
 
 
 def output_file(text, option: str, suffix) -> Path:
@@ -37,15 +49,22 @@ def output_file(text, option: str, suffix) -> Path:
     name = {".nc": "map", ".png": "loop", ".pdf": "loop", ".svg": "loop"}.get(suffixes[0], "out")
     text = "" if text is None else str(text)
     if not text.strip():
-        raise InputError(option, f"is empty; give a file name ending in {suffixes[0]}, e.g. "
-                                 f"{name}{suffixes[0]}")
+        raise InputError(
+            option, f"is empty; give a file name ending in {suffixes[0]}, e.g. {name}{suffixes[0]}"
+        )
     path = Path(text)
     if path.is_dir() or text.endswith(("/", os.sep)):
-        raise InputError(option, f"{text!r} is a directory; give a file name ending in "
-                                 f"{suffixes[0]}, e.g. {str(path / (name + suffixes[0]))!r}")
+        raise InputError(
+            option,
+            f"{text!r} is a directory; give a file name ending in "
+            f"{suffixes[0]}, e.g. {str(path / (name + suffixes[0]))!r}",
+        )
     if path.suffix.lower() not in suffixes:
-        what = (" (the file is written as NetCDF-4)" if suffixes == (".nc",)
-                else f" (one of {', '.join(suffixes)})")
+        what = (
+            " (the file is written as NetCDF-4)"
+            if suffixes == (".nc",)
+            else f" (one of {', '.join(suffixes)})"
+        )
         raise InputError(option, f"must end in {suffixes[0]}{what}, got {text!r}")
     if path.exists() and not path.is_file():
         raise InputError(option, f"{text!r} exists and is not a regular file")
@@ -62,8 +81,9 @@ def output_dir(text, option: str) -> Path:
 
     text = "" if text is None else str(text)
     if not text.strip():
-        raise InputError(option, "is empty; give a directory, e.g. figures (use . for the "
-                                 "working directory)")
+        raise InputError(
+            option, "is empty; give a directory, e.g. figures (use . for the working directory)"
+        )
     path = Path(text)
     if path.exists() and not path.is_dir():
         raise InputError(option, f"{text!r} exists and is not a directory")

@@ -7,80 +7,146 @@ from __future__ import annotations
 import json
 
 HELP = "W per cycle of a continuum contact (sphere, cylinder, punch, height map)"
-DESCRIPTION = ("The periodic steady state of two identical elastic bodies (effective radius R, "
-               "each body's E and nu) under P(t) = P0 + P1 sin wt and Q(t) = Q1 sin(wt + phi) "
-               "(d = 1): the sphere by the method of dimensionality reduction (--model mdr), "
-               "the cylinder in plane strain by half-plane boundary elements (--model "
-               "halfplane; P, Q and W per unit length), and the sphere, a flat punch with "
-               "rounded edges or a height map (--heightmap FILE.npy --spacing H) by "
-               "half-space boundary elements on a square grid (--model halfspace; --dims 2 "
-               "for tractions in the plane, Cerruti's coupling). Prints W per cycle and W "
-               "k_t0/(mu^2 P0^2) (3-D) or W pi E*/(mu^2 P0^2) (cylinder). With --k-support 0 "
-               "(pure "
-               "load control) loads with |Q| > mu P at some instant (gross sliding, or Q during "
-               "complete separation) have no equilibrium and are refused.")
+DESCRIPTION = (
+    "The periodic steady state of two identical elastic bodies (effective radius R, "
+    "each body's E and nu) under P(t) = P0 + P1 sin wt and Q(t) = Q1 sin(wt + phi) "
+    "(d = 1): the sphere by the method of dimensionality reduction (--model mdr), "
+    "the cylinder in plane strain by half-plane boundary elements (--model "
+    "halfplane; P, Q and W per unit length), and the sphere, a flat punch with "
+    "rounded edges or a height map (--heightmap FILE.npy --spacing H) by "
+    "half-space boundary elements on a square grid (--model halfspace; --dims 2 "
+    "for tractions in the plane, Cerruti's coupling). Prints W per cycle and W "
+    "k_t0/(mu^2 P0^2) (3-D) or W pi E*/(mu^2 P0^2) (cylinder). With --k-support 0 "
+    "(pure "
+    "load control) loads with |Q| > mu P at some instant (gross sliding, or Q during "
+    "complete separation) have no equilibrium and are refused."
+)
 #: the models of each geometry (the first is the default)
-MODELS = {"sphere": ("mdr", "halfspace"), "cylinder": ("halfplane",), "punch": ("halfspace",),
-          "heightmap": ("halfspace",)}
+MODELS = {
+    "sphere": ("mdr", "halfspace"),
+    "cylinder": ("halfplane",),
+    "punch": ("halfspace",),
+    "heightmap": ("halfspace",),
+}
 #: each model's class (the registry's ``models``: the methods that solve it)
 CLASSES = {"mdr": "MDRSphere", "halfplane": "HalfPlaneCylinder", "halfspace": "HalfSpace"}
-OPTIONS = {"steps": "--steps", "steps_per_cycle": "--steps", "k_support": "--k-support",
-           "P": "--P0", "Q": "--Q1"}
+OPTIONS = {
+    "steps": "--steps",
+    "steps_per_cycle": "--steps",
+    "k_support": "--k-support",
+    "P": "--P0",
+    "Q": "--Q1",
+}
 #: fewest springs across the largest contact radius that resolve it
 MIN_NODES = 10
 
 
 def configure(p) -> None:
-    p.add_argument("--geometry", choices=("sphere", "cylinder", "punch"), default="sphere",
-                   help="sphere (3-D Hertz), cylinder (plane strain) or punch (a flat punch "
-                        "of radius --radius with edges rounded to --R)")
-    p.add_argument("--model", choices=("mdr", "halfplane", "halfspace"), default=None,
-                   help="mdr (sphere: dimensionality reduction), halfplane (cylinder: "
-                        "boundary elements) or halfspace (sphere, punch, height map: boundary "
-                        "elements on a grid); default: the geometry's first")
-    p.add_argument("--R", default=None, metavar="X",
-                   help="effective radius (sphere, cylinder) or the punch's edge radius")
-    for name, text in (("E", "Young's modulus of each body"),
-                       ("nu", "Poisson's ratio of each body, in [0, 0.5)"),
-                       ("mu", "coefficient of friction"), ("P0", "mean normal load (> 0)"),
-                       ("P1", "normal load amplitude"), ("Q1", "tangential load amplitude")):
+    p.add_argument(
+        "--geometry",
+        choices=("sphere", "cylinder", "punch"),
+        default="sphere",
+        help="sphere (3-D Hertz), cylinder (plane strain) or punch (a flat punch "
+        "of radius --radius with edges rounded to --R)",
+    )
+    p.add_argument(
+        "--model",
+        choices=("mdr", "halfplane", "halfspace"),
+        default=None,
+        help="mdr (sphere: dimensionality reduction), halfplane (cylinder: "
+        "boundary elements) or halfspace (sphere, punch, height map: boundary "
+        "elements on a grid); default: the geometry's first",
+    )
+    p.add_argument(
+        "--R",
+        default=None,
+        metavar="X",
+        help="effective radius (sphere, cylinder) or the punch's edge radius",
+    )
+    for name, text in (
+        ("E", "Young's modulus of each body"),
+        ("nu", "Poisson's ratio of each body, in [0, 0.5)"),
+        ("mu", "coefficient of friction"),
+        ("P0", "mean normal load (> 0)"),
+        ("P1", "normal load amplitude"),
+        ("Q1", "tangential load amplitude"),
+    ):
         p.add_argument(f"--{name}", required=True, metavar="X", help=text)
-    p.add_argument("--phi", default="0", metavar="ANGLE",
-                   help="phase of Q relative to P: radians, or a multiple of pi (0.6pi, pi/2)")
-    p.add_argument("--k-support", default="0", metavar="K",
-                   help="tangential stiffness holding the body, in parallel with the contact "
-                        "(default 0: pure load control)")
-    p.add_argument("--nodes", default=None, metavar="N",
-                   help=f"springs across the largest contact radius (mdr, default 2000) or "
-                        f"elements across the largest contact width (halfplane, default 400); "
-                        f"at least {MIN_NODES}")
+    p.add_argument(
+        "--phi",
+        default="0",
+        metavar="ANGLE",
+        help="phase of Q relative to P: radians, or a multiple of pi (0.6pi, pi/2)",
+    )
+    p.add_argument(
+        "--k-support",
+        default="0",
+        metavar="K",
+        help="tangential stiffness holding the body, in parallel with the contact "
+        "(default 0: pure load control)",
+    )
+    p.add_argument(
+        "--nodes",
+        default=None,
+        metavar="N",
+        help=f"springs across the largest contact radius (mdr, default 2000) or "
+        f"elements across the largest contact width (halfplane, default 400); "
+        f"at least {MIN_NODES}",
+    )
     p.add_argument("--steps", default="400", metavar="N", help="increments per cycle")
     g = p.add_argument_group("half-space (--model halfspace)")
-    g.add_argument("--grid", default=None, metavar="N",
-                   help="elements across the largest contact's diameter (sphere, punch; "
-                        "default 40); the grid adds 3 %% on each side")
-    g.add_argument("--dims", default="1", choices=("1", "2"),
-                   help="tangential directions: 1 (tractions along Q) or 2 (in the plane, "
-                        "Cerruti's coupling when nu > 0)")
+    g.add_argument(
+        "--grid",
+        default=None,
+        metavar="N",
+        help="elements across the largest contact's diameter (sphere, punch; "
+        "default 40); the grid adds 3 %% on each side",
+    )
+    g.add_argument(
+        "--dims",
+        default="1",
+        choices=("1", "2"),
+        help="tangential directions: 1 (tractions along Q) or 2 (in the plane, "
+        "Cerruti's coupling when nu > 0)",
+    )
     g.add_argument("--radius", default=None, metavar="X", help="the punch's flat radius")
-    g.add_argument("--heightmap", default=None, metavar="FILE.npy",
-                   help="a square 2-D array of the gap at zero approach (the two surfaces' "
-                        "heights summed), in length units; needs --spacing")
+    g.add_argument(
+        "--heightmap",
+        default=None,
+        metavar="FILE.npy",
+        help="a square 2-D array of the gap at zero approach (the two surfaces' "
+        "heights summed), in length units; needs --spacing",
+    )
     g.add_argument("--spacing", default=None, metavar="H", help="the height map's grid spacing")
-    g.add_argument("--figures", default=None, metavar="DIR",
-                   help="also draw the stick/slip/separation maps (and the traction vectors "
-                        "with --dims 2) of the steady cycle into DIR")
-    g.add_argument("--instants", default="0,0.25,0.5,0.75", metavar="F,F,...",
-                   help="fractions of the period at which --figures draws the zones "
-                        "(default 0,0.25,0.5,0.75)")
-    g.add_argument("--animation", default=None, metavar="FILE.gif",
-                   help="also write an animation of the zones over the steady cycle")
-    p.add_argument("--method", default=None, metavar="M",
-                   help="how each increment is solved, a method of `lcpfric methods` that "
-                        "solves the model: mdr-bar (mdr: the bar's equation in closed form, "
-                        "no solver), halfplane-pdas (halfplane: primal-dual active set on the "
-                        "stick set) or newton-cg (halfspace: semismooth Newton, conjugate "
-                        "gradients on FFT products); default: the model's")
+    g.add_argument(
+        "--figures",
+        default=None,
+        metavar="DIR",
+        help="also draw the stick/slip/separation maps (and the traction vectors "
+        "with --dims 2) of the steady cycle into DIR",
+    )
+    g.add_argument(
+        "--instants",
+        default="0,0.25,0.5,0.75",
+        metavar="F,F,...",
+        help="fractions of the period at which --figures draws the zones (default 0,0.25,0.5,0.75)",
+    )
+    g.add_argument(
+        "--animation",
+        default=None,
+        metavar="FILE.gif",
+        help="also write an animation of the zones over the steady cycle",
+    )
+    p.add_argument(
+        "--method",
+        default=None,
+        metavar="M",
+        help="how each increment is solved, a method of `lcpfric methods` that "
+        "solves the model: mdr-bar (mdr: the bar's equation in closed form, "
+        "no solver), halfplane-pdas (halfplane: primal-dual active set on the "
+        "stick set) or newton-cg (halfspace: semismooth Newton, conjugate "
+        "gradients on FFT products); default: the model's",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
 
 
@@ -91,15 +157,20 @@ def run(args) -> int:
     from ..model.loads import Harmonic
     from ..periodic import steady_state
 
-    num = {k: _checks.parse_number(getattr(args, k), f"--{k}")
-           for k in ("E", "nu", "mu", "P0", "P1", "Q1")}
+    num = {
+        k: _checks.parse_number(getattr(args, k), f"--{k}")
+        for k in ("E", "nu", "mu", "P0", "P1", "Q1")
+    }
     phi = _checks.parse_angle(args.phi, "--phi")
     ks = _checks.parse_number(args.k_support, "--k-support")
     geometry = "heightmap" if args.heightmap is not None else args.geometry
     model_name = args.model or MODELS[geometry][0]
     if model_name not in MODELS[geometry]:
-        raise InputError("--model", f"{model_name!r} does not solve the {geometry}; use "
-                                    f"--model {' or '.join(MODELS[geometry])}")
+        raise InputError(
+            "--model",
+            f"{model_name!r} does not solve the {geometry}; use "
+            f"--model {' or '.join(MODELS[geometry])}",
+        )
     method = _method(args.method, model_name)
     steps = _count(args.steps, "--steps")
     if not num["P0"] > 0:
@@ -123,35 +194,52 @@ def run(args) -> int:
         default = "2000" if model_name == "mdr" else "400"
         nodes = _count(args.nodes or default, "--nodes")
         if nodes < MIN_NODES:
-            raise InputError("--nodes", f"{nodes} springs are too coarse to resolve the "
-                                        f"contact; give at least {MIN_NODES}")
+            raise InputError(
+                "--nodes",
+                f"{nodes} springs are too coarse to resolve the contact; give at least {MIN_NODES}",
+            )
         kind = MDRSphere if model_name == "mdr" else HalfPlaneCylinder
         model = kind(R, num["E"], num["nu"], num["mu"], P, Q, k_support=ks, nodes=nodes)
     record = model_name == "halfspace" and (args.figures or args.animation) is not None
     r = steady_state(model, method, steps, history=record)
     c = r.contact
-    out = {"W": r.W, "W_normalized": c.W_normalized, "normalization": c.normalization,
-           "contact_size_max": c.contact_size_max, "nodes": c.nodes,
-           "steps_per_cycle": r.steps_per_cycle, "cycles": r.cycles, "converged": r.converged,
-           "seconds": r.seconds, "geometry": geometry, "model": model_name,
-           "method": r.method}
+    out = {
+        "W": r.W,
+        "W_normalized": c.W_normalized,
+        "normalization": c.normalization,
+        "contact_size_max": c.contact_size_max,
+        "nodes": c.nodes,
+        "steps_per_cycle": r.steps_per_cycle,
+        "cycles": r.cycles,
+        "converged": r.converged,
+        "seconds": r.seconds,
+        "geometry": geometry,
+        "model": model_name,
+        "method": r.method,
+    }
     if c.k_t0 is not None:
         out["k_t0"] = c.k_t0
     if model_name == "halfspace":
         st = r.solver_stats
-        out.update(dims=model.dims, grid=model.N, nodes_in_contact_max=c.nodes_in_contact_max,
-                   normal_seconds=st["normal_seconds"],
-                   tangential_seconds=st["tangential_seconds"])
+        out.update(
+            dims=model.dims,
+            grid=model.N,
+            nodes_in_contact_max=c.nodes_in_contact_max,
+            normal_seconds=st["normal_seconds"],
+            tangential_seconds=st["tangential_seconds"],
+        )
         out["files"] = _pictures(args, model, r)
     if args.json:
         print(json.dumps(out))
         return 0
     size = "half-width" if geometry == "cylinder" else "radius"
     unit = " (per unit length)" if geometry == "cylinder" else ""
-    print(f"W = {r.W:.10g} per cycle{unit}; {c.normalization} = {c.W_normalized:.10g} "
-          f"(largest contact {size} {c.contact_size_max:.6g}; {c.nodes} nodes, "
-          f"{r.steps_per_cycle} steps per cycle, {r.cycles} cycles, {r.method}, "
-          f"{r.seconds:.2f} s)")
+    print(
+        f"W = {r.W:.10g} per cycle{unit}; {c.normalization} = {c.W_normalized:.10g} "
+        f"(largest contact {size} {c.contact_size_max:.6g}; {c.nodes} nodes, "
+        f"{r.steps_per_cycle} steps per cycle, {r.cycles} cycles, {r.method}, "
+        f"{r.seconds:.2f} s)"
+    )
     for path in out.get("files", ()):
         print(f"wrote {path}")
     return 0
@@ -176,20 +264,23 @@ def _halfspace(args, geometry, num, P, Q, ks, steps):
     if geometry == "heightmap":
         for option in ("grid", "radius"):
             if getattr(args, option) is not None:
-                raise InputError(f"--{option}", "does not apply to --heightmap (its grid is "
-                                                "the array's)")
+                raise InputError(
+                    f"--{option}", "does not apply to --heightmap (its grid is the array's)"
+                )
         if args.spacing is None:
             raise InputError("--spacing", "the height map needs its grid spacing")
         spacing = _checks.parse_number(args.spacing, "--spacing")
         heights = _load_heightmap(args.heightmap)
         _steps_memory(heights.size, steps, dims, args)
-        return HalfSpace(num["E"], num["nu"], num["mu"], P, Q, heights=heights,
-                         spacing=spacing, **common)
+        return HalfSpace(
+            num["E"], num["nu"], num["mu"], P, Q, heights=heights, spacing=spacing, **common
+        )
     if args.spacing is not None:
         raise InputError("--spacing", "applies to --heightmap only")
     if args.R is None:
-        raise InputError("--R", f"the {geometry} needs --R (its radius, or the punch's edge "
-                                f"radius)")
+        raise InputError(
+            "--R", f"the {geometry} needs --R (its radius, or the punch's edge radius)"
+        )
     R = _checks.parse_number(args.R, "--R")
     grid = _count(args.grid or "40", "--grid")
     side = grid + 2 * max(2, -(-3 * grid // 100))
@@ -198,8 +289,7 @@ def _halfspace(args, geometry, num, P, Q, ks, steps):
         if args.radius is None:
             raise InputError("--radius", "the punch needs its flat radius")
         radius = _checks.parse_number(args.radius, "--radius")
-        return HalfSpace.punch(R, radius, num["E"], num["nu"], num["mu"], P, Q, grid=grid,
-                               **common)
+        return HalfSpace.punch(R, radius, num["E"], num["nu"], num["mu"], P, Q, grid=grid, **common)
     if args.radius is not None:
         raise InputError("--radius", "applies to --geometry punch only")
     return HalfSpace.sphere(R, num["E"], num["nu"], num["mu"], P, Q, grid=grid, **common)
@@ -217,8 +307,9 @@ def _fractions(text) -> tuple:
         raise InputError("--instants", "must name at least one fraction of the period")
     out = tuple(_checks.parse_number(x, "--instants") for x in parts)
     if any(not (math.isfinite(f) and 0.0 <= f <= 1.0) for f in out) or len(out) > 12:
-        raise InputError("--instants", f"must be 1 to 12 fractions of the period in [0, 1], "
-                                       f"got {text!r}")
+        raise InputError(
+            "--instants", f"must be 1 to 12 fractions of the period in [0, 1], got {text!r}"
+        )
     return out
 
 
@@ -228,9 +319,11 @@ def _steps_memory(nodes, steps, dims, args) -> None:
     from .. import memory
 
     record = (args.figures or args.animation) is not None
-    memory.check(memory.continuum_bytes(nodes, dims, steps, record),
-                 "--grid" if args.heightmap is None else "--heightmap",
-                 f"{nodes} nodes x {steps} steps (d = {dims})")
+    memory.check(
+        memory.continuum_bytes(nodes, dims, steps, record),
+        "--grid" if args.heightmap is None else "--heightmap",
+        f"{nodes} nodes x {steps} steps (d = {dims})",
+    )
 
 
 def _pictures(args, model, r) -> list:
@@ -241,8 +334,10 @@ def _pictures(args, model, r) -> list:
         from ..figures.halfspace import write_halfspace_figures
 
         Path(args.figures).mkdir(exist_ok=True)
-        files += [str(f) for f in write_halfspace_figures(args.figures, model, r,
-                                                          fractions=args.fractions)]
+        files += [
+            str(f)
+            for f in write_halfspace_figures(args.figures, model, r, fractions=args.fractions)
+        ]
     if args.animation is not None:
         from ..figures.halfspace import animate_zones
 
@@ -261,8 +356,11 @@ def _method(text, model_name: str) -> str | None:
     cls = CLASSES[model_name]
     if cls not in entry.models:
         names = [m.name for m in METHODS.values() if cls in m.models]
-        raise InputError("--method", f"{entry.name!r} does not solve the {model_name} model "
-                                     f"({cls}); use {' or '.join(names)}")
+        raise InputError(
+            "--method",
+            f"{entry.name!r} does not solve the {model_name} model "
+            f"({cls}); use {' or '.join(names)}",
+        )
     return entry.name
 
 
@@ -288,10 +386,11 @@ def _load_heightmap(path):
     except OSError as exc:
         raise InputError("--heightmap", f"cannot read {str(path)!r}: {exc}") from None
     except ValueError:
-        raise InputError("--heightmap", f"{str(path)!r} is not a .npy array file (or holds "
-                                        f"Python objects); {how}") from None
-    if not isinstance(heights, np.ndarray):        # a .npz archive: several arrays
+        raise InputError(
+            "--heightmap",
+            f"{str(path)!r} is not a .npy array file (or holds Python objects); {how}",
+        ) from None
+    if not isinstance(heights, np.ndarray):  # a .npz archive: several arrays
         heights.close()
-        raise InputError("--heightmap", f"{str(path)!r} is a .npz archive, not one array; "
-                                        f"{how}")
+        raise InputError("--heightmap", f"{str(path)!r} is a .npz archive, not one array; {how}")
     return heights

@@ -9,24 +9,37 @@ import time
 from . import _common
 
 HELP = "dissipation per cycle of one load case"
-DESCRIPTION = ("Compute the dimensionless dissipation per cycle Ŵ (and W for dimensional input) "
-               "of the single node under P = P0 + P1 sin ωt, Q = Q0 + Q1 sin(ωt + φ).")
+DESCRIPTION = (
+    "Compute the dimensionless dissipation per cycle Ŵ (and W for dimensional input) "
+    "of the single node under P = P0 + P1 sin ωt, Q = Q0 + Q1 sin(ωt + φ)."
+)
 #: API parameter names that differ from the option's name
 OPTIONS = {"steps_per_cycle": "--steps"}
 
 
 def configure(p) -> None:
     _common.add_case_options(p)
-    p.add_argument("--method", default="exact",
-                   help="exact (default), explicit, projection, clarabel, osqp, "
-                        "qpsolvers:<solver>, cvxpy:<SOLVER>; 'lcpfric methods' lists them")
-    p.add_argument("--steps", default="2000", metavar="N",
-                   help="steps per cycle of a time-stepping method (default 2000); for exact, "
-                        "the points of the sampled time series")
+    p.add_argument(
+        "--method",
+        default="exact",
+        help="exact (default), explicit, projection, clarabel, osqp, "
+        "qpsolvers:<solver>, cvxpy:<SOLVER>; 'lcpfric methods' lists them",
+    )
+    p.add_argument(
+        "--steps",
+        default="2000",
+        metavar="N",
+        help="steps per cycle of a time-stepping method (default 2000); for exact, "
+        "the points of the sampled time series",
+    )
     p.add_argument("--tol", default="1e-10", metavar="X", help="steady-state tolerance on v")
     p.add_argument("--max-cycles", default="100", metavar="N", help="cap on cycles")
-    p.add_argument("--placement", default="contact", choices=("contact", "uniform"),
-                   help="where the steps go (default: contact)")
+    p.add_argument(
+        "--placement",
+        default="contact",
+        choices=("contact", "uniform"),
+        help="where the steps go (default: contact)",
+    )
     _common.add_memory_option(p)
 
 
@@ -42,8 +55,11 @@ def solve(args):
     from ..methods import CLOSED_FORM, get_method
 
     exact = get_method(method)[0].kind == CLOSED_FORM
-    what = (f"a time series of {steps + 1} points" if exact else
-            f"{method} with {steps} steps per cycle")
+    what = (
+        f"a time series of {steps + 1} points"
+        if exact
+        else f"{method} with {steps} steps per cycle"
+    )
     _common.check_memory(_common.steady_state_bytes(steps, method), args, "--steps", what)
 
     model, assumed = _common.case_from_args(args)
@@ -51,8 +67,9 @@ def solve(args):
 
     t0 = time.perf_counter()
     kwargs = {} if exact else {"placement": args.placement}
-    res = steady_state(model, method=method, steps_per_cycle=steps, tol=tol,
-                       max_cycles=max_cycles, **kwargs)
+    res = steady_state(
+        model, method=method, steps_per_cycle=steps, tol=tol, max_cycles=max_cycles, **kwargs
+    )
     seconds = time.perf_counter() - t0
     return model, res, seconds, assumed, exact
 
@@ -63,29 +80,45 @@ def run(args) -> int:
     samples = int(len(res.t))
     if args.json:
         out = res.summary()
-        out.update(seconds=seconds, P1_hat=model.P1_hat, Q1_hat=model.Q1_hat, phi=model.phi,
-                   steps_requested=requested, samples=samples)
+        out.update(
+            seconds=seconds,
+            P1_hat=model.P1_hat,
+            Q1_hat=model.Q1_hat,
+            phi=model.phi,
+            steps_requested=requested,
+            samples=samples,
+        )
         if exact:
             out["time_steps"] = 0
         if assumed:
             out["assumed"] = assumed
         print(json.dumps(out))
         return 0
-    print(f"P1_hat = {model.P1_hat:.6g}, Q1_hat = {model.Q1_hat:.6g}, "
-          f"phi = {model.phi:.6g} rad ({model.phi / math.pi:.4g} pi)")
+    print(
+        f"P1_hat = {model.P1_hat:.6g}, Q1_hat = {model.Q1_hat:.6g}, "
+        f"phi = {model.phi:.6g} rad ({model.phi / math.pi:.4g} pi)"
+    )
     print(f"W_hat  = {res.W_hat:.12g}   (dimensionless dissipation per cycle, Eq. 7)")
     if model.dimensional:
         print(f"W      = {res.W:.12g}   (dissipation per cycle, Eq. 5)")
     if exact:
-        print(f"method = exact: closed form (no time steps); time series sampled at {samples} "
-              f"points; {seconds * 1e3:.3g} ms")
+        print(
+            f"method = exact: closed form (no time steps); time series sampled at {samples} "
+            f"points; {seconds * 1e3:.3g} ms"
+        )
     else:
         used = res.steps_per_cycle
-        counts = (f"{used}" if used == requested else
-                  f"{requested} requested, {used} used (separation instants added)"
-                  if used > requested else f"{requested} requested, {used} used")
-        print(f"method = {res.method}: steps per cycle: {counts}; cycles = {res.cycles}, "
-              f"converged = {res.converged}, {seconds * 1e3:.3g} ms")
+        counts = (
+            f"{used}"
+            if used == requested
+            else f"{requested} requested, {used} used (separation instants added)"
+            if used > requested
+            else f"{requested} requested, {used} used"
+        )
+        print(
+            f"method = {res.method}: steps per cycle: {counts}; cycles = {res.cycles}, "
+            f"converged = {res.converged}, {seconds * 1e3:.3g} ms"
+        )
     if assumed:
         print(_common.assumed_line(assumed))
     return 0

@@ -9,11 +9,13 @@ import time
 from . import _common
 
 HELP = "compute and draw the paper's Figs. 3-7 and 9, or the contact figures (PNG and PDF)"
-DESCRIPTION = ("Compute the data of the paper's figures with the exact solution and write them as "
-               "PNG and PDF files into a directory; with --contact, the continuum contact "
-               "figures instead (Hertz maps over the phases, W against the phase and where it "
-               "peaks, stick/slip/separation zones over the cycle, plane tractions beside "
-               "Cattaneo's). " + _common.OUTPUT_RULE)
+DESCRIPTION = (
+    "Compute the data of the paper's figures with the exact solution and write them as "
+    "PNG and PDF files into a directory; with --contact, the continuum contact "
+    "figures instead (Hertz maps over the phases, W against the phase and where it "
+    "peaks, stick/slip/separation zones over the cycle, plane tractions beside "
+    "Cattaneo's). " + _common.OUTPUT_RULE
+)
 #: API parameter names that differ from the option's name
 OPTIONS = {"formats": "--format"}
 #: phases of the maps of Figs. 3 and 4 (φ = kπ/10, k = 0..10)
@@ -23,17 +25,31 @@ CURVES = 8
 
 
 def configure(p) -> None:
-    p.add_argument("--out", required=True, metavar="DIR",
-                   help="output directory (created; its parent must exist)")
-    p.add_argument("--grid", default=None, metavar="N",
-                   help="points per axis of the maps (default 101, as in the paper; 41 with "
-                        "--contact)")
-    p.add_argument("--contact", action="store_true",
-                   help="the continuum contact figures (Hertz contact by MDR, cylinder by "
-                        "half-plane elements)")
+    p.add_argument(
+        "--out",
+        required=True,
+        metavar="DIR",
+        help="output directory (created; its parent must exist)",
+    )
+    p.add_argument(
+        "--grid",
+        default=None,
+        metavar="N",
+        help="points per axis of the maps (default 101, as in the paper; 41 with --contact)",
+    )
+    p.add_argument(
+        "--contact",
+        action="store_true",
+        help="the continuum contact figures (Hertz contact by MDR, cylinder by "
+        "half-plane elements)",
+    )
     p.add_argument("--points", default="361", metavar="N", help="points per curve (default 361)")
-    p.add_argument("--format", default="png,pdf", metavar="LIST",
-                   help="comma-separated file formats among png, pdf, svg (default png,pdf)")
+    p.add_argument(
+        "--format",
+        default="png,pdf",
+        metavar="LIST",
+        help="comma-separated file formats among png, pdf, svg (default png,pdf)",
+    )
     p.add_argument("--json", action="store_true", help="print the files written as JSON")
     _common.add_memory_option(p)
 
@@ -43,14 +59,18 @@ def run(args) -> int:
     out = _common.output_dir(args.out, "--out")
     from .. import _checks
 
-    grid = _checks.positive_int("--grid", args.grid or ("41" if args.contact else "101"),
-                                minimum=3)
+    grid = _checks.positive_int("--grid", args.grid or ("41" if args.contact else "101"), minimum=3)
     points = _checks.positive_int("--points", args.points, minimum=3)
     formats = [f.strip().lower() for f in str(args.format).split(",") if f.strip()]
-    need = (_common.map_bytes(float(grid) ** 2 * MAP_PHASES, 2 * grid + MAP_PHASES)
-            + _common.map_bytes(float(points) * CURVES))
-    _common.check_memory(need, args, "--grid" if grid ** 2 * MAP_PHASES > points * CURVES
-                         else "--points", f"figures with --grid {grid} and --points {points}")
+    need = _common.map_bytes(
+        float(grid) ** 2 * MAP_PHASES, 2 * grid + MAP_PHASES
+    ) + _common.map_bytes(float(points) * CURVES)
+    _common.check_memory(
+        need,
+        args,
+        "--grid" if grid**2 * MAP_PHASES > points * CURVES else "--points",
+        f"figures with --grid {grid} and --points {points}",
+    )
 
     if args.contact:
         from ..figures.contact import write_contact_figures as write_figures
@@ -61,16 +81,22 @@ def run(args) -> int:
     t0 = time.perf_counter()
     try:
         extra = {} if args.contact else {"points": points}
-        paths = write_figures(out, grid=grid, formats=formats, **extra,
-                              progress=lambda line: print(line, file=sys.stderr, flush=True))
+        paths = write_figures(
+            out,
+            grid=grid,
+            formats=formats,
+            **extra,
+            progress=lambda line: print(line, file=sys.stderr, flush=True),
+        )
     except BaseException:
         _common.remove_created(out, before, existed)
         raise
     seconds = time.perf_counter() - t0
     if args.json:
-        print(json.dumps({"out": str(out), "files": [str(p) for p in paths],
-                          "seconds": seconds}))
+        print(json.dumps({"out": str(out), "files": [str(p) for p in paths], "seconds": seconds}))
     else:
-        print(f"wrote {len(paths)} files to {out} in {seconds:.2f} s: "
-              + ", ".join(p.name for p in paths))
+        print(
+            f"wrote {len(paths)} files to {out} in {seconds:.2f} s: "
+            + ", ".join(p.name for p in paths)
+        )
     return 0

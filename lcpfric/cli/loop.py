@@ -8,19 +8,25 @@ import math
 from . import _common, dissipation
 
 HELP = "hysteresis loop of one load case: F against v over the steady cycle"
-DESCRIPTION = ("Compute the steady state of one load case (the options of 'lcpfric "
-               "dissipation') and report its hysteresis loop, the friction force against the "
-               "tangential displacement over the steady cycle, whose enclosed area is the "
-               "dissipation per cycle W; with --out, draw it (stick, slip and separation "
-               "coloured) as a PNG, PDF or SVG figure. " + _common.OUTPUT_RULE)
+DESCRIPTION = (
+    "Compute the steady state of one load case (the options of 'lcpfric "
+    "dissipation') and report its hysteresis loop, the friction force against the "
+    "tangential displacement over the steady cycle, whose enclosed area is the "
+    "dissipation per cycle W; with --out, draw it (stick, slip and separation "
+    "coloured) as a PNG, PDF or SVG figure. " + _common.OUTPUT_RULE
+)
 OPTIONS = dict(dissipation.OPTIONS)
 FORMATS = (".png", ".pdf", ".svg")
 
 
 def configure(p) -> None:
     dissipation.configure(p)
-    p.add_argument("--out", default=None, metavar="FILE",
-                   help="draw the loop into FILE (.png, .pdf or .svg; its parent must exist)")
+    p.add_argument(
+        "--out",
+        default=None,
+        metavar="FILE",
+        help="draw the loop into FILE (.png, .pdf or .svg; its parent must exist)",
+    )
 
 
 def run(args) -> int:
@@ -37,20 +43,32 @@ def run(args) -> int:
     shares = {State(code).label: float((loop.state[1:] == code).mean()) for code in State}
     if out is not None:
         units = ("", "") if not model.dimensional else ("displacement", "force")
-        fig = figure_loop(loop, title=f"{res.method}, P̂1 = {model.P1_hat:.4g}, "
-                                      f"Q̂1 = {model.Q1_hat:.4g}, φ = {model.phi / math.pi:.4g}π",
-                          units=units)
+        fig = figure_loop(
+            loop,
+            title=f"{res.method}, P̂1 = {model.P1_hat:.4g}, "
+            f"Q̂1 = {model.Q1_hat:.4g}, φ = {model.phi / math.pi:.4g}π",
+            units=units,
+        )
         fig.savefig(out)
-    summary = {"area": loop.area, "W": res.W, "W_hat": res.W_hat, "method": res.method,
-               "points": int(loop.v.size), "shares": shares, "seconds": seconds,
-               "out": None if out is None else str(out)}
+    summary = {
+        "area": loop.area,
+        "W": res.W,
+        "W_hat": res.W_hat,
+        "method": res.method,
+        "points": int(loop.v.size),
+        "shares": shares,
+        "seconds": seconds,
+        "out": None if out is None else str(out),
+    }
     if assumed:
         summary["assumed"] = assumed
     if args.json:
         print(json.dumps(summary))
         return 0
-    print(f"hysteresis loop of {res.method}: {loop.v.size} points; enclosed area -∮F dv = "
-          f"{loop.area:.10g}, W = {res.W:.10g} (W_hat = {res.W_hat:.10g})")
+    print(
+        f"hysteresis loop of {res.method}: {loop.v.size} points; enclosed area -∮F dv = "
+        f"{loop.area:.10g}, W = {res.W:.10g} (W_hat = {res.W_hat:.10g})"
+    )
     print("share of the cycle: " + ", ".join(f"{k} {v:.1%}" for k, v in shares.items()))
     if out is not None:
         print(f"wrote {out}")

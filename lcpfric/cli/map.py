@@ -15,61 +15,118 @@ if TYPE_CHECKING:
     from pathlib import Path
 
 HELP = "compute a dissipation map W_hat(phi, P1, Q1) and write it to NetCDF"
-DESCRIPTION = ("Compute W_hat on the grid phi x P1 x Q1 and write it to a NetCDF file (with "
-               "--contact sphere: W k_t0/(mu^2 P0^2) of the Hertz contact by dimensionality "
-               "reduction over P1/P0, Q1/(mu P0) and phi). Finished "
-               "chunks are saved next to the output (<out>.parts) and an interrupted run resumes "
-               "when the same command is run again. " + _common.OUTPUT_RULE)
+DESCRIPTION = (
+    "Compute W_hat on the grid phi x P1 x Q1 and write it to a NetCDF file (with "
+    "--contact sphere: W k_t0/(mu^2 P0^2) of the Hertz contact by dimensionality "
+    "reduction over P1/P0, Q1/(mu P0) and phi). Finished "
+    "chunks are saved next to the output (<out>.parts) and an interrupted run resumes "
+    "when the same command is run again. " + _common.OUTPUT_RULE
+)
 #: API parameter names that differ from the option's name
-OPTIONS = {"steps_per_cycle": "--steps", "store": "--out", "k_support": "--k-support",
-           "nodes": "--nodes"}
+OPTIONS = {
+    "steps_per_cycle": "--steps",
+    "store": "--out",
+    "k_support": "--k-support",
+    "nodes": "--nodes",
+}
 DIMS = ("phi", "P1", "Q1")
 
 
 def configure(p) -> None:
-    p.add_argument("--P1", required=True, metavar="START:STOP:NUM",
-                   help="normal amplitudes P1/P0: START:STOP:NUM (NUM points, ends included) or "
-                        "a comma-separated list")
-    p.add_argument("--Q1", required=True, metavar="START:STOP:NUM",
-                   help="tangential amplitudes Q1/(f P0): START:STOP:NUM or a list")
-    p.add_argument("--phi", required=True, metavar="LIST",
-                   help="phases: comma-separated radians or multiples of pi (0,0.6pi,pi/2; "
-                        "negative ones too: -0.5pi,0.5pi), or START:STOP:NUM (0:pi:11)")
-    p.add_argument("--out", required=True, metavar="FILE.nc",
-                   help="output NetCDF file; must end in .nc, in an existing directory")
-    p.add_argument("--method", default=None,
-                   help="method (default: exact; with --contact, the contact's own: mdr-bar "
-                        "or newton-cg)")
-    g = p.add_argument_group("continuum contact",
-                             "map a continuum contact instead of the single node")
-    g.add_argument("--contact", choices=("sphere",), default=None,
-                   help="sphere: the Hertz contact (then --Q1 is Q1/(mu P0))")
-    g.add_argument("--contact-model", choices=("mdr", "halfspace"), default="mdr",
-                   help="mdr (dimensionality reduction, default) or halfspace (boundary "
-                        "elements on a grid)")
-    g.add_argument("--k-support", default="0", metavar="K",
-                   help="tangential support stiffness over k_t0 (default 0: pure load control; "
-                        "loads with |Q| > mu P at some instant are then NaN)")
-    g.add_argument("--nodes", default="200", metavar="N",
-                   help="mdr: springs across the largest contact radius (default 200)")
-    g.add_argument("--grid", default="20", metavar="N",
-                   help="halfspace: elements across the largest contact (default 20)")
-    g.add_argument("--dims", default="1", choices=("1", "2"),
-                   help="halfspace: tangential directions (default 1)")
-    g.add_argument("--nu", default="0", metavar="X",
-                   help="halfspace: Poisson's ratio (default 0)")
-    p.add_argument("--steps", default=None, metavar="N",
-                   help="steps per cycle for time-stepping methods")
-    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                   help="Dask scheduler address, tcp://HOST:PORT or HOST:PORT (default: local "
-                        "processes)")
-    p.add_argument("--processes", default=None, metavar="N",
-                   help="local worker processes (default: all cores when it pays)")
-    p.add_argument("--chunk-size", default=None, metavar="N",
-                   help="grid points per saved chunk")
-    p.add_argument("--restart", action="store_true",
-                   help="delete the output and the saved chunks of an earlier run first, and "
-                        "compute everything again")
+    p.add_argument(
+        "--P1",
+        required=True,
+        metavar="START:STOP:NUM",
+        help="normal amplitudes P1/P0: START:STOP:NUM (NUM points, ends included) or "
+        "a comma-separated list",
+    )
+    p.add_argument(
+        "--Q1",
+        required=True,
+        metavar="START:STOP:NUM",
+        help="tangential amplitudes Q1/(f P0): START:STOP:NUM or a list",
+    )
+    p.add_argument(
+        "--phi",
+        required=True,
+        metavar="LIST",
+        help="phases: comma-separated radians or multiples of pi (0,0.6pi,pi/2; "
+        "negative ones too: -0.5pi,0.5pi), or START:STOP:NUM (0:pi:11)",
+    )
+    p.add_argument(
+        "--out",
+        required=True,
+        metavar="FILE.nc",
+        help="output NetCDF file; must end in .nc, in an existing directory",
+    )
+    p.add_argument(
+        "--method",
+        default=None,
+        help="method (default: exact; with --contact, the contact's own: mdr-bar or newton-cg)",
+    )
+    g = p.add_argument_group(
+        "continuum contact", "map a continuum contact instead of the single node"
+    )
+    g.add_argument(
+        "--contact",
+        choices=("sphere",),
+        default=None,
+        help="sphere: the Hertz contact (then --Q1 is Q1/(mu P0))",
+    )
+    g.add_argument(
+        "--contact-model",
+        choices=("mdr", "halfspace"),
+        default="mdr",
+        help="mdr (dimensionality reduction, default) or halfspace (boundary elements on a grid)",
+    )
+    g.add_argument(
+        "--k-support",
+        default="0",
+        metavar="K",
+        help="tangential support stiffness over k_t0 (default 0: pure load control; "
+        "loads with |Q| > mu P at some instant are then NaN)",
+    )
+    g.add_argument(
+        "--nodes",
+        default="200",
+        metavar="N",
+        help="mdr: springs across the largest contact radius (default 200)",
+    )
+    g.add_argument(
+        "--grid",
+        default="20",
+        metavar="N",
+        help="halfspace: elements across the largest contact (default 20)",
+    )
+    g.add_argument(
+        "--dims",
+        default="1",
+        choices=("1", "2"),
+        help="halfspace: tangential directions (default 1)",
+    )
+    g.add_argument("--nu", default="0", metavar="X", help="halfspace: Poisson's ratio (default 0)")
+    p.add_argument(
+        "--steps", default=None, metavar="N", help="steps per cycle for time-stepping methods"
+    )
+    p.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="Dask scheduler address, tcp://HOST:PORT or HOST:PORT (default: local processes)",
+    )
+    p.add_argument(
+        "--processes",
+        default=None,
+        metavar="N",
+        help="local worker processes (default: all cores when it pays)",
+    )
+    p.add_argument("--chunk-size", default=None, metavar="N", help="grid points per saved chunk")
+    p.add_argument(
+        "--restart",
+        action="store_true",
+        help="delete the output and the saved chunks of an earlier run first, and "
+        "compute everything again",
+    )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     _common.add_memory_option(p)
@@ -91,8 +148,10 @@ def grid_count(text) -> int | None:
     return len([s for s in text.split(",") if s.strip()])
 
 
-_ADDRESS = re.compile(r"^(?:(?P<scheme>[A-Za-z][A-Za-z0-9+.-]*)://)?"
-                      r"(?P<host>\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):(?P<port>\d{1,5})$")
+_ADDRESS = re.compile(
+    r"^(?:(?P<scheme>[A-Za-z][A-Za-z0-9+.-]*)://)?"
+    r"(?P<host>\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):(?P<port>\d{1,5})$"
+)
 _SCHEMES = ("tcp", "tls", "ws", "wss", "ucx")
 PROBE_SECONDS = 5.0
 
@@ -105,22 +164,28 @@ def scheduler_address(text) -> str:
     m = _ADDRESS.match(s)
     scheme = (m.group("scheme") or "tcp").lower() if m else ""
     if m is None or scheme not in _SCHEMES or not 0 < int(m.group("port")) < 65536:
-        raise InputError("--scheduler", f"{text!r} is not a Dask scheduler address; give "
-                                        "tcp://HOST:PORT or HOST:PORT, e.g. tcp://10.0.0.5:8786")
+        raise InputError(
+            "--scheduler",
+            f"{text!r} is not a Dask scheduler address; give "
+            "tcp://HOST:PORT or HOST:PORT, e.g. tcp://10.0.0.5:8786",
+        )
     host, port = m.group("host").strip("[]"), int(m.group("port"))
     address = s if m.group("scheme") else f"tcp://{s}"
     if scheme != "ucx":
         try:
             socket.create_connection((host, port), timeout=PROBE_SECONDS).close()
         except socket.gaierror:
-            raise InputError("--scheduler", f"cannot reach the Dask scheduler at {address}: "
-                                            f"unknown host {host!r}") from None
+            raise InputError(
+                "--scheduler",
+                f"cannot reach the Dask scheduler at {address}: unknown host {host!r}",
+            ) from None
         except (OSError, TimeoutError) as exc:
             reason = getattr(exc, "strerror", None) or type(exc).__name__
             if isinstance(exc, TimeoutError):
                 reason = f"no answer within {PROBE_SECONDS:g} s"
-            raise InputError("--scheduler", f"cannot reach the Dask scheduler at {address}: "
-                                            f"{reason}") from None
+            raise InputError(
+                "--scheduler", f"cannot reach the Dask scheduler at {address}: {reason}"
+            ) from None
     return address
 
 
@@ -139,8 +204,10 @@ def connect(address: str):
         reason = "what answers there does not speak Dask's protocol"
     except Exception as exc:  # OSError, TimeoutError, a protocol error...
         reason = f"{type(exc).__name__}: {exc}"
-    raise InputError("--scheduler", f"cannot connect to a Dask scheduler at {address}: "
-                                    f"{_common.one_line(reason)}")
+    raise InputError(
+        "--scheduler",
+        f"cannot connect to a Dask scheduler at {address}: {_common.one_line(reason)}",
+    )
 
 
 def _chunk_files(store: Path) -> list[Path]:
@@ -167,20 +234,27 @@ def run(args) -> int:
     method = None if args.method is None else str(args.method).strip()
     contact = None
     if args.contact is not None:
-        contact = {"geometry": args.contact,
-                   "k_support": _checks.nonnegative(
-                       "--k-support", _checks.parse_number(args.k_support, "--k-support"))}
+        contact = {
+            "geometry": args.contact,
+            "k_support": _checks.nonnegative(
+                "--k-support", _checks.parse_number(args.k_support, "--k-support")
+            ),
+        }
         if args.contact_model == "halfspace":
             nu = _checks.parse_number(args.nu, "--nu")
             if not 0.0 <= nu < 0.5:
                 raise InputError("--nu", f"must be in [0, 0.5), got {args.nu!r}")
-            contact.update(model="halfspace", grid=_checks.positive_int("--grid", args.grid, 8),
-                           dims=int(args.dims), nu=nu)
+            contact.update(
+                model="halfspace",
+                grid=_checks.positive_int("--grid", args.grid, 8),
+                dims=int(args.dims),
+                nu=nu,
+            )
         else:
             contact["nodes"] = _checks.positive_int("--nodes", args.nodes)
         from ..analysis.contact_maps import map_spec
 
-        own = map_spec(contact, None, method)[3]   # checks that the method solves it
+        own = map_spec(contact, None, method)[3]  # checks that the method solves it
         method = own if method is None else method
     elif method is None:
         method = "exact"
@@ -192,23 +266,33 @@ def run(args) -> int:
     out = _common.output_file(args.out, "--out", ".nc")
     store = out.with_name(out.name + ".parts")
     if store.exists() and not store.is_dir():
-        raise InputError("--out", f"{str(store)!r} (where the finished chunks are saved) exists "
-                                  "and is not a directory")
+        raise InputError(
+            "--out",
+            f"{str(store)!r} (where the finished chunks are saved) exists and is not a directory",
+        )
     steps = None if args.steps is None else _checks.positive_int("--steps", args.steps, 4)
-    processes = (None if args.processes is None else
-                 _checks.positive_int("--processes", args.processes))
-    chunk_size = (None if args.chunk_size is None else
-                  _checks.positive_int("--chunk-size", args.chunk_size))
+    processes = (
+        None if args.processes is None else _checks.positive_int("--processes", args.processes)
+    )
+    chunk_size = (
+        None if args.chunk_size is None else _checks.positive_int("--chunk-size", args.chunk_size)
+    )
 
     counts = {d: grid_count(getattr(args, d)) for d in DIMS}
     if all(c is not None and c > 0 for c in counts.values()):
         n = counts["phi"] * counts["P1"] * counts["Q1"]
         workers = 1 if args.scheduler is not None else _common.workers_for(processes)
-        need = (_common.map_bytes(n, sum(counts.values()), method, steps, chunk_size, workers)
-                if contact is None else 8.0 * 4 * n)  # the sweep checks its chunks itself
-        _common.check_memory(need, args, "--P1, --Q1, --phi",
-                             f"a map of {counts['phi']} x {counts['P1']} x {counts['Q1']} = "
-                             f"{n:.4g} points")
+        need = (
+            _common.map_bytes(n, sum(counts.values()), method, steps, chunk_size, workers)
+            if contact is None
+            else 8.0 * 4 * n
+        )  # the sweep checks its chunks itself
+        _common.check_memory(
+            need,
+            args,
+            "--P1, --Q1, --phi",
+            f"a map of {counts['phi']} x {counts['P1']} x {counts['Q1']} = {n:.4g} points",
+        )
     from ._grids import parse_grid
 
     P1 = parse_grid(args.P1, "--P1")
@@ -226,15 +310,28 @@ def run(args) -> int:
 
     client = None if scheduler is None else connect(scheduler)
     try:
-        ds = sweep(P1, Q1, phi, method=method,
-                   steps_per_cycle=steps, chunk_size=chunk_size, out=out,
-                   resume=not args.restart, scheduler=client, processes=processes,
-                   progress=progress, contact=contact)
+        ds = sweep(
+            P1,
+            Q1,
+            phi,
+            method=method,
+            steps_per_cycle=steps,
+            chunk_size=chunk_size,
+            out=out,
+            resume=not args.restart,
+            scheduler=client,
+            processes=processes,
+            progress=progress,
+            contact=contact,
+        )
     except KeyboardInterrupt:
         saved = len(_chunk_files(store))
         if saved:
-            print(f"interrupted: {saved} finished chunks are saved in {store}; run the same "
-                  "command again to resume", file=sys.stderr)
+            print(
+                f"interrupted: {saved} finished chunks are saved in {store}; run the same "
+                "command again to resume",
+                file=sys.stderr,
+            )
         else:
             if not store_existed:
                 remove_store(store)
@@ -243,8 +340,11 @@ def run(args) -> int:
     except BaseException as exc:
         saved = len(_chunk_files(store))
         if saved:
-            _common.add_note(exc, f"{saved} finished chunks are kept in {store}; run the same "
-                                  "command again to resume")
+            _common.add_note(
+                exc,
+                f"{saved} finished chunks are kept in {store}; run the same "
+                "command again to resume",
+            )
         elif not store_existed:
             remove_store(store)
         raise
@@ -261,26 +361,34 @@ def _report(ds, out: Path, as_json: bool) -> int:
     W = ds[name]
     defined = int(W.count())
     summary = {
-        "out": str(out), "method": ds.attrs["method"],
-        "shape": {d: int(ds.sizes[d]) for d in DIMS}, "points": int(W.size),
-        "seconds": round(float(ds.attrs["seconds"]), 4), "executor": ds.attrs["executor"],
+        "out": str(out),
+        "method": ds.attrs["method"],
+        "shape": {d: int(ds.sizes[d]) for d in DIMS},
+        "points": int(W.size),
+        "seconds": round(float(ds.attrs["seconds"]), 4),
+        "executor": ds.attrs["executor"],
         "chunks_computed": int(ds.attrs["chunks_computed"]),
         "chunks_reused": int(ds.attrs["chunks_reused"]),
-        f"{name}_max": None, "undefined_points": int(W.size) - defined, "at": None,
+        f"{name}_max": None,
+        "undefined_points": int(W.size) - defined,
+        "at": None,
     }
     for key in ("unconverged_points", "no_equilibrium_points"):
         if key in ds.attrs:
             summary[key] = int(ds.attrs[key])
-    if defined:                                     # NaN points are skipped (and counted)
+    if defined:  # NaN points are skipped (and counted)
         where = W.fillna(-np.inf).argmax(...)
         summary[f"{name}_max"] = float(W.max(skipna=True))
         summary["at"] = {d: float(ds[d][where[d]]) for d in DIMS}
     if as_json:
         print(json.dumps(summary))
         return 0
-    best = (f"max {name} = {summary[name + '_max']:.6g} at "
-            f"{', '.join(f'{d}={v:.4g}' for d, v in summary['at'].items())}" if defined
-            else f"no point has a {name}")
+    best = (
+        f"max {name} = {summary[name + '_max']:.6g} at "
+        f"{', '.join(f'{d}={v:.4g}' for d, v in summary['at'].items())}"
+        if defined
+        else f"no point has a {name}"
+    )
     nan = ""
     if summary["undefined_points"]:
         parts = []
@@ -289,9 +397,12 @@ def _report(ds, out: Path, as_json: bool) -> int:
         if summary.get("unconverged_points"):
             parts.append(f"{summary['unconverged_points']} that reached no steady state")
         nan = f"; NaN at {summary['undefined_points']} points" + (
-            f" ({', '.join(parts)})" if parts else "")
-    print(f"wrote {out}: {name} on {W.size} points (phi x P1 x Q1 = "
-          f"{' x '.join(str(v) for v in summary['shape'].values())}) by {summary['method']} "
-          f"in {summary['seconds']:.3g} s [{summary['executor']}; "
-          f"{summary['chunks_reused']} of {ds.attrs['chunks']} chunks reused]; {best}{nan}")
+            f" ({', '.join(parts)})" if parts else ""
+        )
+    print(
+        f"wrote {out}: {name} on {W.size} points (phi x P1 x Q1 = "
+        f"{' x '.join(str(v) for v in summary['shape'].values())}) by {summary['method']} "
+        f"in {summary['seconds']:.3g} s [{summary['executor']}; "
+        f"{summary['chunks_reused']} of {ds.attrs['chunks']} chunks reused]; {best}{nan}"
+    )
     return 0

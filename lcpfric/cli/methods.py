@@ -5,16 +5,21 @@ from __future__ import annotations
 import json
 
 HELP = "list the methods usable on this installation and what each solves"
-DESCRIPTION = ("List the method names --method accepts here (the built-in ones and those of the "
-               "installed solver packages), each with its kind, the tangential directions and "
-               "the models it solves; with --names, the names alone.")
+DESCRIPTION = (
+    "List the method names --method accepts here (the built-in ones and those of the "
+    "installed solver packages), each with its kind, the tangential directions and "
+    "the models it solves; with --names, the names alone."
+)
 OPTIONS: dict = {}
 
 
 def configure(p) -> None:
     p.add_argument("--names", action="store_true", help="the names alone, one per line")
-    p.add_argument("--json", action="store_true",
-                   help="print a JSON list of {name, kind, dims, models, accepts, summary}")
+    p.add_argument(
+        "--json",
+        action="store_true",
+        help="print a JSON list of {name, kind, dims, models, accepts, summary}",
+    )
 
 
 def run(args) -> int:
@@ -24,9 +29,16 @@ def run(args) -> int:
     rows = []
     for name in names:
         entry, _ = get_method(name)
-        rows.append({"name": name, "kind": entry.kind, "dims": list(entry.dims),
-                     "models": list(entry.models), "accepts": entry.accepts,
-                     "summary": entry.summary})
+        rows.append(
+            {
+                "name": name,
+                "kind": entry.kind,
+                "dims": list(entry.dims),
+                "models": list(entry.models),
+                "accepts": entry.accepts,
+                "summary": entry.summary,
+            }
+        )
     if args.json:
         print(json.dumps(rows))
     elif args.names:

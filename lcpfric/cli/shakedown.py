@@ -7,8 +7,10 @@ import json
 from . import _common
 
 HELP = "does the load case shake down? (exact)"
-DESCRIPTION = ("Decide exactly whether a constant slip shift keeps the node in stick for ever "
-               "(then W = 0): the load ellipse, shifted along Q, fits between Q = ±P.")
+DESCRIPTION = (
+    "Decide exactly whether a constant slip shift keeps the node in stick for ever "
+    "(then W = 0): the load ellipse, shifted along Q, fits between Q = ±P."
+)
 OPTIONS: dict = {}
 
 
@@ -28,11 +30,14 @@ def run(args) -> int:
         print(json.dumps(out))
         return 0
     if res.shakedown:
-        print(f"shakedown: yes (a constant shift c = {res.shift:.6g} f P0 keeps the node in "
-              f"stick; margin {res.margin:.3g})")
+        print(
+            f"shakedown: yes (a constant shift c = {res.shift:.6g} f P0 keeps the node in "
+            f"stick; margin {res.margin:.3g})"
+        )
     else:
-        print(f"shakedown: no (the load ellipse does not fit between Q = ±P; margin "
-              f"{res.margin:.3g})")
+        print(
+            f"shakedown: no (the load ellipse does not fit between Q = ±P; margin {res.margin:.3g})"
+        )
     if assumed:
         print(_common.assumed_line(assumed))
     return 0

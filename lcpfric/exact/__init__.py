@@ -108,5 +108,14 @@ from .api import ExactCycle, exact_cycle, exact_W_hat
 from .discrete import exact_system_cycle
 from .formulas import BACKWARD, FORWARD, MAX_AMPLITUDE, SEPARATION, STICK
 
-__all__ = ["exact_W_hat", "ExactCycle", "exact_cycle", "exact_system_cycle", "STICK", "FORWARD",
-           "BACKWARD", "SEPARATION", "MAX_AMPLITUDE"]
+__all__ = [
+    "exact_W_hat",
+    "ExactCycle",
+    "exact_cycle",
+    "exact_system_cycle",
+    "STICK",
+    "FORWARD",
+    "BACKWARD",
+    "SEPARATION",
+    "MAX_AMPLITUDE",
+]

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .formulas import (BACKWARD, FORWARD, MAX_AMPLITUDE, SEPARATION, STICK, TWO_PI)
+from .formulas import BACKWARD, FORWARD, MAX_AMPLITUDE, SEPARATION, STICK, TWO_PI
 from .scalar import run_scalar
 from .vectorized import run_vectorized
 from dataclasses import dataclass
@@ -34,15 +34,23 @@ def _validated(P1, Q1, phi):
     try:
         P1, Q1, phi = np.broadcast_arrays(P1, Q1, phi)
     except ValueError:
-        raise InputError("P1, Q1, phi", f"shapes {P1.shape}, {Q1.shape} and {phi.shape} do not "
-                                        "broadcast together") from None
+        raise InputError(
+            "P1, Q1, phi",
+            f"shapes {P1.shape}, {Q1.shape} and {phi.shape} do not broadcast together",
+        ) from None
     shape = P1.shape
     phi = phi.ravel()
     # sin and cos of the caller's φ are exact to round-off for any φ; φ reduced through them
     # stays consistent with them (φ mod the double 2π would drift by 2.4e-16 per turn)
     sphi, cphi = np.sin(phi), np.cos(phi)
-    return (P1.ravel().astype(float), Q1.ravel().astype(float),
-            np.mod(np.arctan2(sphi, cphi), TWO_PI), sphi, cphi, shape)
+    return (
+        P1.ravel().astype(float),
+        Q1.ravel().astype(float),
+        np.mod(np.arctan2(sphi, cphi), TWO_PI),
+        sphi,
+        cphi,
+        shape,
+    )
 
 
 def _scalar_error(P1, Q1, phi):
@@ -161,8 +169,7 @@ class ExactCycle:
 
     def _locate(self, theta):
         x = self._starts[0] + np.mod(np.asarray(theta, dtype=float) - self._starts[0], TWO_PI)
-        idx = np.clip(np.searchsorted(self._starts, x, side="right") - 1, 0,
-                      self._starts.size - 1)
+        idx = np.clip(np.searchsorted(self._starts, x, side="right") - 1, 0, self._starts.size - 1)
         return x, idx
 
     def state(self, theta: ArrayLike) -> np.ndarray | np.int8:
@@ -239,21 +246,23 @@ def exact_cycle(P1: float, Q1: float, phi: float) -> ExactCycle:
     """
     p, q, f, sf, cf, _ = _validated(P1, Q1, phi)
     if p.size != 1:
-        raise InputError("P1", "exact_cycle takes one point (scalars); use exact_W_hat for "
-                               "arrays")
+        raise InputError("P1", "exact_cycle takes one point (scalars); use exact_W_hat for arrays")
     p, q, f, sf, cf = float(p[0]), float(q[0]), float(f[0]), float(sf[0]), float(cf[0])
     if q > 0.0:
         W, segments = run_scalar(p, q, f, sf, cf)
     else:  # Q̂1 = 0: w stays where it is (any constant; 0 here) and nothing slips
         W, segments = 0.0, _zero_load_segments(p)
-    segs = tuple((float(a), float(b), int(s), float(w0)) for a, b, s, w0 in segments
-                 if b > a or s == STICK)
+    segs = tuple(
+        (float(a), float(b), int(s), float(w0)) for a, b, s, w0 in segments if b > a or s == STICK
+    )
     return ExactCycle(p, q, f, max(W, 0.0), segs)
 
 
 def _zero_load_segments(P1):
     if P1 >= 1.0:
         a = math.asin(1.0 / P1)
-        return [(TWO_PI - a, 3 * math.pi + a, STICK, 0.0),
-                (3 * math.pi + a, 4 * math.pi - a, SEPARATION, float("nan"))]
+        return [
+            (TWO_PI - a, 3 * math.pi + a, STICK, 0.0),
+            (3 * math.pi + a, 4 * math.pi - a, SEPARATION, float("nan")),
+        ]
     return [(0.0, TWO_PI, STICK, 0.0)]

@@ -92,8 +92,14 @@ from .triples import TWO_PI, harmonic_triples, next_entry, segment_dissipation, 
 if TYPE_CHECKING:
     from ..model import ContactSystem
 
-__all__ = ["DiscreteCycle", "harmonic_triples", "next_entry", "segment_dissipation",
-           "exact_system_cycle", "check_system"]
+__all__ = [
+    "DiscreteCycle",
+    "harmonic_triples",
+    "next_entry",
+    "segment_dissipation",
+    "exact_system_cycle",
+    "check_system",
+]
 
 STICK = int(State.STICK)
 _EPS = float(np.finfo(float).eps)
@@ -176,21 +182,36 @@ def check_system(system):
     if not isinstance(system, ContactSystem):
         raise InputError("model", f"expected a ContactSystem, got {type(system).__name__}")
     if system.dims != 1:
-        raise InputError("method", "'exact' for a ContactSystem handles d = 1; for d = 2 use "
-                                   "'clarabel' or 'cvxpy:CLARABEL'")
+        raise InputError(
+            "method",
+            "'exact' for a ContactSystem handles d = 1; for d = 2 use "
+            "'clarabel' or 'cvxpy:CLARABEL'",
+        )
     if not isinstance(system.normal, IndependentSprings):
-        raise InputError("normal", "'exact' needs independent normal springs "
-                                   "(IndependentSprings); use 'explicit' or a solver backend")
-    omegas = [q.omega for q in (*system.tangential_loads, *system.normal.loads)
-              if getattr(q, "amplitudes", ()) and any(q.amplitudes)]
+        raise InputError(
+            "normal",
+            "'exact' needs independent normal springs "
+            "(IndependentSprings); use 'explicit' or a solver backend",
+        )
+    omegas = [
+        q.omega
+        for q in (*system.tangential_loads, *system.normal.loads)
+        if getattr(q, "amplitudes", ()) and any(q.amplitudes)
+    ]
     omega = omegas[0] if omegas else 1.0
     Qt = harmonic_triples(system.tangential_loads, omega, "tangential_loads")
     Pt = harmonic_triples(system.normal.loads, omega, "normal_loads")
     return omega, Qt, Pt
 
 
-def exact_system_cycle(system: ContactSystem, samples: int = 2000, *, tol: float = 1e-12,
-                       max_cycles: int = 200, max_events: int | None = None) -> DiscreteCycle:
+def exact_system_cycle(
+    system: ContactSystem,
+    samples: int = 2000,
+    *,
+    tol: float = 1e-12,
+    max_cycles: int = 200,
+    max_events: int | None = None,
+) -> DiscreteCycle:
     """The exact periodic steady state of a :class:`~lcpfric.model.ContactSystem`.
 
     For d = 1, harmonic loads of one frequency and independent normal springs. Event by event within a cycle, Newton's method on the cycle map between cycles (see the
@@ -245,13 +266,20 @@ def exact_system_cycle(system: ContactSystem, samples: int = 2000, *, tol: float
     n = f.size
     from .. import memory
 
-    memory.check(8.0 * (6.0 * n * n + 3.0 * n * (samples + 1)), "model",
-                 f"the exact steady state of {n} nodes (dense n x n matrices: K, K_BB⁻¹, the "
-                 f"cycle's Jacobian)")
+    memory.check(
+        8.0 * (6.0 * n * n + 3.0 * n * (samples + 1)),
+        "model",
+        f"the exact steady state of {n} nodes (dense n x n matrices: K, K_BB⁻¹, the "
+        f"cycle's Jacobian)",
+    )
     K = system.dense_stiffness().astype(float)
     # forces of order one: divide by a power of two (exact), W scales by its square
-    size = float(max(np.max(np.abs(Qt[:, 0]) + np.hypot(Qt[:, 1], Qt[:, 2])),
-                     np.max(f * (np.abs(Pt[:, 0]) + np.hypot(Pt[:, 1], Pt[:, 2])))))
+    size = float(
+        max(
+            np.max(np.abs(Qt[:, 0]) + np.hypot(Qt[:, 1], Qt[:, 2])),
+            np.max(f * (np.abs(Pt[:, 0]) + np.hypot(Pt[:, 1], Pt[:, 2]))),
+        )
+    )
     scale = 2.0 ** round(math.log2(size)) if size > 0 and math.isfinite(size) else 1.0
     kappa = _condition(K)
     # a constant tangential load Q0 only shifts u by -K⁻¹ Q0 (F = Q + K u is unchanged): it is
@@ -259,15 +287,14 @@ def exact_system_cycle(system: ContactSystem, samples: int = 2000, *, tol: float
     Q0 = Qt[:, 0].copy()
     Qt = Qt.copy()
     Qt[:, 0] = 0.0
-    solver = EventSolver(K, f, Qt / scale, Pt / scale, samples,
-                     max_events or 200 * n + 1000, kappa)
+    solver = EventSolver(K, f, Qt / scale, Pt / scale, samples, max_events or 200 * n + 1000, kappa)
     u_static = -solver.cho_solve(Q0) if np.any(Q0) else np.zeros(n)
     theta_s = np.linspace(0.0, TWO_PI, samples + 1)
     u, status = solver.initial_state()
     floor = tol
     W_cycles, change = [], np.inf
     track, newton = False, 0
-    best = None      # (change, start, its status, step) of the best start so far
+    best = None  # (change, start, its status, step) of the best start so far
     lam = 1.0
     for _ in range(max_cycles):
         u_end, status_end, W, events, series = solver.cycle(u, status, theta_s, track)
@@ -279,8 +306,9 @@ def exact_system_cycle(system: ContactSystem, samples: int = 2000, *, tol: float
         # (the driver's measure, lcpfric.periodic.measure, on the start displacements, with no W
         # term: the cycles start from Newton's iterates, and W follows from the start)
         span = float(np.max(np.ptp(series[0], axis=0), initial=0.0))
-        change = cycle_change(float(np.max(np.abs(r), initial=0.0)), span, 0.0, W,
-                              (solver.qscale, 0.0))
+        change = cycle_change(
+            float(np.max(np.abs(r), initial=0.0)), span, 0.0, W, (solver.qscale, 0.0)
+        )
         ref = max(span, solver.qscale)
         size = max(float(np.max(np.abs(u_end), initial=0.0)), ref, solver.rscale)
         floor = max(tol, 100.0 * _EPS * kappa * size / ref)
@@ -310,17 +338,35 @@ def exact_system_cycle(system: ContactSystem, samples: int = 2000, *, tol: float
         track = track or change > 1e3 * tol
         u, status = solver.admissible(u_next, guess)
     else:
-        raise ConvergenceError(f"exact: no periodic steady state after {max_cycles} cycles "
-                               f"(relative change of the start {change:.3g} > tol {tol:g}); "
-                               f"raise max_cycles", None)
+        raise ConvergenceError(
+            f"exact: no periodic steady state after {max_cycles} cycles "
+            f"(relative change of the start {change:.3g} > tol {tol:g}); "
+            f"raise max_cycles",
+            None,
+        )
     Us, Fs, Ss = series
     N = np.maximum(value(Pt[None, :, :], theta_s[:, None]), 0.0)
     N = np.where(solver.never, 0.0, N)
-    stats = dict(solver.stats, events_per_cycle=events, cycles=len(W_cycles),
-                 newton_steps=newton, condition=kappa, periodicity_tol=floor,
-                 seconds=time.perf_counter() - start)
-    return DiscreteCycle(W=W_cycles[-1], W_cycles=np.asarray(W_cycles), cycles=len(W_cycles),
-                         change=change, events=events, omega=omega, theta=theta_s,
-                         u=Us * scale + u_static,
-                         F=Fs * scale, N=N, state=Ss, stats=stats)
-
+    stats = dict(
+        solver.stats,
+        events_per_cycle=events,
+        cycles=len(W_cycles),
+        newton_steps=newton,
+        condition=kappa,
+        periodicity_tol=floor,
+        seconds=time.perf_counter() - start,
+    )
+    return DiscreteCycle(
+        W=W_cycles[-1],
+        W_cycles=np.asarray(W_cycles),
+        cycles=len(W_cycles),
+        change=change,
+        events=events,
+        omega=omega,
+        theta=theta_s,
+        u=Us * scale + u_static,
+        F=Fs * scale,
+        N=N,
+        state=Ss,
+        stats=stats,
+    )

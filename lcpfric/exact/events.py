@@ -14,10 +14,14 @@ from .triples import TWO_PI, next_entry, rate_of, value
 
 __all__ = ["EventSolver"]
 
-STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
-                                        int(State.BACKWARD), int(State.SEPARATION))
-_SAME = 64 * np.finfo(float).eps * TWO_PI   # events closer than this happen together
-_ETAS = (1e-9, 1e-7, 1e-5, 1e-3)   # load-rate look-ahead for degenerate instants
+STICK, FORWARD, BACKWARD, SEPARATION = (
+    int(State.STICK),
+    int(State.FORWARD),
+    int(State.BACKWARD),
+    int(State.SEPARATION),
+)
+_SAME = 64 * np.finfo(float).eps * TWO_PI  # events closer than this happen together
+_ETAS = (1e-9, 1e-7, 1e-5, 1e-3)  # load-rate look-ahead for degenerate instants
 
 
 class EventSolver(Pattern):
@@ -81,8 +85,9 @@ class EventSolver(Pattern):
         F0 = value(self.Qt, theta) + self.Kmul(u)
         bound = np.where(sep, 0.0, np.maximum(value(self.bt, theta), 0.0))
         slipping = (guess == FORWARD) | (guess == BACKWARD)
-        F0 = np.where(sep, 0.0, np.where(guess == FORWARD, -bound,
-                                          np.where(guess == BACKWARD, bound, F0)))
+        F0 = np.where(
+            sep, 0.0, np.where(guess == FORWARD, -bound, np.where(guess == BACKWARD, bound, F0))
+        )
         F0 = np.where(touch_hi, bound, np.where(touch_lo, -bound, F0))
         if recontact is not None and recontact.any():
             # re-entering contact: N = 0 and F = 0 (it was separated), on both limits
@@ -90,9 +95,19 @@ class EventSolver(Pattern):
         tr = theta + eta
         dQ = value(self.dQt, tr)
         dN = np.where(sep, 0.0, value(self.dPt, tr))
-        _du, new = slip_rates(self.K, self.f, F0, bound, dQ, dN, sep,
-                              slipping & (guess == FORWARD), slipping & (guess == BACKWARD),
-                              touch_lo, touch_hi)
+        _du, new = slip_rates(
+            self.K,
+            self.f,
+            F0,
+            bound,
+            dQ,
+            dN,
+            sep,
+            slipping & (guess == FORWARD),
+            slipping & (guess == BACKWARD),
+            touch_lo,
+            touch_hi,
+        )
         self.set_pattern(np.asarray(new, dtype=np.int8), theta, refresh=True, u=u)
 
     def violation(self, theta):
@@ -131,7 +146,7 @@ class EventSolver(Pattern):
         Ss = np.empty((theta_s.size, n), dtype=np.int8)
         k_s = 0
         normal = self.normal_events
-        k_n = 0   # normal events at θ = 0 are processed as events at the start
+        k_n = 0  # normal events at θ = 0 are processed as events at the start
         self.track = False
         self.set_pattern(status, 0.0, refresh=True, u=u)
         self.W = 0.0
@@ -146,8 +161,11 @@ class EventSolver(Pattern):
             t_norm = normal[k_n][0] if k_n < len(normal) else np.inf
             t_next = min(float(t_all.min()), t_norm, TWO_PI)
             # samples in [theta, t_next)
-            k_end = theta_s.size if t_next >= TWO_PI else int(
-                np.searchsorted(theta_s, t_next, side="left"))
+            k_end = (
+                theta_s.size
+                if t_next >= TWO_PI
+                else int(np.searchsorted(theta_s, t_next, side="left"))
+            )
             if k_end > k_s:
                 th = theta_s[k_s:k_end]
                 Us[k_s:k_end] = value(self.U[None, :, :], th[:, None])
@@ -159,9 +177,12 @@ class EventSolver(Pattern):
                 return self.u_at(TWO_PI), self.status.copy(), self.W, events, (Us, Fs, Ss)
             events += 1
             if events > self.max_events:
-                raise SolverError(f"exact: more than {self.max_events} events in one cycle "
-                                  f"(θ = {theta:.6g}; {self.describe()})", backend="exact",
-                                  status="too_many_events")
+                raise SolverError(
+                    f"exact: more than {self.max_events} events in one cycle "
+                    f"(θ = {theta:.6g}; {self.describe()})",
+                    backend="exact",
+                    status="too_many_events",
+                )
             # who acts now
             horizon = t_next + _SAME
             guess = self.status.copy()
@@ -188,9 +209,11 @@ class EventSolver(Pattern):
                 k_n += 1
             attempt = attempt + 1 if t_next <= last + _SAME else 0
             if attempt > len(_ETAS) + 2:
-                raise SolverError(f"exact: the pattern does not settle at θ = {t_next:.17g} "
-                                  f"({self.describe()})", backend="exact",
-                                  status="event_loop")
+                raise SolverError(
+                    f"exact: the pattern does not settle at θ = {t_next:.17g} ({self.describe()})",
+                    backend="exact",
+                    status="event_loop",
+                )
             theta = last = t_next
             self.theta_row = None
             if self.track and now.size:
@@ -213,8 +236,9 @@ class EventSolver(Pattern):
         through K⁻¹ instead would move a stiffly coupled pair along its soft mode by the
         round-off of K u divided by K's smallest eigenvalue, every cycle."""
         contact = self.in_contact(0.0)
-        guess = np.where(contact, np.where(guess == SEPARATION, STICK, guess),
-                         SEPARATION).astype(np.int8)
+        guess = np.where(contact, np.where(guess == SEPARATION, STICK, guess), SEPARATION).astype(
+            np.int8
+        )
         self.full(guess, u, 0.0)
         F = value(self.Ft, 0.0)
         b0 = np.where(contact, value(self.bt, 0.0), 0.0)

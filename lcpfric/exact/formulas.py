@@ -42,11 +42,14 @@ def pmod(x):
 
 # -- the last slip before separation, in the angle s = θ_s - θ --------------------------------
 
+
 def delta_series(y):
     """(y - sin y) / y³ by its Taylor series (y < 0.5: truncation below 1e-16 relative)."""
     y2 = y * y
-    return (1.0 / 6 - y2 * (1.0 / 120 - y2 * (1.0 / 5040 - y2 * (
-        1.0 / 362880 - y2 * (1.0 / 39916800 - y2 / 6227020800.0)))))
+    return 1.0 / 6 - y2 * (
+        1.0 / 120
+        - y2 * (1.0 / 5040 - y2 * (1.0 / 362880 - y2 * (1.0 / 39916800 - y2 / 6227020800.0)))
+    )
 
 
 def sform_W(g, a, b, y, xi, c, cq):
@@ -62,8 +65,11 @@ def sform_W(g, a, b, y, xi, c, cq):
         sig, nu = 1.0, 0.5
     dl = delta_series(y) if y < 0.5 else (y - math.sin(y)) / (y * y * y)
     xa = xi * a
-    inner = (g * xa * sig * sig + y * (xi * g * b * (dl + sig * nu) + xa * (sig * nu - dl))
-             + y * y * xi * b * nu * nu)
+    inner = (
+        g * xa * sig * sig
+        + y * (xi * g * b * (dl + sig * nu) + xa * (sig * nu - dl))
+        + y * y * xi * b * nu * nu
+    )
     return 0.5 * (xi * inner) * c * cq
 
 
@@ -76,8 +82,11 @@ def sform_W_vec(g, a, b, y, xi, c, cq):
         nu = np.where(y > 0.0, 2.0 * (np.sin(0.5 * ys) / ys) ** 2, 0.5)
         dl = np.where(y < 0.5, delta_series(y), (ys - np.sin(ys)) / (ys * ys * ys))
         xa = xi * a
-        inner = (g * xa * sig * sig + y * (xi * g * b * (dl + sig * nu) + xa * (sig * nu - dl))
-                 + y * y * xi * b * nu * nu)
+        inner = (
+            g * xa * sig * sig
+            + y * (xi * g * b * (dl + sig * nu) + xa * (sig * nu - dl))
+            + y * y * xi * b * nu * nu
+        )
         out = 0.5 * (xi * inner) * c * cq
     return np.where(np.isfinite(out), out, 0.0)
 
@@ -99,7 +108,7 @@ def crossing(a, b, c):
             if k > a:
                 return -1.0, 0.0
             r = math.sqrt((a - k) * (a + k))
-        tau = 1.0 / (a + r)           # t / c
+        tau = 1.0 / (a + r)  # t / c
         t = c * tau
     elif A > 0.0:
         t = (math.hypot(a, math.sqrt(A) * sc) - a) / A
@@ -132,6 +141,7 @@ def crossing_vec(a, b, c):
 
 
 # -- the other slip segments, in θ --------------------------------------------------------------
+
 
 def slip_integral(a, b, P1, Q1, phi, sphi, cphi, L_a, L_b, sign, R, alpha, salpha, calpha):
     """``(1/Q̂1) ∫_a^b L |dw|`` over slip segments in θ (arrays), in the better conditioned of
@@ -173,8 +183,7 @@ def slip_integral(a, b, P1, Q1, phi, sphi, cphi, L_a, L_b, sign, R, alpha, salph
     I_s = 2.0 * sm * sh * (vm + cm * Vh)  # V_a + V_b = 2 (1 - cos m cos h)
     one_m_P1 = 1.0 - P1
     K_phi = one_m_P1 * 2.0 * (sm * cphi + cm * sphi) * sh + P1 * (cphi * I_s + sphi * I_c)
-    K_alpha = one_m_P1 * 2.0 * (sm * calpha + cm * salpha) * sh + P1 * (calpha * I_s
-                                                                         + salpha * I_c)
+    K_alpha = one_m_P1 * 2.0 * (sm * calpha + cm * salpha) * sh + P1 * (calpha * I_s + salpha * I_c)
     split = 0.5 * (L_a - L_b) * ((L_a + L_b) / Q1) + sign * K_phi
     direct = sign * (R / Q1) * K_alpha
     # sizes of the terms each form sums (its round-off is eps times that), times Q̂1
@@ -220,8 +229,24 @@ class Coefficients:
         with np.errstate(divide="ignore", invalid="ignore"):
             s_lo, c_lo = np.where(R_lo > 0, B / R_lo, 0.0), np.where(R_lo > 0, A / R_lo, 1.0)
             s_hi, c_hi = np.where(R_hi > 0, B / R_hi, 0.0), np.where(R_hi > 0, C / R_hi, 1.0)
-        return cls(P1, Q1, phi, R_lo, np.arctan2(B, A), R_hi, np.arctan2(B, C), lo_max, hi_min,
-                   X_f, X_b, delta, s_lo, c_lo, s_hi, c_hi)
+        return cls(
+            P1,
+            Q1,
+            phi,
+            R_lo,
+            np.arctan2(B, A),
+            R_hi,
+            np.arctan2(B, C),
+            lo_max,
+            hi_min,
+            X_f,
+            X_b,
+            delta,
+            s_lo,
+            c_lo,
+            s_hi,
+            c_hi,
+        )
 
 
 def _extrema(P1, Q1, cphi, R_lo, R_hi):
@@ -256,8 +281,10 @@ def _stick_angles(P1, Q1, sphi, cphi, R_lo, R_hi):
         delta = np.arctan2(2.0 * P1 * sphi * (Q1 / (Q1 + P1)), Q1 - P1)
         y_f = (2.0 - dR) / (2.0 * R_hi)
         y_b = (2.0 + dR) / (2.0 * R_lo)
-        X_f = np.where((y_f >= 0.0) & (y_f <= 1.0),
-                       2.0 * np.arcsin(np.sqrt(np.clip(y_f, 0.0, 1.0))), np.nan)
-        X_b = np.where((y_b >= 0.0) & (y_b <= 1.0),
-                       2.0 * np.arcsin(np.sqrt(np.clip(y_b, 0.0, 1.0))), np.nan)
+        X_f = np.where(
+            (y_f >= 0.0) & (y_f <= 1.0), 2.0 * np.arcsin(np.sqrt(np.clip(y_f, 0.0, 1.0))), np.nan
+        )
+        X_b = np.where(
+            (y_b >= 0.0) & (y_b <= 1.0), 2.0 * np.arcsin(np.sqrt(np.clip(y_b, 0.0, 1.0))), np.nan
+        )
     return delta, X_f, X_b

@@ -15,11 +15,15 @@ from .triples import REL, TWO_PI, multiplier, rate_of, segment_dissipation, valu
 
 __all__ = ["Pattern"]
 
-STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
-                                        int(State.BACKWARD), int(State.SEPARATION))
-_RESIDUAL = 1e-10        # equilibrium residual of a fresh pattern above which it is an error
+STICK, FORWARD, BACKWARD, SEPARATION = (
+    int(State.STICK),
+    int(State.FORWARD),
+    int(State.BACKWARD),
+    int(State.SEPARATION),
+)
+_RESIDUAL = 1e-10  # equilibrium residual of a fresh pattern above which it is an error
 _EPS = float(np.finfo(float).eps)
-_SMALL = 256             # G blocks up to this size are updated whole (cheaper than indexing)
+_SMALL = 256  # G blocks up to this size are updated whole (cheaper than indexing)
 
 
 class Pattern(Tangent):
@@ -52,14 +56,18 @@ class Pattern(Tangent):
         self._any_dirty = True
         self.touched = np.ones(n, dtype=bool)
         self.f = f
-        self.Qt = Qt                       # (n, 3)
-        self.Pt = Pt                       # (n, 3)
-        self.bt = f[:, None] * Pt          # friction limit in contact
+        self.Qt = Qt  # (n, 3)
+        self.Pt = Pt  # (n, 3)
+        self.bt = f[:, None] * Pt  # friction limit in contact
         self.dQt, self.dbt, self.dPt = rate_of(Qt), rate_of(self.bt), rate_of(Pt)
         self.max_events = max_events
         # force scale per node (for tolerances) and the system's displacement-rate scale
-        self.fscale = (np.abs(Qt[:, 0]) + np.hypot(Qt[:, 1], Qt[:, 2])
-                       + np.abs(self.bt[:, 0]) + np.hypot(self.bt[:, 1], self.bt[:, 2]))
+        self.fscale = (
+            np.abs(Qt[:, 0])
+            + np.hypot(Qt[:, 1], Qt[:, 2])
+            + np.abs(self.bt[:, 0])
+            + np.hypot(self.bt[:, 1], self.bt[:, 2])
+        )
         fmax = float(np.max(self.fscale))
         self.fscale = np.maximum(self.fscale, 1e-300)
         kmin = float(np.min(np.diag(K)))
@@ -72,8 +80,7 @@ class Pattern(Tangent):
         self.always = c0 - R >= 0.0
         self.normal_events = self.normal_event_list()
         self.samples = samples
-        self.stats = {"lcp_solves": 0, "degenerate": 0, "refactorizations": 0,
-                      "skipped_depth": 0.0}
+        self.stats = {"lcp_solves": 0, "degenerate": 0, "refactorizations": 0, "skipped_depth": 0.0}
 
     # -- normal events -----------------------------------------------------------------------
     def normal_event_list(self):
@@ -121,8 +128,7 @@ class Pattern(Tangent):
         slip = rows[sign != 0.0]
         if slip.size:
             a = self.a_seg[slip]
-            self.W += segment_dissipation(self.bt[slip], self.U[slip], -self.sign[slip], a,
-                                          theta)
+            self.W += segment_dissipation(self.bt[slip], self.U[slip], -self.sign[slip], a, theta)
         self.a_seg[rows] = theta
 
     def full(self, status, u, theta):
@@ -149,7 +155,7 @@ class Pattern(Tangent):
         self.stats["refactorizations"] += 1
         self._since = 0
         sign = np.where(status == FORWARD, -1.0, np.where(status == BACKWARD, 1.0, 0.0))
-        Fp = sign[:, None] * self.bt                  # prescribed forces (0 when separated)
+        Fp = sign[:, None] * self.bt  # prescribed forces (0 when separated)
         uS = np.where(B, 0.0, u)
         U = np.zeros((n, 3))
         U[:, 0] = uS
@@ -162,9 +168,12 @@ class Pattern(Tangent):
         if m:
             res = float(np.max(np.abs(F[Bidx] - Fp[Bidx])) / np.max(self.fscale))
             if res > self.residual:
-                raise SolverError(f"exact: equilibrium residual {res:.3g} of the pattern at "
-                                  f"θ = {theta:.17g} (is K well conditioned?)", backend="exact",
-                                  status="residual")
+                raise SolverError(
+                    f"exact: equilibrium residual {res:.3g} of the pattern at "
+                    f"θ = {theta:.17g} (is K well conditioned?)",
+                    backend="exact",
+                    status="residual",
+                )
             F[Bidx] = Fp[Bidx]
         self.status, self.U, self.Ft, self.sign = status.copy(), U, F, sign
         self.B = B
@@ -179,8 +188,8 @@ class Pattern(Tangent):
         if old == new:
             return
         sgn = -1.0 if new == FORWARD else (1.0 if new == BACKWARD else 0.0)
-        if old == STICK:                      # j joins B with a prescribed force
-            sup, zs = self.add(j)            # u response (over B) to a unit force at j
+        if old == STICK:  # j joins B with a prescribed force
+            sup, zs = self.add(j)  # u response (over B) to a unit force at j
             delta = sgn * self.bt[j] - self.Ft[j]
         else:
             p = self.pos[j]
@@ -188,14 +197,14 @@ class Pattern(Tangent):
             col = self.G[:m, p]
             nz = np.nonzero(col)[0]
             sup, zs = self.Bidx[nz], col[nz].copy()
-            if new == STICK:                  # j leaves B: u_j keeps its value at theta
+            if new == STICK:  # j leaves B: u_j keeps its value at theta
                 if self.track:
                     self.tangent_stick(j, theta)
                 du = -self.U[j].copy()
                 du[0] += float(value(self.U[j], theta))
                 delta = du / col[p]
                 self.remove(j)
-            else:                             # prescribed force changes (slip <-> separation)
+            else:  # prescribed force changes (slip <-> separation)
                 delta = sgn * self.bt[j] - self.Ft[j]
         if 4 * sup.size > self.n:
             z = np.zeros(self.n)
@@ -233,8 +242,11 @@ class Pattern(Tangent):
         g = G[:m, nzk] @ kb[nzk] if nzk.size < m else G[:m, :m] @ kb
         s = self.K[j, j] - kb @ g
         if not s > 0:
-            raise SolverError(f"exact: K_BB lost positive definiteness adding node {j} "
-                              f"(pivot {s:.3g})", backend="exact", status="not_spd")
+            raise SolverError(
+                f"exact: K_BB lost positive definiteness adding node {j} (pivot {s:.3g})",
+                backend="exact",
+                status="not_spd",
+            )
         sup = g.nonzero()[0]
         if m <= _SMALL or 4 * sup.size > m:
             G[:m, :m] += np.multiply.outer(g, g / s)

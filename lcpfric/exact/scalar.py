@@ -5,13 +5,26 @@ from __future__ import annotations
 
 import math
 
-from .formulas import (AFTER_BACKWARD, AFTER_FORWARD, BACKWARD, crossing, delta_series,
-                       FORWARD, HALF_PI, MAX_EVENTS, RECONTACT, S_RANGE, SEPARATION, sform_W,
-                       STICK, TIE, TWO_PI)
+from .formulas import (
+    AFTER_BACKWARD,
+    AFTER_FORWARD,
+    BACKWARD,
+    crossing,
+    delta_series,
+    FORWARD,
+    HALF_PI,
+    MAX_EVENTS,
+    RECONTACT,
+    S_RANGE,
+    SEPARATION,
+    sform_W,
+    STICK,
+    TIE,
+    TWO_PI,
+)
 
 
-def _slip_integral_scalar(a, b, P1, Q1, phi, sphi, cphi, L_a, L_b, sign, R, alpha, salpha,
-                          calpha):
+def _slip_integral_scalar(a, b, P1, Q1, phi, sphi, cphi, L_a, L_b, sign, R, alpha, salpha, calpha):
     """Scalar :func:`slip_integral`, computing only the form it uses."""
     h = 0.5 * (b - a)
     one_m_P1 = 1.0 - P1
@@ -32,8 +45,14 @@ def _slip_integral_scalar(a, b, P1, Q1, phi, sphi, cphi, L_a, L_b, sign, R, alph
     return 0.5 * (L_a - L_b) * ((L_a + L_b) / Q1) + sign * K
 
 
-def run_scalar(P1: float, Q1: float, phi: float, sphi: float | None = None,
-                cphi: float | None = None, record: bool = True):
+def run_scalar(
+    P1: float,
+    Q1: float,
+    phi: float,
+    sphi: float | None = None,
+    cphi: float | None = None,
+    record: bool = True,
+):
     """The same event loop as :func:`run_vectorized` for one point, in scalar arithmetic (about 10x faster
     than numpy on one-element arrays). Needs Q̂1 > 0. Returns (Ŵ, segments); segments are
     collected only if ``record``."""
@@ -156,15 +175,32 @@ def run_scalar(P1: float, Q1: float, phi: float, sphi: float | None = None,
                 L_a = abs(w + Q1 * math.sin(th + phi))
             else:
                 L_a = max(0.0, (1.0 - P1) + 2.0 * P1 * math.sin(0.5 * (th - 1.5 * math.pi)) ** 2)
-            L_b = 0.0 if done and sep else max(
-                0.0, (1.0 - P1) + 2.0 * P1 * math.sin(0.5 * (b - 1.5 * math.pi)) ** 2)
+            L_b = (
+                0.0
+                if done and sep
+                else max(0.0, (1.0 - P1) + 2.0 * P1 * math.sin(0.5 * (b - 1.5 * math.pi)) ** 2)
+            )
             if fwd:
-                W += _slip_integral_scalar(th, b, P1, Q1, phi, sphi, cphi, L_a, L_b, -1.0, R_lo,
-                                           a_lo, B / R_lo, A / R_lo)
+                W += _slip_integral_scalar(
+                    th, b, P1, Q1, phi, sphi, cphi, L_a, L_b, -1.0, R_lo, a_lo, B / R_lo, A / R_lo
+                )
             else:
-                W += _slip_integral_scalar(th, b, P1, Q1, phi, sphi, cphi, L_a, L_b, 1.0, R_hi,
-                                           a_hi, B / R_hi if R_hi > 0 else 0.0,
-                                           C / R_hi if R_hi > 0 else 1.0)
+                W += _slip_integral_scalar(
+                    th,
+                    b,
+                    P1,
+                    Q1,
+                    phi,
+                    sphi,
+                    cphi,
+                    L_a,
+                    L_b,
+                    1.0,
+                    R_hi,
+                    a_hi,
+                    B / R_hi if R_hi > 0 else 0.0,
+                    C / R_hi if R_hi > 0 else 1.0,
+                )
             record and segments.append((th, b, state, w))
             th = b
             w = w_end

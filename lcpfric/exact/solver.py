@@ -42,22 +42,29 @@ class ExactSolver:
             model = model.model if model.model is not None else model.system
         if not isinstance(model, (SingleNode, ContactSystem)):
             what = type(model).__name__
-            raise InputError("method", f"'exact' solves a SingleNode or a ContactSystem, not "
-                                       f"{what}; methods for {what}: "
-                                       f"{', '.join(methods_for(model)) or 'none'}")
+            raise InputError(
+                "method",
+                f"'exact' solves a SingleNode or a ContactSystem, not "
+                f"{what}; methods for {what}: "
+                f"{', '.join(methods_for(model)) or 'none'}",
+            )
         if not isinstance(model, SingleNode):
             from .discrete import check_system
 
             check_system(model)
             return model
         if not model.is_harmonic:
-            raise InputError("method", "'exact' needs harmonic loads P0 + P1 sin(ωt), "
-                                       "Q0 + Q1 sin(ωt + φ); for other periodic loads use "
-                                       "'explicit' or 'projection'")
+            raise InputError(
+                "method",
+                "'exact' needs harmonic loads P0 + P1 sin(ωt), "
+                "Q0 + Q1 sin(ωt + φ); for other periodic loads use "
+                "'explicit' or 'projection'",
+            )
         return model
 
-    def steady_state(self, model, steps_per_cycle: int = 2000, max_cycles: int = 100
-                     ) -> SteadyState:
+    def steady_state(
+        self, model, steps_per_cycle: int = 2000, max_cycles: int = 100
+    ) -> SteadyState:
         """The exact steady state, its time series sampled at ``steps_per_cycle + 1`` instants.
 
         ``max_cycles`` caps the cycles of a discrete system (its steady state is found by
@@ -80,12 +87,25 @@ class ExactSolver:
         v, F, N = model.series(u, F, N)
         W_hat = np.array([cyc.W_hat])
         return SteadyState(
-            W=float(model.W(cyc.W_hat)), W_cycles=np.atleast_1d(model.W(W_hat)), cycles=1,
-            converged=True, method=self.name, steps_requested=samples, steps_used=0, t=t,
-            v=v, F=F, N=N, state=cyc.state(theta), seconds=time.perf_counter() - start,
-            change=0.0, message=f"exact steady state (closed form, no time steps; series "
-                                f"sampled at {samples + 1} instants)",
-            normalization=model.normalization(), W_hat_cycles=W_hat)
+            W=float(model.W(cyc.W_hat)),
+            W_cycles=np.atleast_1d(model.W(W_hat)),
+            cycles=1,
+            converged=True,
+            method=self.name,
+            steps_requested=samples,
+            steps_used=0,
+            t=t,
+            v=v,
+            F=F,
+            N=N,
+            state=cyc.state(theta),
+            seconds=time.perf_counter() - start,
+            change=0.0,
+            message=f"exact steady state (closed form, no time steps; series "
+            f"sampled at {samples + 1} instants)",
+            normalization=model.normalization(),
+            W_hat_cycles=W_hat,
+        )
 
     def _system_steady_state(self, system, samples, start, max_cycles) -> SteadyState:
         from .discrete import exact_system_cycle
@@ -94,9 +114,22 @@ class ExactSolver:
         t = cyc.theta / cyc.omega
         stats = dict(cyc.stats)
         return SteadyState(
-            W=float(cyc.W), W_cycles=cyc.W_cycles, cycles=cyc.cycles, converged=True,
-            method=self.name, steps_requested=samples, steps_used=0, t=t, v=cyc.u, F=cyc.F,
-            N=cyc.N, state=cyc.state, seconds=time.perf_counter() - start, change=cyc.change,
+            W=float(cyc.W),
+            W_cycles=cyc.W_cycles,
+            cycles=cyc.cycles,
+            converged=True,
+            method=self.name,
+            steps_requested=samples,
+            steps_used=0,
+            t=t,
+            v=cyc.u,
+            F=cyc.F,
+            N=cyc.N,
+            state=cyc.state,
+            seconds=time.perf_counter() - start,
+            change=cyc.change,
             message=f"exact steady state (event by event, {cyc.events} events per cycle, "
-                    f"periodic after {cyc.cycles} cycles; series sampled at {samples + 1} "
-                    f"instants)", solver_stats=stats)
+            f"periodic after {cyc.cycles} cycles; series sampled at {samples + 1} "
+            f"instants)",
+            solver_stats=stats,
+        )

@@ -60,4 +60,3 @@ class Tangent:
             S = (~self.B).nonzero()[0]
             J[Bi] = -(self.G[:m, :m] @ self.K[np.ix_(Bi, S)]) @ self.Jt[S]
         return J
-

@@ -11,11 +11,19 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["harmonic_triples", "value", "rate_of", "next_entry", "segment_dissipation",
-           "multiplier", "TWO_PI", "REL"]
+__all__ = [
+    "harmonic_triples",
+    "value",
+    "rate_of",
+    "next_entry",
+    "segment_dissipation",
+    "multiplier",
+    "TWO_PI",
+    "REL",
+]
 
 TWO_PI = 2.0 * math.pi
-REL = 1e-13              # a dip below this fraction of its scale is an event
+REL = 1e-13  # a dip below this fraction of its scale is an event
 
 
 def harmonic_triples(loads, omega: float, parameter: str) -> np.ndarray:
@@ -29,18 +37,26 @@ def harmonic_triples(loads, omega: float, parameter: str) -> np.ndarray:
     out = np.zeros((len(loads), 3))
     for i, load in enumerate(loads):
         if not isinstance(load, Fourier):
-            raise InputError(parameter, f"'exact' needs harmonic loads (Harmonic or a one-term "
-                                        f"Fourier); load {i} is {type(load).__name__}: use "
-                                        f"'explicit' or a solver backend")
+            raise InputError(
+                parameter,
+                f"'exact' needs harmonic loads (Harmonic or a one-term "
+                f"Fourier); load {i} is {type(load).__name__}: use "
+                f"'explicit' or a solver backend",
+            )
         amps = [a for a in load.amplitudes[1:] if a]
         if amps:
-            raise InputError(parameter, f"'exact' needs harmonic loads of one frequency; load "
-                                        f"{i} has higher harmonics: use 'explicit' or a solver "
-                                        f"backend")
+            raise InputError(
+                parameter,
+                f"'exact' needs harmonic loads of one frequency; load "
+                f"{i} has higher harmonics: use 'explicit' or a solver "
+                f"backend",
+            )
         a = load.amplitudes[0] if load.amplitudes else 0.0
         if a and not math.isclose(load.omega, omega, rel_tol=1e-12):
-            raise InputError(parameter, f"'exact' needs one frequency; load {i} has ω = "
-                                        f"{load.omega}, others {omega}")
+            raise InputError(
+                parameter,
+                f"'exact' needs one frequency; load {i} has ω = {load.omega}, others {omega}",
+            )
         p = load.phases[0] if load.phases else 0.0
         out[i] = (load.mean, a * math.cos(p), a * math.sin(p)) if a else (load.mean, 0.0, 0.0)
     return out
@@ -80,14 +96,17 @@ def next_entry(T: np.ndarray, theta: float, tol, skipped: bool = False):
     with np.errstate(divide="ignore", invalid="ignore"):
         h = 2.0 * np.arcsin(np.sqrt(np.minimum(depth / (2.0 * R), 1.0)))
         x = theta + np.arctan2(cc, cs)
-        d = np.mod(x - (1.5 * math.pi - h), TWO_PI)      # angle past the entry
+        d = np.mod(x - (1.5 * math.pi - h), TWO_PI)  # angle past the entry
         now = (d < 2.0 * h) & ((d <= h) | (c0 + R * np.sin(x) < -tol))
         out = np.where(now | (depth >= 2.0 * R), theta, theta + (TWO_PI - d))
         shallow = depth <= tol
         out[shallow] = np.inf
         if skipped:
-            skip = float(np.max(depth[shallow] / tol[shallow], initial=0.0)) * REL \
-                if np.ndim(tol) else float(np.max(depth[shallow], initial=0.0) / tol) * REL
+            skip = (
+                float(np.max(depth[shallow] / tol[shallow], initial=0.0)) * REL
+                if np.ndim(tol)
+                else float(np.max(depth[shallow], initial=0.0) / tol) * REL
+            )
     return (out, skip) if skipped else out
 
 
@@ -115,8 +134,12 @@ def segment_dissipation(b: np.ndarray, U: np.ndarray, sign: np.ndarray, a, e: fl
     d2 = 2.0 * np.cos(2.0 * m) * np.sin(2.0 * h)
     b0, bs, bc = b[:, 0], b[:, 1], b[:, 2]
     us, uc = U[:, 1], U[:, 2]
-    per = (b0 * (us * dS + uc * dC) + (bs * us - bc * uc) * dS2 + (bc * us - bs * uc) * h
-           + (bc * us + bs * uc) * (0.25 * d2))
+    per = (
+        b0 * (us * dS + uc * dC)
+        + (bs * us - bc * uc) * dS2
+        + (bc * us - bs * uc) * h
+        + (bc * us + bs * uc) * (0.25 * d2)
+    )
     return float(sign @ per)
 
 
@@ -129,4 +152,3 @@ def multiplier(K):
         Ks = sp.csr_matrix(K)
         return Ks.__matmul__
     return K.__matmul__
-

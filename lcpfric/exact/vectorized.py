@@ -6,9 +6,26 @@ import math
 
 import numpy as np
 
-from .formulas import (AFTER_BACKWARD, AFTER_FORWARD, BACKWARD, Coefficients, crossing_vec,
-                       FORWARD, HALF_PI, L_of, MAX_EVENTS, mod0, pmod, RECONTACT, S_RANGE,
-                       sform_W_vec, slip_integral, STICK, TIE, TWO_PI)
+from .formulas import (
+    AFTER_BACKWARD,
+    AFTER_FORWARD,
+    BACKWARD,
+    Coefficients,
+    crossing_vec,
+    FORWARD,
+    HALF_PI,
+    L_of,
+    MAX_EVENTS,
+    mod0,
+    pmod,
+    RECONTACT,
+    S_RANGE,
+    sform_W_vec,
+    slip_integral,
+    STICK,
+    TIE,
+    TWO_PI,
+)
 
 
 def run_vectorized(P1, Q1, phi, sphi=None, cphi=None):
@@ -23,10 +40,10 @@ def run_vectorized(P1, Q1, phi, sphi=None, cphi=None):
     n = P1.size
     sep = P1 >= 1.0
     g = np.sqrt(np.where(sep, P1 - 1.0, 0.0)) * np.sqrt(P1 + 1.0)
-    asin_inv = np.arctan2(1.0, g)         # asin(1/P̂1), accurate next to P̂1 = 1
-    theta_c = TWO_PI - asin_inv           # re-contact
+    asin_inv = np.arctan2(1.0, g)  # asin(1/P̂1), accurate next to P̂1 = 1
+    theta_c = TWO_PI - asin_inv  # re-contact
     theta_s = math.pi + asin_inv + TWO_PI  # the separation that ends the steady cycle
-    q_s = -Q1 * np.sin(asin_inv + phi)     # Q̂ and dQ̂/dθ at separation
+    q_s = -Q1 * np.sin(asin_inv + phi)  # Q̂ and dQ̂/dθ at separation
     dq_s = -Q1 * np.cos(asin_inv + phi)
     eq_c = -2.0 * sphi * (g / np.hypot(1.0, g))  # (w + Q̂(θ_s)) / Q̂1 when stuck since re-contact
 
@@ -37,11 +54,11 @@ def run_vectorized(P1, Q1, phi, sphi=None, cphi=None):
     kind = np.full(n, AFTER_FORWARD, dtype=np.int8)
     psi = np.zeros(n)  # phase of the pushing boundary at the start of a slip segment
     xs = np.full(n, -1.0)  # s = θ_s - θ at the start of a slip found in s (else -1)
-    xis = np.zeros(n)      # that s / c
-    cs = np.zeros(n)       # c = |w + Q̂(θ_s)| of that slip
-    cqs = np.zeros(n)      # c / Q̂1
+    xis = np.zeros(n)  # that s / c
+    cs = np.zeros(n)  # c = |w + Q̂(θ_s)| of that slip
+    cqs = np.zeros(n)  # c / Q̂1
     W = np.zeros(n)
-    L_from_w = Q1 <= P1    # L at a slip's start from w (exact 0 at re-contact) or from θ
+    L_from_w = Q1 <= P1  # L at a slip's start from w (exact 0 at re-contact) or from θ
 
     # At re-contact w = lo = hi; classify by the phase of each boundary (half-open intervals, so
     # that a boundary at its extremum is assigned exactly one state).
@@ -142,8 +159,9 @@ def run_vectorized(P1, Q1, phi, sphi=None, cphi=None):
             psi[i[to_b]] = dn_hi[to_b]
         # -- slip on a bound, until its extremum or separation -----------------------------------
         for slip, end_phase, sign, w_end, next_kind in (
-                (FORWARD, 1.5 * math.pi, -1.0, c.lo_max, AFTER_FORWARD),
-                (BACKWARD, HALF_PI, 1.0, c.hi_min, AFTER_BACKWARD)):
+            (FORWARD, 1.5 * math.pi, -1.0, c.lo_max, AFTER_FORWARD),
+            (BACKWARD, HALF_PI, 1.0, c.hi_min, AFTER_BACKWARD),
+        ):
             i = np.nonzero(active & (state == slip))[0]
             if not i.size:
                 continue
@@ -163,8 +181,7 @@ def run_vectorized(P1, Q1, phi, sphi=None, cphi=None):
                 s_m = np.minimum(s_m, x)
                 with np.errstate(divide="ignore", invalid="ignore"):
                     xi_m = np.where(turn, s_m / cs[j], 0.0)
-                W[j] -= np.where(turn, sform_W_vec(g[j], a_s, b_s, s_m, xi_m, cs[j], cqs[j]),
-                                 0.0)
+                W[j] -= np.where(turn, sform_W_vec(g[j], a_s, b_s, s_m, xi_m, cs[j], cqs[j]), 0.0)
                 th[j] = stop[j] - s_m
                 w[j] = w_end[j]
                 active[j[~turn]] = False
@@ -179,15 +196,15 @@ def run_vectorized(P1, Q1, phi, sphi=None, cphi=None):
             b = a + np.maximum(end_phase - psi[i], 0.0)
             done = b >= stop[i]
             b = np.minimum(b, stop[i])
-            L_a = np.where(L_from_w[i], np.abs(w[i] + Q1[i] * np.sin(a + phi[i])),
-                           L_of(P1[i], a))
+            L_a = np.where(L_from_w[i], np.abs(w[i] + Q1[i] * np.sin(a + phi[i])), L_of(P1[i], a))
             L_b = np.where(done & sep[i], 0.0, L_of(P1[i], b))
             if slip == FORWARD:
                 R, al, sa, ca = c.R_lo[i], c.a_lo[i], c.s_lo[i], c.c_lo[i]
             else:
                 R, al, sa, ca = c.R_hi[i], c.a_hi[i], c.s_hi[i], c.c_hi[i]
-            W[i] += slip_integral(a, b, P1[i], Q1[i], phi[i], sphi[i], cphi[i], L_a, L_b, sign,
-                                   R, al, sa, ca)
+            W[i] += slip_integral(
+                a, b, P1[i], Q1[i], phi[i], sphi[i], cphi[i], L_a, L_b, sign, R, al, sa, ca
+            )
             th[i] = b
             w[i] = w_end[i]
             active[i[done]] = False

@@ -25,8 +25,12 @@ from ..errors import InputError
 from . import halfspace_panels as panels
 from .style import COLUMN_WIDTH, PAGE_WIDTH, SMALL, figure, finish, save, style
 
-__all__ = ["figure_zone_maps", "figure_traction_vectors", "animate_zones",
-           "write_halfspace_figures"]
+__all__ = [
+    "figure_zone_maps",
+    "figure_traction_vectors",
+    "animate_zones",
+    "write_halfspace_figures",
+]
 
 #: state colours, in the order of the codes shown (stick, +x, -x, separated); the same as the
 #: other contact figures' (:mod:`.contact`), distinct in lightness too (greyscale prints)
@@ -56,7 +60,7 @@ def figure_zone_maps(model, result, fractions=(0.0, 0.25, 0.5, 0.75), title: str
         ncols = min(4, len(steps))
         nrows = math.ceil(len(steps) / ncols)
         width = PAGE_WIDTH if ncols > 1 else COLUMN_WIDTH
-        panel = (width - 0.55) / ncols                  # square panels; 0.55 in: y labels
+        panel = (width - 0.55) / ncols  # square panels; 0.55 in: y labels
         handles = panels.zone_legend(model, panels.edge_handles(model))
         legend_cols = 3 if ncols > 1 else 2
         caption = panels.caption(model)
@@ -72,18 +76,29 @@ def figure_zone_maps(model, result, fractions=(0.0, 0.25, 0.5, 0.75), title: str
         for ax, j in zip(axes.flat, steps):
             panels.draw_zones(ax, model, result, j, x, y, w, half)
             panels.ticks(ax)
-            ax.set_title(panels.loads_label(model, float(result.t[j]), period), fontsize=SMALL,
-                         pad=3, linespacing=1.3)
-        for ax in axes.flat[len(steps):]:
+            ax.set_title(
+                panels.loads_label(model, float(result.t[j]), period),
+                fontsize=SMALL,
+                pad=3,
+                linespacing=1.3,
+            )
+        for ax in axes.flat[len(steps) :]:
             ax.set_visible(False)
-        for col in range(ncols):                        # x labels on each column's last panel
+        for col in range(ncols):  # x labels on each column's last panel
             last = axes[(len(steps) - 1 - col) // ncols, col]
             last.xaxis.set_tick_params(labelbottom=True)
             last.set_xlabel(r"$x/a_0$", labelpad=1)
         for ax in axes[:, 0]:
             ax.set_ylabel(r"$y/a_0$", labelpad=1)
-        fig.legend(handles=handles, loc="outside lower center", ncols=legend_cols,
-                   frameon=False, fontsize=SMALL, title=caption, title_fontsize=SMALL)
+        fig.legend(
+            handles=handles,
+            loc="outside lower center",
+            ncols=legend_cols,
+            frameon=False,
+            fontsize=SMALL,
+            title=caption,
+            title_fontsize=SMALL,
+        )
         if title:
             fig.suptitle(title, fontsize=SMALL + 1)
         return finish(fig)
@@ -95,9 +110,12 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
     of ``μ p0``, over each element's ``|F|/(μ p h²)`` (1: slipping), with the contact edge and
     the edge of the stick zone; column wide. Needs ``dims = 2`` and ``record=True``."""
     if model.dims != 2:
-        raise InputError("dims", f"the traction vectors need the tractions in the plane "
-                                 f"(dims=2); this model has dims={model.dims} (tractions "
-                                 f"along x only): build it with dims=2")
+        raise InputError(
+            "dims",
+            f"the traction vectors need the tractions in the plane "
+            f"(dims=2); this model has dims={model.dims} (tractions "
+            f"along x only): build it with dims=2",
+        )
     panels.check_result(model, result)
     j = panels.index(result, fraction, "fraction")
     from ..results import State
@@ -110,28 +128,45 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
         N = model.N
         x, y, w = panels.grid(model)
         half = panels.crop(model, result)
-        b = model.normal_solution(result.t[j:j + 1])[0][0]
+        b = model.normal_solution(result.t[j : j + 1])[0][0]
         F = np.asarray(result.F[j], dtype=float).reshape(N * N, 2)
         contact = b > 0.0
         ratio = np.full(N * N, np.nan)
         ratio[contact] = np.hypot(F[contact, 0], F[contact, 1]) / b[contact]
         p0, p0_text = panels.peak_pressure(model)
-        q = -F / model.h ** 2 / (model.mu * p0)              # in units of μ p0
-        fig = figure(figsize=(COLUMN_WIDTH, 4.1 + (0.25 if title else 0.0)),
-                     layout="constrained")
+        q = -F / model.h**2 / (model.mu * p0)  # in units of μ p0
+        fig = figure(figsize=(COLUMN_WIDTH, 4.1 + (0.25 if title else 0.0)), layout="constrained")
         ax = fig.add_subplot()
-        cmap = ListedColormap(colormaps[RATIO_CMAP](np.linspace(0.0, RATIO_CMAP_TOP, 256))
-                              ).with_extremes(bad="white")
-        mesh = ax.pcolormesh(x, y, np.ma.masked_invalid(ratio.reshape(N, N)).T, cmap=cmap,
-                             vmin=0.0, vmax=1.0, shading="nearest", rasterized=True)
+        cmap = ListedColormap(
+            colormaps[RATIO_CMAP](np.linspace(0.0, RATIO_CMAP_TOP, 256))
+        ).with_extremes(bad="white")
+        mesh = ax.pcolormesh(
+            x,
+            y,
+            np.ma.masked_invalid(ratio.reshape(N, N)).T,
+            cmap=cmap,
+            vmin=0.0,
+            vmax=1.0,
+            shading="nearest",
+            rasterized=True,
+        )
         state = result.state[j].reshape(N, N)
-        ax.add_collection(LineCollection(panels.outline(contact.reshape(N, N), x, y, w),
-                                         colors="black", linewidths=0.8))
+        ax.add_collection(
+            LineCollection(
+                panels.outline(contact.reshape(N, N), x, y, w), colors="black", linewidths=0.8
+            )
+        )
         stick = (state == int(State.STICK)) & contact.reshape(N, N)
         stick_edge = bool(stick.any()) and bool(np.any(stick != contact.reshape(N, N)))
         if stick_edge:
-            ax.add_collection(LineCollection(panels.outline(stick, x, y, w), colors="black",
-                                             linewidths=0.8, linestyles=[(0, (1.2, 1.2))]))
+            ax.add_collection(
+                LineCollection(
+                    panels.outline(stick, x, y, w),
+                    colors="black",
+                    linewidths=0.8,
+                    linestyles=[(0, (1.2, 1.2))],
+                )
+            )
         rho = panels.hertz_radius(model, float(np.asarray(model.P(result.t[j]))))
         if rho is not None:
             from matplotlib.patches import Circle
@@ -139,12 +174,15 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
             ax.add_patch(Circle((0.0, 0.0), rho, fill=False, **panels.hertz_style()))
         # arrows: every k-th element (centred on the grid's centre), at most
         # MAX_ARROWS_ACROSS across the contact
-        across = max(1, int(np.ptp(np.flatnonzero(contact.reshape(N, N).any(axis=1))))) + 1 \
-            if contact.any() else N
+        across = (
+            max(1, int(np.ptp(np.flatnonzero(contact.reshape(N, N).any(axis=1))))) + 1
+            if contact.any()
+            else N
+        )
         k = max(1, math.ceil(across / MAX_ARROWS_ACROSS))
         c = (N - 1) // 2
         keep = np.zeros((N, N), dtype=bool)
-        keep[c % k::k, c % k::k] = True
+        keep[c % k :: k, c % k :: k] = True
         show = keep.ravel() & contact
         X, Y = np.meshgrid(x, y, indexing="ij")
         mags = np.hypot(q[show, 0], q[show, 1])
@@ -152,33 +190,73 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
         top = top if top > 0 else 1.0
         # the longest arrow spans 0.9 of the spacing of the arrows
         scale = top / (0.9 * k * w)
-        arrows = ax.quiver(X.ravel()[show], Y.ravel()[show], q[show, 0], q[show, 1],
-                           angles="xy", scale_units="xy", scale=scale, pivot="middle",
-                           color="black", width=0.006, headwidth=3.5, headlength=4.0,
-                           headaxislength=3.5, zorder=3)
+        arrows = ax.quiver(
+            X.ravel()[show],
+            Y.ravel()[show],
+            q[show, 0],
+            q[show, 1],
+            angles="xy",
+            scale_units="xy",
+            scale=scale,
+            pivot="middle",
+            color="black",
+            width=0.006,
+            headwidth=3.5,
+            headlength=4.0,
+            headaxislength=3.5,
+            zorder=3,
+        )
         ref = panels.nice(top)
         # the key in the upper right corner, outside the (round) contact
-        ax.quiverkey(arrows, 0.9, 0.94, ref, rf"{ref:g} $\mu p_0$", labelpos="N",
-                     coordinates="axes", fontproperties={"size": SMALL}, labelsep=0.04)
+        ax.quiverkey(
+            arrows,
+            0.9,
+            0.94,
+            ref,
+            rf"{ref:g} $\mu p_0$",
+            labelpos="N",
+            coordinates="axes",
+            fontproperties={"size": SMALL},
+            labelsep=0.04,
+        )
         ax.set_xlim(-half, half)
         ax.set_ylim(-half, half)
         ax.set_aspect("equal")
         panels.ticks(ax)
         ax.set_xlabel(r"$x/a_0$", labelpad=1)
         ax.set_ylabel(r"$y/a_0$", labelpad=1)
-        ax.set_title(panels.loads_label(model, float(result.t[j]), float(result.t[-1])).replace(
-            "\n", ": "), fontsize=SMALL, pad=3)
+        ax.set_title(
+            panels.loads_label(model, float(result.t[j]), float(result.t[-1])).replace("\n", ": "),
+            fontsize=SMALL,
+            pad=3,
+        )
         bar = fig.colorbar(mesh, ax=ax, shrink=0.85, aspect=25, pad=0.02)
         bar.set_label(r"$|q|/(\mu p)$ (1: slipping; white: separated)")
         from matplotlib.lines import Line2D
 
-        handles = [Line2D([], [], ls="none", marker=r"$\rightarrow$", ms=8, color="black",
-                          label=r"shear traction $q = -F/h^2$ on the element"
-                                + (f",\none arrow per {k} x {k} elements; " if k > 1 else "\n")
-                                + p0_text)]
+        handles = [
+            Line2D(
+                [],
+                [],
+                ls="none",
+                marker=r"$\rightarrow$",
+                ms=8,
+                color="black",
+                label=r"shear traction $q = -F/h^2$ on the element"
+                + (f",\none arrow per {k} x {k} elements; " if k > 1 else "\n")
+                + p0_text,
+            )
+        ]
         handles += panels.edge_handles(model, stick_edge=stick_edge)
-        fig.legend(handles=handles, loc="outside lower center", ncols=1, frameon=False,
-                   fontsize=SMALL, title=panels.caption(model, sides=False), title_fontsize=SMALL)
+        fig.legend(
+            handles=handles,
+            loc="outside lower center",
+            ncols=1,
+            frameon=False,
+            fontsize=SMALL,
+            title=panels.caption(model, sides=False),
+            title_fontsize=SMALL,
+        )
         if title:
             fig.suptitle(title, fontsize=SMALL + 1)
         return finish(fig)
@@ -191,20 +269,22 @@ def animate_zones(model, result, path, frames=None, fps: int = 10):
     Returns the path."""
     path = Path(path)
     if path.suffix.lower() != ".gif":
-        raise InputError("path", f"the animation is written as a GIF: the file name must end "
-                                 f"in .gif, got {path.name!r}")
+        raise InputError(
+            "path",
+            f"the animation is written as a GIF: the file name must end in .gif, got {path.name!r}",
+        )
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
         raise InputError("path", f"the directory {str(folder)!r} does not exist")
-    if not os.access(folder, os.W_OK | os.X_OK) or (path.exists() and
-                                                    not os.access(path, os.W_OK)):
-        raise InputError("path", f"cannot write {str(path)!r}: the directory or the file is "
-                                 f"not writable")
+    if not os.access(folder, os.W_OK | os.X_OK) or (path.exists() and not os.access(path, os.W_OK)):
+        raise InputError(
+            "path", f"cannot write {str(path)!r}: the directory or the file is not writable"
+        )
     fps = float(fps)
     if not math.isfinite(fps) or fps <= 0:
         raise InputError("fps", f"must be > 0, got {fps!r}")
     panels.check_result(model, result)
-    recorded = result.t.size - 1                        # instants 1..steps (t = T for t = 0)
+    recorded = result.t.size - 1  # instants 1..steps (t = T for t = 0)
     if frames is None:
         count = min(recorded, ANIMATION_FRAMES)
     else:
@@ -227,14 +307,25 @@ def animate_zones(model, result, path, frames=None, fps: int = 10):
         panels.ticks(ax)
         ax.set_xlabel(r"$x/a_0$", labelpad=1)
         ax.set_ylabel(r"$y/a_0$", labelpad=1)
-        head = ax.set_title(panels.loads_label(model, float(result.t[index[0]]), period),
-                            fontsize=SMALL, pad=3, linespacing=1.3)
+        head = ax.set_title(
+            panels.loads_label(model, float(result.t[index[0]]), period),
+            fontsize=SMALL,
+            pad=3,
+            linespacing=1.3,
+        )
         handles = panels.zone_legend(model, panels.edge_handles(model))
-        fig.legend(handles=handles, loc="outside lower center", ncols=2, frameon=False,
-                   fontsize=SMALL, title=panels.caption(model), title_fontsize=SMALL)
+        fig.legend(
+            handles=handles,
+            loc="outside lower center",
+            ncols=2,
+            frameon=False,
+            fontsize=SMALL,
+            title=panels.caption(model),
+            title_fontsize=SMALL,
+        )
         finish(fig)
-        fig.draw_without_rendering()                    # the layout, at the first frame
-        fig.set_layout_engine("none")                   # laid out once: the frames keep it
+        fig.draw_without_rendering()  # the layout, at the first frame
+        fig.set_layout_engine("none")  # laid out once: the frames keep it
         N = model.N
         from ..results import State
 
@@ -254,8 +345,9 @@ def animate_zones(model, result, path, frames=None, fps: int = 10):
     return path
 
 
-def write_halfspace_figures(out_dir, model, result, formats=("png", "pdf"),
-                            fractions=(0.0, 0.25, 0.5, 0.75)) -> list[Path]:
+def write_halfspace_figures(
+    out_dir, model, result, formats=("png", "pdf"), fractions=(0.0, 0.25, 0.5, 0.75)
+) -> list[Path]:
     """Write the zone maps at ``fractions`` of the period (``halfspace-zones``) and, for
     ``dims = 2``, the traction vectors at the first of them with a tangential load (``halfspace-
     tractions``, at the largest |Q| if none has one) of a solved half-space contact into
@@ -263,8 +355,7 @@ def write_halfspace_figures(out_dir, model, result, formats=("png", "pdf"),
     panels.check_result(model, result)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    paths = save(figure_zone_maps(model, result, fractions), out_dir, "halfspace-zones",
-                 formats)
+    paths = save(figure_zone_maps(model, result, fractions), out_dir, "halfspace-zones", formats)
     if model.dims == 2:
         T = float(result.t[-1])
         Q = [abs(float(model.Q(f * T))) for f in fractions]
@@ -274,6 +365,10 @@ def write_halfspace_figures(out_dir, model, result, formats=("png", "pdf"),
         else:
             qs = np.abs(np.asarray(model.Q(result.t), dtype=float))
             fraction = float(result.t[int(np.argmax(qs))] / T)
-        paths += save(figure_traction_vectors(model, result, fraction), out_dir,
-                      "halfspace-tractions", formats)
+        paths += save(
+            figure_traction_vectors(model, result, fraction),
+            out_dir,
+            "halfspace-tractions",
+            formats,
+        )
     return paths

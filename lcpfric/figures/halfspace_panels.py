@@ -9,7 +9,25 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["caption", "check_result", "codes", "crop", "draw_zones", "edge_handles", "grid", "halo", "hertz_radius", "hertz_style", "index", "loads_label", "nice", "outline", "peak_pressure", "ticks", "zone_legend"]
+__all__ = [
+    "caption",
+    "check_result",
+    "codes",
+    "crop",
+    "draw_zones",
+    "edge_handles",
+    "grid",
+    "halo",
+    "hertz_radius",
+    "hertz_style",
+    "index",
+    "loads_label",
+    "nice",
+    "outline",
+    "peak_pressure",
+    "ticks",
+    "zone_legend",
+]
 
 #: the zones' colours: stick, forward slip, backward slip, separated
 ZONE_COLOURS = ("#23395d", "#d9531e", "#f4a259", "#ececec")
@@ -17,11 +35,15 @@ ZONE_COLOURS = ("#23395d", "#d9531e", "#f4a259", "#ececec")
 
 def check_result(model, result):
     if getattr(result, "contact", None) is None or result.t.size != result.steps_used + 1:
-        raise InputError("result", "has no recorded cycle: solve the model with "
-                                   "lcpfric.steady_state(model, history=True)")
+        raise InputError(
+            "result",
+            "has no recorded cycle: solve the model with lcpfric.steady_state(model, history=True)",
+        )
     if result.state.shape[1] != model.nodes:
-        raise InputError("result", f"has {result.state.shape[1]} nodes, the model "
-                                   f"{model.nodes}: not this model's result")
+        raise InputError(
+            "result",
+            f"has {result.state.shape[1]} nodes, the model {model.nodes}: not this model's result",
+        )
 
 
 def index(result, fraction: float, name: str = "fractions") -> int:
@@ -63,11 +85,11 @@ def outline(mask: np.ndarray, x, y, w):
     xs = np.concatenate([[x[0] - w], x, [x[-1] + w]])
     ys = np.concatenate([[y[0] - w], y, [y[-1] + w]])
     segs = []
-    i, j = np.nonzero(m[1:, :] != m[:-1, :])          # edges normal to x, between i and i+1
+    i, j = np.nonzero(m[1:, :] != m[:-1, :])  # edges normal to x, between i and i+1
     for a, b in zip(i, j):
         xe = xs[a] + half
         segs.append(((xe, ys[b] - half), (xe, ys[b] + half)))
-    i, j = np.nonzero(m[:, 1:] != m[:, :-1])          # edges normal to y
+    i, j = np.nonzero(m[:, 1:] != m[:, :-1])  # edges normal to y
     for a, b in zip(i, j):
         ye = ys[b] + half
         segs.append(((xs[a] - half, ye), (xs[a] + half, ye)))
@@ -93,19 +115,22 @@ def crop(model, result, margin: float = 0.15):
 def loads_label(model, t: float, period: float) -> str:
     P = float(np.asarray(model.P(t))) / model.P0 + 0.0
     Q = float(np.asarray(model.Q(t))) / (model.mu * model.P0)
-    Q = 0.0 if abs(Q) < 5e-3 else Q                     # no "-0.00"
+    Q = 0.0 if abs(Q) < 5e-3 else Q  # no "-0.00"
     f = t / period
-    f = 0.0 if abs(f - 1.0) < 1e-9 else f               # t = T is t = 0 of the periodic state
-    return (f"t/T = {f:.3g}\n"
-            rf"$P/P_0$ = {P:.2f}, $Q/(\mu P_0)$ = {Q:+.2f}")
+    f = 0.0 if abs(f - 1.0) < 1e-9 else f  # t = T is t = 0 of the periodic state
+    return (
+        f"t/T = {f:.3g}\n"
+        rf"$P/P_0$ = {P:.2f}, $Q/(\mu P_0)$ = {Q:+.2f}"
+    )
 
 
 def zone_legend(model, extra=()):
     from matplotlib.patches import Patch
 
     labels = ("stick", "slip towards +x", "slip towards −x", "separated")
-    handles = [Patch(facecolor=c, edgecolor="0.3", lw=0.4, label=k)
-               for k, c in zip(labels, ZONE_COLOURS)]
+    handles = [
+        Patch(facecolor=c, edgecolor="0.3", lw=0.4, label=k) for k, c in zip(labels, ZONE_COLOURS)
+    ]
     return handles + list(extra)
 
 
@@ -138,10 +163,22 @@ def draw_zones(ax, model, result, j, x, y, w, half):
 
     N = model.N
     state = result.state[j].reshape(N, N)
-    mesh = ax.pcolormesh(x, y, codes(state).T, cmap=ListedColormap(ZONE_COLOURS), vmin=-0.5,
-                         vmax=3.5, shading="nearest", rasterized=True)
-    edge = LineCollection(outline(state != int(State.SEPARATION), x, y, w), colors="black",
-                          linewidths=0.8, capstyle="projecting")
+    mesh = ax.pcolormesh(
+        x,
+        y,
+        codes(state).T,
+        cmap=ListedColormap(ZONE_COLOURS),
+        vmin=-0.5,
+        vmax=3.5,
+        shading="nearest",
+        rasterized=True,
+    )
+    edge = LineCollection(
+        outline(state != int(State.SEPARATION), x, y, w),
+        colors="black",
+        linewidths=0.8,
+        capstyle="projecting",
+    )
     ax.add_collection(edge)
     circle = None
     rho = hertz_radius(model, float(np.asarray(model.P(result.t[j]))))
@@ -159,13 +196,24 @@ def edge_handles(model, stick_edge: bool = False):
 
     out = [Line2D([], [], color="black", lw=0.8, label="contact edge (elements)")]
     if stick_edge:
-        out.append(Line2D([], [], color="black", lw=0.8, ls=(0, (1.2, 1.2)),
-                          label="edge of the stick zone"))
+        out.append(
+            Line2D(
+                [], [], color="black", lw=0.8, ls=(0, (1.2, 1.2)), label="edge of the stick zone"
+            )
+        )
     if getattr(model, "geometry", None) == "sphere":
         hs = hertz_style()
-        out.append(Line2D([], [], color=hs["ec"], lw=hs["lw"], ls=hs["ls"],
-                          path_effects=hs["path_effects"],
-                          label="Hertz contact radius at P(t)"))
+        out.append(
+            Line2D(
+                [],
+                [],
+                color=hs["ec"],
+                lw=hs["lw"],
+                ls=hs["ls"],
+                path_effects=hs["path_effects"],
+                label="Hertz contact radius at P(t)",
+            )
+        )
     return out
 
 
@@ -193,7 +241,7 @@ def peak_pressure(model):
     """The pressure scale p0 and its description: Hertz's at P0 for the sphere, else the
     largest pressure of the discrete contact at P0."""
     if getattr(model, "geometry", None) == "sphere":
-        return 3.0 * model.P0 / (2.0 * math.pi * model.a0 ** 2), r"$p_0$: Hertz's peak pressure"
+        return 3.0 * model.P0 / (2.0 * math.pi * model.a0**2), r"$p_0$: Hertz's peak pressure"
     return float(np.max(model.pressure(model.P0))), r"$p_0$: peak pressure at $P_0$"
 
 
@@ -203,8 +251,6 @@ def nice(x: float) -> float:
         return 1.0
     e = math.floor(math.log10(x))
     for m in (5.0, 2.5, 2.0, 1.0):
-        if m * 10 ** e <= x:
-            return m * 10 ** e
-    return 10 ** e
-
-
+        if m * 10**e <= x:
+            return m * 10**e
+    return 10**e

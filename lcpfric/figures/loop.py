@@ -33,15 +33,27 @@ def figure_loop(loop: HysteresisLoop, title: str | None = None, units: tuple = (
         for a, b in zip(np.r_[0, cuts], np.r_[cuts, states.size]):
             code = State(int(states[a]))
             label, color, ls = STATE_STYLES[code]
-            ax.plot(loop.v[a:b + 1], loop.F[a:b + 1], color=color, ls=ls, lw=1.4,
-                    label=None if code in drawn else label, zorder=3 if code else 2)
+            ax.plot(
+                loop.v[a : b + 1],
+                loop.F[a : b + 1],
+                color=color,
+                ls=ls,
+                lw=1.4,
+                label=None if code in drawn else label,
+                zorder=3 if code else 2,
+            )
             drawn.add(code)
         vu, fu = units
         ax.set_xlabel(f"tangential displacement v{f' [{vu}]' if vu else ''}")
         ax.set_ylabel(f"friction force F{f' [{fu}]' if fu else ''}")
         ax.grid(True, alpha=0.3)
-        ax.legend(title=f"enclosed area -∮F dv = {loop.area:.6g}\n(W per cycle = {loop.W:.6g})",
-                  loc="upper center", bbox_to_anchor=(0.5, -0.22), ncol=2, frameon=False)
+        ax.legend(
+            title=f"enclosed area -∮F dv = {loop.area:.6g}\n(W per cycle = {loop.W:.6g})",
+            loc="upper center",
+            bbox_to_anchor=(0.5, -0.22),
+            ncol=2,
+            frameon=False,
+        )
         if title:
             ax.set_title(title)
         return finish(fig)

@@ -22,8 +22,23 @@ import numpy as np
 
 from .._optional import require
 
-__all__ = ["COLUMN_WIDTH", "PAGE_WIDTH", "MIN_FONT_SIZE", "DPI", "SMALL", "NORMAL", "CMAP",
-           "style", "figure", "finish", "phi_label", "sci", "ramp", "curve_style", "save"]
+__all__ = [
+    "COLUMN_WIDTH",
+    "PAGE_WIDTH",
+    "MIN_FONT_SIZE",
+    "DPI",
+    "SMALL",
+    "NORMAL",
+    "CMAP",
+    "style",
+    "figure",
+    "finish",
+    "phi_label",
+    "sci",
+    "ramp",
+    "curve_style",
+    "save",
+]
 
 PI = math.pi
 
@@ -40,16 +55,34 @@ NORMAL = 8.0  # axis labels and titles
 CMAP = "viridis"
 #: Local matplotlib settings for building and saving every figure (never set globally).
 RC = {
-    "font.size": NORMAL, "axes.titlesize": NORMAL, "axes.labelsize": NORMAL,
-    "xtick.labelsize": SMALL, "ytick.labelsize": SMALL, "legend.fontsize": SMALL,
-    "legend.title_fontsize": SMALL, "figure.titlesize": NORMAL + 1,
-    "axes.linewidth": 0.6, "lines.linewidth": 1.2, "patch.linewidth": 0.6,
-    "xtick.major.width": 0.6, "ytick.major.width": 0.6, "xtick.minor.width": 0.45,
-    "ytick.minor.width": 0.45, "xtick.major.size": 3.0, "ytick.major.size": 3.0,
-    "xtick.minor.size": 1.8, "ytick.minor.size": 1.8, "grid.linewidth": 0.5,
-    "legend.handlelength": 2.6, "legend.borderaxespad": 0.3, "legend.columnspacing": 1.2,
-    "hatch.linewidth": 0.6, "mathtext.fontset": "dejavusans",
-    "pdf.fonttype": 42, "ps.fonttype": 42, "savefig.dpi": DPI,
+    "font.size": NORMAL,
+    "axes.titlesize": NORMAL,
+    "axes.labelsize": NORMAL,
+    "xtick.labelsize": SMALL,
+    "ytick.labelsize": SMALL,
+    "legend.fontsize": SMALL,
+    "legend.title_fontsize": SMALL,
+    "figure.titlesize": NORMAL + 1,
+    "axes.linewidth": 0.6,
+    "lines.linewidth": 1.2,
+    "patch.linewidth": 0.6,
+    "xtick.major.width": 0.6,
+    "ytick.major.width": 0.6,
+    "xtick.minor.width": 0.45,
+    "ytick.minor.width": 0.45,
+    "xtick.major.size": 3.0,
+    "ytick.major.size": 3.0,
+    "xtick.minor.size": 1.8,
+    "ytick.minor.size": 1.8,
+    "grid.linewidth": 0.5,
+    "legend.handlelength": 2.6,
+    "legend.borderaxespad": 0.3,
+    "legend.columnspacing": 1.2,
+    "hatch.linewidth": 0.6,
+    "mathtext.fontset": "dejavusans",
+    "pdf.fonttype": 42,
+    "ps.fonttype": 42,
+    "savefig.dpi": DPI,
 }
 
 
@@ -135,15 +168,30 @@ def ramp(n: int):
 
 #: (line style, marker) of successive curves: every curve differs in marker, and neighbours also
 #: in line style, so that curves stay distinct in greyscale.
-STYLES = (("-", "s"), ("--", "^"), ("-.", "v"), (":", "D"), ("-", "P"), ("--", "X"),
-          ("-.", "p"), (":", "h"), ("-", "<"), ("--", ">"))
+STYLES = (
+    ("-", "s"),
+    ("--", "^"),
+    ("-.", "v"),
+    (":", "D"),
+    ("-", "P"),
+    ("--", "X"),
+    ("-.", "p"),
+    (":", "h"),
+    ("-", "<"),
+    ("--", ">"),
+)
 
 
 def curve_style(i: int, n: int, points: int) -> dict:
     ls, marker = STYLES[i % len(STYLES)]
     step = max(points // 7, 1)
-    return {"ls": ls, "marker": marker, "ms": 3.6, "markevery": ((i * step) // max(n, 1), step),
-            "mew": 0.6}
+    return {
+        "ls": ls,
+        "marker": marker,
+        "ms": 3.6,
+        "markevery": ((i * step) // max(n, 1), step),
+        "mew": 0.6,
+    }
 
 
 def save(fig, out_dir: Path, name: str, formats) -> list[Path]:

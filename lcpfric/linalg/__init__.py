@@ -6,5 +6,11 @@ from .blocks import BandedBlock, DenseBlock, SparseBlock, make_block
 from .operator import OperatorBlock
 from .patterns import PatternUpdate
 
-__all__ = ["DenseBlock", "BandedBlock", "SparseBlock", "make_block", "OperatorBlock",
-           "PatternUpdate"]
+__all__ = [
+    "DenseBlock",
+    "BandedBlock",
+    "SparseBlock",
+    "make_block",
+    "OperatorBlock",
+    "PatternUpdate",
+]

@@ -17,8 +17,11 @@ FOLD_RANK = 48
 
 
 def not_spd(what: str) -> SolverError:
-    return SolverError(f"active-set: {what} is not positive definite (K must be SPD)",
-                       backend="active-set", status="not_spd")
+    return SolverError(
+        f"active-set: {what} is not positive definite (K must be SPD)",
+        backend="active-set",
+        status="not_spd",
+    )
 
 
 class Block:
@@ -52,5 +55,3 @@ def columns_product(K, cols: np.ndarray, y: np.ndarray) -> np.ndarray:
     x = np.zeros(m)
     x[cols] = y
     return K @ x
-
-

@@ -37,12 +37,21 @@ if TYPE_CHECKING:
     import numpy as np
     import scipy.sparse as sp
 
-__all__ = ["DenseBlock", "BandedBlock", "SparseBlock", "make_block", "not_spd", "Block",
-           "MAX_BANDWIDTH", "FOLD_RANK"]
+__all__ = [
+    "DenseBlock",
+    "BandedBlock",
+    "SparseBlock",
+    "make_block",
+    "not_spd",
+    "Block",
+    "MAX_BANDWIDTH",
+    "FOLD_RANK",
+]
 
 
-def make_block(K: np.ndarray | sp.spmatrix,
-               kind: str = "auto") -> DenseBlock | BandedBlock | SparseBlock:
+def make_block(
+    K: np.ndarray | sp.spmatrix, kind: str = "auto"
+) -> DenseBlock | BandedBlock | SparseBlock:
     """The block for K: ``"dense"``, ``"banded"``, ``"sparse"`` or ``"auto"``.
 
     ``"auto"`` is dense for a dense K; for a sparse K, banded when its bandwidth after reverse

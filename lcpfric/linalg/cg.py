@@ -49,5 +49,8 @@ def cg(M, g, x, project, pre, tol, stats, step=None, max_iter=None, res=None):
         rz_new = float(r @ z)
         p = z + (rz_new / rz) * p
         rz = rz_new
-    raise SolverError(f"half-space: conjugate gradients did not reach {tol:.3g} in {limit} "
-                      f"iterations", backend="halfspace", status="max_iter")
+    raise SolverError(
+        f"half-space: conjugate gradients did not reach {tol:.3g} in {limit} iterations",
+        backend="halfspace",
+        status="max_iter",
+    )

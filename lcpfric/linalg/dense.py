@@ -81,8 +81,8 @@ class DenseBlock(Block):
             return
         inside = np.zeros(self.m, dtype=bool)
         inside[free] = True
-        left = np.flatnonzero(~inside[self.base])       # positions in B
-        joined = free[self._where[free] < 0]             # unknowns not in B
+        left = np.flatnonzero(~inside[self.base])  # positions in B
+        joined = free[self._where[free] < 0]  # unknowns not in B
         rank = left.size + joined.size
         if self.base.size == 0 or 4 * (rank - self.rank) > max(free.size, 1):
             self._rebuild(free)
@@ -126,7 +126,7 @@ class DenseBlock(Block):
             for c, u in enumerate(joined):
                 if int(u) in known:
                     XT[c] = self.XT[known[int(u)]]
-            KJ = K[joined]                                   # (j, m), rows
+            KJ = K[joined]  # (j, m), rows
             KJB = KJ[:, B]
             if fresh:
                 XT[fresh] = KJB[fresh] @ G0
@@ -138,8 +138,8 @@ class DenseBlock(Block):
         self.rank = left.size + joined.size
         if left.size:
             # H[:, R]ᵀ: rows of H = K_AA⁻¹ at the leaving positions
-            XRS = XT[:, left].T @ Sinv                       # (k, j)
-            HRT = np.hstack([G0[left] + XRS @ XT, -XRS])     # (k, |B| + j)
+            XRS = XT[:, left].T @ Sinv  # (k, j)
+            HRT = np.hstack([G0[left] + XRS @ XT, -XRS])  # (k, |B| + j)
             self.HRT = HRT
             HRR = HRT[:, left]
             self.M = spd_inverse(0.5 * (HRR + HRR.T), "H_RR")
@@ -192,8 +192,9 @@ class DenseBlock(Block):
         self._correction(np.empty(0, dtype=np.intp), np.empty(0, dtype=np.intp))
         self.stats["updates"] += 1
 
-    def solve(self, r: np.ndarray,
-              support: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def solve(
+        self, r: np.ndarray, support: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """``(unknowns, x)``: the solution of ``K_FF x_F = r_F`` on the unknowns of F.
 
         Parameters
@@ -246,10 +247,10 @@ class DenseBlock(Block):
             return columns_product(self.K, cols, y)
         keep, nb = solved[1], self.base.size
         yB = np.zeros(nb)
-        yB[keep[:nb]] = y[:nb - self.left.size]
+        yB[keep[:nb]] = y[: nb - self.left.size]
         out = yB @ self.rows
         if self.joined.size:
-            out += y[nb - self.left.size:] @ self.K[self.joined]
+            out += y[nb - self.left.size :] @ self.K[self.joined]
         return out
 
 

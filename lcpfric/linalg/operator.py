@@ -136,7 +136,10 @@ class OperatorBlock:
             p *= rr / rr_old
             p += r
         self.stats["cg_iterations"] += self.max_iter
-        raise SolverError(f"active-set: conjugate gradients on the sticking nodes did not reach "
-                          f"{tol:.3g} in {self.max_iter} iterations (residual "
-                          f"{float(np.max(np.abs(r))):.3g}); raise cg_max_iter",
-                          backend="active-set", status="cg_max_iter")
+        raise SolverError(
+            f"active-set: conjugate gradients on the sticking nodes did not reach "
+            f"{tol:.3g} in {self.max_iter} iterations (residual "
+            f"{float(np.max(np.abs(r))):.3g}); raise cg_max_iter",
+            backend="active-set",
+            status="cg_max_iter",
+        )

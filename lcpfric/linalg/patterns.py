@@ -45,9 +45,13 @@ class PatternUpdate:
         self.seen: set = set()
         self.single = False
 
-    def first(self, F_tr: np.ndarray, lo: np.ndarray, hi: np.ndarray,
-              warm: tuple[np.ndarray, np.ndarray] | None = None
-              ) -> tuple[np.ndarray, np.ndarray]:
+    def first(
+        self,
+        F_tr: np.ndarray,
+        lo: np.ndarray,
+        hi: np.ndarray,
+        warm: tuple[np.ndarray, np.ndarray] | None = None,
+    ) -> tuple[np.ndarray, np.ndarray]:
         """The first pattern, from the trial forces and the pattern at the start.
 
         The nodes whose trial force is out of its bounds, and those on their bounds at the
@@ -77,8 +81,9 @@ class PatternUpdate:
             ndn = ndn | (b & warm[1] & ~nup)
         return nup, ndn
 
-    def next(self, z: np.ndarray, lo: np.ndarray, hi: np.ndarray, up: np.ndarray,
-             dn: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    def next(
+        self, z: np.ndarray, lo: np.ndarray, hi: np.ndarray, up: np.ndarray, dn: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray] | None:
         """The next ``(upper, lower)``, or None when the pattern ``(up, dn)`` is the answer.
 
         Parameters

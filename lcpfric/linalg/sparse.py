@@ -91,8 +91,9 @@ class BandedBlock(Block):
         self.starts = np.concatenate([[0], cut]).astype(np.intp)
         self.stops = np.concatenate([cut, [pos.size]]).astype(np.intp)
 
-    def solve(self, r: np.ndarray,
-              support: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def solve(
+        self, r: np.ndarray, support: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """``(unknowns, x)`` with ``K_FF x_F = r_F``, on the segments that ``support`` needs.
 
         Computed on the segments that hold an unknown of ``support`` (all when None): r must
@@ -131,8 +132,9 @@ class BandedBlock(Block):
             if 2 * lengths.sum() > pos.size:
                 sel = pos
             else:
-                offs = np.repeat(self.starts[seg] - np.concatenate([[0], np.cumsum(lengths)[:-1]]),
-                                 lengths)
+                offs = np.repeat(
+                    self.starts[seg] - np.concatenate([[0], np.cumsum(lengths)[:-1]]), lengths
+                )
                 sel = pos[np.arange(lengths.sum()) + offs]
         if self.factor is None or not np.array_equal(sel, self.sel):
             self._factor(sel)
@@ -148,7 +150,7 @@ class BandedBlock(Block):
         for d in range(1, w + 1):
             if d >= f:
                 break
-            gap = sel[d:] - sel[:f - d]  # distance in band order of the pair (i, i + d)
+            gap = sel[d:] - sel[: f - d]  # distance in band order of the pair (i, i + d)
             ok = gap <= w
             vals = np.zeros(f - d)
             vals[ok] = self.band[w - gap[ok], sel[d:][ok]]
@@ -212,14 +214,14 @@ class SparseBlock(Block):
             return
         A = self.K[free][:, free].tocsc()
         try:
-            self.lu = spl.splu(A, permc_spec="MMD_AT_PLUS_A",
-                               options={"SymmetricMode": True})
+            self.lu = spl.splu(A, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
         except RuntimeError as exc:
             raise not_spd(f"K_FF ({exc})") from None
         self.stats["factorizations"] += 1
 
-    def solve(self, r: np.ndarray,
-              support: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def solve(
+        self, r: np.ndarray, support: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """``(unknowns, x)`` with ``K_FF x_F = r_F``, from the factor of :meth:`set`.
 
         Parameters
@@ -251,8 +253,7 @@ def banded_order(K) -> tuple[np.ndarray, int]:
     natural = int(np.max(np.abs(coo.row - coo.col), initial=0))
     if natural <= 1:
         return np.arange(K.shape[0]), natural
-    perm = np.asarray(reverse_cuthill_mckee(sp.csr_matrix(K), symmetric_mode=True),
-                      dtype=np.intp)
+    perm = np.asarray(reverse_cuthill_mckee(sp.csr_matrix(K), symmetric_mode=True), dtype=np.intp)
     rank = np.empty_like(perm)
     rank[perm] = np.arange(perm.size)
     width = int(np.max(np.abs(rank[coo.row] - rank[coo.col]), initial=0))

@@ -16,10 +16,25 @@ from .normal import IndependentSprings, NormalModel
 from .single_node import SingleNode, W_from_W_hat, W_hat_from_W
 from .system import ContactSystem
 
-__all__ = ["Load", "Harmonic", "Fourier", "Periodic", "NormalModel", "IndependentSprings",
-           "ContactSystem", "SingleNode", "W_hat_from_W", "W_from_W_hat", "chain",
-           "chain_stiffness", "block_diagonal", "MDRSphere", "HalfPlaneCylinder", "HalfSpace",
-           "ContactModel"]
+__all__ = [
+    "Load",
+    "Harmonic",
+    "Fourier",
+    "Periodic",
+    "NormalModel",
+    "IndependentSprings",
+    "ContactSystem",
+    "SingleNode",
+    "W_hat_from_W",
+    "W_from_W_hat",
+    "chain",
+    "chain_stiffness",
+    "block_diagonal",
+    "MDRSphere",
+    "HalfPlaneCylinder",
+    "HalfSpace",
+    "ContactModel",
+]
 
 _CONTINUUM = ("MDRSphere", "HalfPlaneCylinder", "HalfSpace", "ContactModel")
 

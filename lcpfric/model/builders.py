@@ -32,8 +32,9 @@ if TYPE_CHECKING:
 __all__ = ["chain", "chain_stiffness", "block_diagonal"]
 
 
-def chain_stiffness(n: int, k_coupling: float = 1.0, k_ground: float = 1.0, dims: int = 1,
-                    sparse: bool = False) -> np.ndarray | scipy.sparse.csc_matrix:
+def chain_stiffness(
+    n: int, k_coupling: float = 1.0, k_ground: float = 1.0, dims: int = 1, sparse: bool = False
+) -> np.ndarray | scipy.sparse.csc_matrix:
     """The (n·d x n·d) stiffness of a chain: ``(k_ground I + k_coupling L) ⊗ I_d``.
 
     L is the path graph's Laplacian (tridiagonal ``[-1, 2, -1]``, 1 at the ends; zero for a
@@ -81,12 +82,23 @@ def chain_stiffness(n: int, k_coupling: float = 1.0, k_ground: float = 1.0, dims
     return K if sparse else K.toarray()
 
 
-def chain(n: int, *, k_coupling: float = 1.0, k_ground: float = 1.0,
-          friction: ArrayLike = 1.0, normal_loads: Sequence[Load] | None = None,
-          tangential_loads: Sequence[Load] | None = None, P0: ArrayLike = 1.0,
-          P1: ArrayLike = 0.0, Q1: ArrayLike = 0.0, phi: ArrayLike = 0.0,
-          normal_phase: ArrayLike = 0.0, omega: float = 1.0, dims: int = 1,
-          sparse: bool = False) -> ContactSystem:
+def chain(
+    n: int,
+    *,
+    k_coupling: float = 1.0,
+    k_ground: float = 1.0,
+    friction: ArrayLike = 1.0,
+    normal_loads: Sequence[Load] | None = None,
+    tangential_loads: Sequence[Load] | None = None,
+    P0: ArrayLike = 1.0,
+    P1: ArrayLike = 0.0,
+    Q1: ArrayLike = 0.0,
+    phi: ArrayLike = 0.0,
+    normal_phase: ArrayLike = 0.0,
+    omega: float = 1.0,
+    dims: int = 1,
+    sparse: bool = False,
+) -> ContactSystem:
     """A chain of n contact nodes with coupled tangential stiffness.
 
     Give the loads either as Load objects or as harmonic amplitudes and phases (Eq. 1 per node):
@@ -146,8 +158,9 @@ def chain(n: int, *, k_coupling: float = 1.0, k_ground: float = 1.0,
     if tangential_loads is None:
         Q1 = _dof_values("Q1", Q1, n, dims, nonneg=True)
         ph = _dof_values("phi", phi, n, dims)
-        tangential_loads = [Harmonic(0.0, Q1[i, j], psi[i] + ph[i, j], omega)
-                            for i in range(n) for j in range(dims)]
+        tangential_loads = [
+            Harmonic(0.0, Q1[i, j], psi[i] + ph[i, j], omega) for i in range(n) for j in range(dims)
+        ]
     normal_loads = tuple(normal_loads)
     tangential_loads = tuple(tangential_loads)
     if not all(isinstance(p, Load) for p in normal_loads + tangential_loads):
@@ -190,10 +203,13 @@ def block_diagonal(nodes: Sequence[SingleNode | ContactSystem]) -> ContactSystem
     K = sp.block_diag(blocks, format="csc")
     if m <= 2000:
         K = K.toarray()
-    return ContactSystem(K, np.concatenate([s.friction for s in systems]),
-                         tuple(q for s in systems for q in s.tangential_loads),
-                         IndependentSprings(tuple(p for s in systems for p in s.normal.loads)),
-                         dims=dims.pop())
+    return ContactSystem(
+        K,
+        np.concatenate([s.friction for s in systems]),
+        tuple(q for s in systems for q in s.tangential_loads),
+        IndependentSprings(tuple(p for s in systems for p in s.normal.loads)),
+        dims=dims.pop(),
+    )
 
 
 def _node_values(name, value, n, nonneg=False):
@@ -201,8 +217,9 @@ def _node_values(name, value, n, nonneg=False):
     try:
         return np.broadcast_to(arr, (n,)).astype(float)
     except ValueError:
-        raise InputError(name, f"needs a scalar or {n} values (one per node), got shape "
-                               f"{arr.shape}") from None
+        raise InputError(
+            name, f"needs a scalar or {n} values (one per node), got shape {arr.shape}"
+        ) from None
 
 
 def _dof_values(name, value, n, dims, nonneg=False):
@@ -212,5 +229,6 @@ def _dof_values(name, value, n, dims, nonneg=False):
     try:
         return np.broadcast_to(arr, (n, dims)).astype(float)
     except ValueError:
-        raise InputError(name, f"needs a scalar, {n} values or an ({n}, {dims}) array, got "
-                               f"shape {arr.shape}") from None
+        raise InputError(
+            name, f"needs a scalar, {n} values or an ({n}, {dims}) array, got shape {arr.shape}"
+        ) from None

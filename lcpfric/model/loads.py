@@ -99,8 +99,12 @@ class Load:
         h = self.period / self._samples
         out = []
         for sign, k in ((1.0, int(np.argmin(x))), (-1.0, int(np.argmax(x)))):
-            res = minimize_scalar(lambda s: sign * float(self(s)), bounds=(t[k] - h, t[k] + h),
-                                  method="bounded", options={"xatol": 1e-14 * self.period})
+            res = minimize_scalar(
+                lambda s: sign * float(self(s)),
+                bounds=(t[k] - h, t[k] + h),
+                method="bounded",
+                options={"xatol": 1e-14 * self.period},
+            )
             best = min(sign * x[k], float(res.fun)) if res.success else sign * x[k]
             out.append(sign * best)
         return float(out[0]), float(out[1])
@@ -131,8 +135,15 @@ class Load:
                 if t0 < a < t1:
                     roots.append(a)
                 continue
-            roots.append(brentq(lambda s: float(self(s)), a, b, xtol=1e-15 * max(1.0, abs(b)),
-                                rtol=4 * np.finfo(float).eps))
+            roots.append(
+                brentq(
+                    lambda s: float(self(s)),
+                    a,
+                    b,
+                    xtol=1e-15 * max(1.0, abs(b)),
+                    rtol=4 * np.finfo(float).eps,
+                )
+            )
         return np.asarray(sorted(r for r in roots if t0 < r < t1), dtype=float)
 
     def scaled(self, factor: float) -> Load:
@@ -148,9 +159,12 @@ class Load:
         Periodic
             ``factor * x(t)``, with mean ``factor * mean`` and derivative ``factor * dx/dt``.
         """
-        return Periodic(lambda t, f=self, c=factor: c * f(t), self.period,
-                        mean=factor * self.mean,
-                        derivative=lambda t, f=self, c=factor: c * f.derivative(t))
+        return Periodic(
+            lambda t, f=self, c=factor: c * f(t),
+            self.period,
+            mean=factor * self.mean,
+            derivative=lambda t, f=self, c=factor: c * f.derivative(t),
+        )
 
 
 @dataclass(frozen=True)
@@ -188,12 +202,15 @@ class Fourier(Load):
 
     def __post_init__(self):
         object.__setattr__(self, "mean", _checks.finite("mean", self.mean))
-        amps = tuple(float(a) for a in _checks.finite_array("amplitudes", self.amplitudes,
-                                                            nonneg=True).ravel())
+        amps = tuple(
+            float(a)
+            for a in _checks.finite_array("amplitudes", self.amplitudes, nonneg=True).ravel()
+        )
         phases = tuple(float(p) for p in _checks.finite_array("phases", self.phases).ravel())
         if len(amps) != len(phases):
-            raise InputError("phases", f"needs one phase per amplitude ({len(amps)}), "
-                                       f"got {len(phases)}")
+            raise InputError(
+                "phases", f"needs one phase per amplitude ({len(amps)}), got {len(phases)}"
+            )
         object.__setattr__(self, "amplitudes", amps)
         object.__setattr__(self, "phases", phases)
         object.__setattr__(self, "omega", _checks.positive("omega", self.omega))
@@ -267,11 +284,16 @@ class Harmonic(Fourier):
         A parameter out of range or not finite.
     """
 
-    def __init__(self, mean: float = 0.0, amplitude: float = 0.0, phase: float = 0.0,
-                 omega: float = 1.0) -> None:
+    def __init__(
+        self, mean: float = 0.0, amplitude: float = 0.0, phase: float = 0.0, omega: float = 1.0
+    ) -> None:
         amplitude = _checks.nonnegative("amplitude", amplitude)
-        super().__init__(mean=mean, amplitudes=(amplitude,), phases=(_checks.finite("phase", phase),),
-                         omega=omega)
+        super().__init__(
+            mean=mean,
+            amplitudes=(amplitude,),
+            phases=(_checks.finite("phase", phase),),
+            omega=omega,
+        )
 
     @property
     def phase(self) -> float:
@@ -284,8 +306,10 @@ class Harmonic(Fourier):
         return self.amplitudes[0]
 
     def __repr__(self) -> str:
-        return (f"Harmonic(mean={self.mean!r}, amplitude={self.amplitude!r}, "
-                f"phase={self.phase!r}, omega={self.omega!r})")
+        return (
+            f"Harmonic(mean={self.mean!r}, amplitude={self.amplitude!r}, "
+            f"phase={self.phase!r}, omega={self.omega!r})"
+        )
 
     def extrema(self) -> tuple[float, float]:
         """(min, max) of x over a cycle, in closed form.
@@ -352,8 +376,13 @@ class Periodic(Load):
         shape of its argument; ``period`` <= 0; ``mean`` not finite.
     """
 
-    def __init__(self, func: Callable, period: float, mean: float | None = None,
-                 derivative: Callable | None = None) -> None:
+    def __init__(
+        self,
+        func: Callable,
+        period: float,
+        mean: float | None = None,
+        derivative: Callable | None = None,
+    ) -> None:
         if not callable(func):
             raise InputError("func", "must be a callable func(t) returning an array")
         self.func = func
@@ -363,8 +392,9 @@ class Periodic(Load):
             t = np.linspace(0.0, self.period, self._samples, endpoint=False)
             vals = np.asarray(func(t), dtype=float)
             if vals.shape != t.shape or not np.all(np.isfinite(vals)):
-                raise InputError("func", "must return finite values, one per time, for an "
-                                         "array of times")
+                raise InputError(
+                    "func", "must return finite values, one per time, for an array of times"
+                )
             mean = float(np.mean(vals))
         self.mean = _checks.finite("mean", mean)
 
@@ -421,11 +451,18 @@ class LoadSet:
             amps = np.zeros((h, len(idx)))
             phases = np.zeros((h, len(idx)))
             for col, p in enumerate(members):
-                amps[:len(p.amplitudes), col] = p.amplitudes
-                phases[:len(p.phases), col] = p.phases
+                amps[: len(p.amplitudes), col] = p.amplitudes
+                phases[: len(p.phases), col] = p.phases
             mean = np.array([p.mean for p in members])
-            self.groups.append((np.asarray(idx, dtype=np.intp), omega, mean, amps * np.cos(phases),
-                                amps * np.sin(phases)))
+            self.groups.append(
+                (
+                    np.asarray(idx, dtype=np.intp),
+                    omega,
+                    mean,
+                    amps * np.cos(phases),
+                    amps * np.sin(phases),
+                )
+            )
 
     def __len__(self) -> int:
         return len(self.loads)

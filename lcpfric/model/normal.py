@@ -135,12 +135,18 @@ class NormalModel(Protocol):  # a protocol, never instantiated: numpydoc ignore=
 def check_normal_model(normal) -> None:
     """Raise :class:`InputError` if ``normal`` does not provide the :class:`NormalModel`
     members."""
-    missing = [name for name in ("n", "period", "reactions", "transitions", "scale",
-                                 "always_in_contact") if not hasattr(normal, name)]
+    missing = [
+        name
+        for name in ("n", "period", "reactions", "transitions", "scale", "always_in_contact")
+        if not hasattr(normal, name)
+    ]
     if missing:
-        raise InputError("normal", f"must be a normal model (lcpfric.model.NormalModel, e.g. "
-                                   f"IndependentSprings); {type(normal).__name__} lacks "
-                                   f"{', '.join(missing)}")
+        raise InputError(
+            "normal",
+            f"must be a normal model (lcpfric.model.NormalModel, e.g. "
+            f"IndependentSprings); {type(normal).__name__} lacks "
+            f"{', '.join(missing)}",
+        )
 
 
 @dataclass(frozen=True)

@@ -31,8 +31,9 @@ _TINY = float(np.finfo(float).tiny)  # the smallest normal double, 2.2e-308
 _HUGE = float(np.finfo(float).max)
 
 
-def W_hat_from_W(W: ArrayLike, k11: float, f: float, P0: float,
-                 Q1: ArrayLike) -> float | np.ndarray:
+def W_hat_from_W(
+    W: ArrayLike, k11: float, f: float, P0: float, Q1: ArrayLike
+) -> float | np.ndarray:
     """Ŵ = k11 W / (f P0 Q1) (Eq. 6); zero where Q1 = 0 (the limit, since W = O(Q1²)).
 
     Parameters
@@ -60,8 +61,9 @@ def W_hat_from_W(W: ArrayLike, k11: float, f: float, P0: float,
     return out if out.ndim else float(out)
 
 
-def W_from_W_hat(W_hat: ArrayLike, k11: float, f: float, P0: float,
-                 Q1: ArrayLike) -> float | np.ndarray:
+def W_from_W_hat(
+    W_hat: ArrayLike, k11: float, f: float, P0: float, Q1: ArrayLike
+) -> float | np.ndarray:
     """W = f P0 Q1 Ŵ / k11, the inverse of :func:`W_hat_from_W`.
 
     Parameters
@@ -144,10 +146,22 @@ class SingleNode:
     default_max_cycles = 100
     default_placement = "contact"
 
-    def __init__(self, k11: float = 1.0, f: float = 1.0, P0: float = 1.0, P1: float = 0.0,
-                 Q1: float = 0.0, omega: float = 1.0, phi: float = 0.0, Q0: float = 0.0,
-                 k22: float = 1.0, *, normal_load: Load | None = None,
-                 tangential_load: Load | None = None, dimensional: bool = True) -> None:
+    def __init__(
+        self,
+        k11: float = 1.0,
+        f: float = 1.0,
+        P0: float = 1.0,
+        P1: float = 0.0,
+        Q1: float = 0.0,
+        omega: float = 1.0,
+        phi: float = 0.0,
+        Q0: float = 0.0,
+        k22: float = 1.0,
+        *,
+        normal_load: Load | None = None,
+        tangential_load: Load | None = None,
+        dimensional: bool = True,
+    ) -> None:
         self.k11 = _checks.positive("k11", k11)
         self.k22 = _checks.positive("k22", k22)
         self.f = _checks.positive("f", f)
@@ -156,29 +170,42 @@ class SingleNode:
         if normal_load is None:
             P0 = _checks.finite("P0", P0)
             if P0 <= 0:
-                raise InputError("P0", f"must be > 0 (the paper's régime: in contact at rest; "
-                                       f"allowed range (0, inf)), got {P0}")
-            normal_load = Harmonic(P0, _checks.nonnegative("P1", P1), 0.0,
-                                   _checks.positive("omega", omega))
+                raise InputError(
+                    "P0",
+                    f"must be > 0 (the paper's régime: in contact at rest; "
+                    f"allowed range (0, inf)), got {P0}",
+                )
+            normal_load = Harmonic(
+                P0, _checks.nonnegative("P1", P1), 0.0, _checks.positive("omega", omega)
+            )
         elif not isinstance(normal_load, Load):
             raise InputError("normal_load", "must be a Load (Harmonic, Fourier or Periodic)")
         if tangential_load is None:
-            tangential_load = Harmonic(_checks.finite("Q0", Q0), _checks.nonnegative("Q1", Q1),
-                                       _checks.finite("phi", phi), normal_load.omega
-                                       if isinstance(normal_load, Harmonic) else
-                                       2 * math.pi / normal_load.period)
+            tangential_load = Harmonic(
+                _checks.finite("Q0", Q0),
+                _checks.nonnegative("Q1", Q1),
+                _checks.finite("phi", phi),
+                normal_load.omega
+                if isinstance(normal_load, Harmonic)
+                else 2 * math.pi / normal_load.period,
+            )
         elif not isinstance(tangential_load, Load):
             raise InputError("tangential_load", "must be a Load (Harmonic, Fourier or Periodic)")
         if normal_load.mean <= 0:
-            raise InputError("P0", f"the mean normal load must be > 0 (allowed range (0, inf)), "
-                                   f"got {normal_load.mean}")
+            raise InputError(
+                "P0",
+                f"the mean normal load must be > 0 (allowed range (0, inf)), "
+                f"got {normal_load.mean}",
+            )
         self.normal_load = normal_load
         self.tangential_load = tangential_load
         self._check_units(harmonic_inputs)
         periods = [ld.period for ld in (normal_load, tangential_load) if not ld.is_constant]
         if len(periods) == 2 and not math.isclose(periods[0], periods[1], rel_tol=1e-12):
-            raise InputError("tangential_load", f"must have the normal load's period "
-                                                f"{periods[0]}, got {periods[1]}")
+            raise InputError(
+                "tangential_load",
+                f"must have the normal load's period {periods[0]}, got {periods[1]}",
+            )
         self._system = None
 
     def _check_units(self, harmonic_inputs: bool) -> None:
@@ -188,33 +215,46 @@ class SingleNode:
         p_name = "P1" if harmonic_inputs else "normal_load"
         q_name = "Q1" if harmonic_inputs else "tangential_load"
         if not _TINY <= P0 <= _HUGE:
-            raise InputError("P0", f"must be in [{_TINY:.4g}, {_HUGE:.4g}] (the loads are "
-                                   f"divided by P0), got {P0!r}")
+            raise InputError(
+                "P0",
+                f"must be in [{_TINY:.4g}, {_HUGE:.4g}] (the loads are divided by P0), got {P0!r}",
+            )
         fp0 = f * P0
         if not _TINY <= fp0 <= _HUGE:
-            raise InputError("f", f"the force unit f·P0 = {fp0:.4g} must be in [{_TINY:.4g}, "
-                                  f"{_HUGE:.4g}] (f = {f!r}, P0 = {P0!r})")
+            raise InputError(
+                "f",
+                f"the force unit f·P0 = {fp0:.4g} must be in [{_TINY:.4g}, "
+                f"{_HUGE:.4g}] (f = {f!r}, P0 = {P0!r})",
+            )
         for name, k in (("k11", self.k11), ("k22", self.k22)):
             if k < _TINY:
                 raise InputError(name, f"must be >= {_TINY:.4g} (a normal double), got {k!r}")
         unit = fp0 / self.k11
         if not _TINY <= unit <= _HUGE:
-            raise InputError("k11", f"the displacement unit f·P0/k11 = {unit:.4g} must be in "
-                                    f"[{_TINY:.4g}, {_HUGE:.4g}] (f·P0 = {fp0!r}, "
-                                    f"k11 = {self.k11!r})")
+            raise InputError(
+                "k11",
+                f"the displacement unit f·P0/k11 = {unit:.4g} must be in "
+                f"[{_TINY:.4g}, {_HUGE:.4g}] (f·P0 = {fp0!r}, "
+                f"k11 = {self.k11!r})",
+            )
         omega = 2 * math.pi / self.period
         if not (_TINY <= omega and math.isfinite(self.period)):
-            raise InputError("omega", f"must be >= {_TINY:.4g} (the period 2π/ω must be "
-                                      f"finite), got {omega!r}")
-        for name, amp, unit, what in ((p_name, self.normal_load.amplitude, P0, "P1/P0"),
-                                      (q_name, self.tangential_load.amplitude, fp0,
-                                       "Q1/(f·P0)")):
+            raise InputError(
+                "omega", f"must be >= {_TINY:.4g} (the period 2π/ω must be finite), got {omega!r}"
+            )
+        for name, amp, unit, what in (
+            (p_name, self.normal_load.amplitude, P0, "P1/P0"),
+            (q_name, self.tangential_load.amplitude, fp0, "Q1/(f·P0)"),
+        ):
             ratio = amp / unit
             if not math.isfinite(ratio) or (amp > 0 and ratio < _TINY):
-                raise InputError(name, f"the normalized amplitude {what} = {ratio:.4g} is not "
-                                       f"representable (allowed {what} = 0 or in "
-                                       f"[{_TINY:.4g}, {_HUGE:.4g}]); got amplitude {amp!r} "
-                                       f"for the unit {unit!r}")
+                raise InputError(
+                    name,
+                    f"the normalized amplitude {what} = {ratio:.4g} is not "
+                    f"representable (allowed {what} = 0 or in "
+                    f"[{_TINY:.4g}, {_HUGE:.4g}]); got amplitude {amp!r} "
+                    f"for the unit {unit!r}",
+                )
 
     @classmethod
     def normalized(cls, P1: float, Q1: float, phi: float = 0.0) -> SingleNode:
@@ -280,10 +320,15 @@ class SingleNode:
     @property
     def is_harmonic(self) -> bool:
         """True for the paper's loads (both harmonic, one frequency), which ``exact`` needs."""
-        return (isinstance(self.normal_load, Harmonic) and isinstance(self.tangential_load, Harmonic)
-                and (self.normal_load.is_constant or self.tangential_load.is_constant
-                     or math.isclose(self.normal_load.omega, self.tangential_load.omega,
-                                     rel_tol=1e-12)))
+        return (
+            isinstance(self.normal_load, Harmonic)
+            and isinstance(self.tangential_load, Harmonic)
+            and (
+                self.normal_load.is_constant
+                or self.tangential_load.is_constant
+                or math.isclose(self.normal_load.omega, self.tangential_load.omega, rel_tol=1e-12)
+            )
+        )
 
     @property
     def phi(self) -> float:
@@ -372,11 +417,16 @@ class SingleNode:
         """
         from ..results import Normalization
 
-        return Normalization(W=self.force_unit * self.Q1 / self.k11, v=self.Q1 / self.k11,
-                             F=self.force_unit, N=self.P0)
+        return Normalization(
+            W=self.force_unit * self.Q1 / self.k11,
+            v=self.Q1 / self.k11,
+            F=self.force_unit,
+            N=self.P0,
+        )
 
-    def series(self, u: ArrayLike, F: ArrayLike,
-               N: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def series(
+        self, u: ArrayLike, F: ArrayLike, N: ArrayLike
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The model's time series (v, F, N) from the solvers' normalized ones.
 
         v = (f P0 u - Q0) / k11, F = f P0 F, N = P0 N.
@@ -410,9 +460,11 @@ class SingleNode:
         if self._system is None:
             fp0 = self.force_unit
             self._system = ContactSystem(
-                stiffness=np.array([[1.0]]), friction=np.array([1.0]),
+                stiffness=np.array([[1.0]]),
+                friction=np.array([1.0]),
                 tangential_loads=(_scaled(self.tangential_load, 1.0 / fp0, drop_mean=True),),
-                normal=IndependentSprings((_scaled(self.normal_load, 1.0 / self.P0),)))
+                normal=IndependentSprings((_scaled(self.normal_load, 1.0 / self.P0),)),
+            )
         return self._system
 
     def __repr__(self) -> str:
@@ -423,19 +475,28 @@ class SingleNode:
             core = f"normal_load={self.normal_load!r}, tangential_load={self.tangential_load!r}"
         if not self.dimensional:
             return f"SingleNode.normalized({core})"
-        return (f"SingleNode(k11={self.k11:g}, f={self.f:g}, P0={self.P0:g}, k22={self.k22:g}, "
-                f"{core})")
+        return (
+            f"SingleNode(k11={self.k11:g}, f={self.f:g}, P0={self.P0:g}, k22={self.k22:g}, {core})"
+        )
 
 
 def _scaled(load: Load, factor: float, drop_mean: bool = False) -> Load:
     """``factor * (load - mean if drop_mean)``, keeping a harmonic load harmonic."""
     shift = load.mean if drop_mean else 0.0
     if isinstance(load, Harmonic):
-        return Harmonic(factor * (load.mean - shift), factor * load.amplitude, load.phase,
-                        load.omega)
+        return Harmonic(
+            factor * (load.mean - shift), factor * load.amplitude, load.phase, load.omega
+        )
     if isinstance(load, Fourier):
-        return Fourier(factor * (load.mean - shift), tuple(factor * a for a in load.amplitudes),
-                       load.phases, load.omega)
-    return Periodic(lambda t: factor * (load(t) - shift), load.period,
-                    mean=factor * (load.mean - shift),
-                    derivative=lambda t: factor * load.derivative(t))
+        return Fourier(
+            factor * (load.mean - shift),
+            tuple(factor * a for a in load.amplitudes),
+            load.phases,
+            load.omega,
+        )
+    return Periodic(
+        lambda t: factor * (load(t) - shift),
+        load.period,
+        mean=factor * (load.mean - shift),
+        derivative=lambda t: factor * load.derivative(t),
+    )

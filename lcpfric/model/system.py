@@ -134,7 +134,9 @@ class ContactSystem:
         n = f.size
         check_normal_model(self.normal)
         if self.normal.n != n:
-            raise InputError("normal", f"needs {n} normal loads (one per node), got {self.normal.n}")
+            raise InputError(
+                "normal", f"needs {n} normal loads (one per node), got {self.normal.n}"
+            )
         m = n * self.dims
         K = self.stiffness
         if K is None:
@@ -167,7 +169,9 @@ class ContactSystem:
             periods.append(float(self.normal.period))
         period = periods[0] if periods else 1.0
         if any(not math.isclose(p, period, rel_tol=1e-12) for p in periods):
-            raise InputError("loads", f"all loads must share one period; got {sorted(set(periods))}")
+            raise InputError(
+                "loads", f"all loads must share one period; got {sorted(set(periods))}"
+            )
         object.__setattr__(self, "_cache", {"period": period})
         if self.compliance is not None and K is not None:
             self._check_compliance()
@@ -178,13 +182,17 @@ class ContactSystem:
         from scipy.sparse.linalg import aslinearoperator
 
         if self.compliance is None:
-            raise InputError("stiffness", "is None: a matrix-free system needs compliance= "
-                                          "(a LinearOperator with C x); give one of the two")
+            raise InputError(
+                "stiffness",
+                "is None: a matrix-free system needs compliance= "
+                "(a LinearOperator with C x); give one of the two",
+            )
         try:
             op = aslinearoperator(self.compliance)
         except (TypeError, ValueError) as exc:
-            raise InputError("compliance", f"must be a matrix or a LinearOperator ({exc})") \
-                from None
+            raise InputError(
+                "compliance", f"must be a matrix or a LinearOperator ({exc})"
+            ) from None
         if op.shape != (m, m):
             raise InputError("compliance", f"must be {m} x {m} (n·d), got {op.shape}")
         rng = np.random.default_rng(12345)
@@ -195,8 +203,11 @@ class ContactSystem:
             raise InputError("compliance", f"products C x must be finite vectors of {m}")
         scale = float(np.linalg.norm(x) * max(np.linalg.norm(Cx), np.linalg.norm(Cy)))
         if not abs(x @ Cy - y @ Cx) <= 1e-8 * scale:
-            raise InputError("compliance", "must be symmetric: xᵀCy differs from yᵀCx by "
-                                           f"{abs(x @ Cy - y @ Cx):.3g} (relative > 1e-8)")
+            raise InputError(
+                "compliance",
+                "must be symmetric: xᵀCy differs from yᵀCx by "
+                f"{abs(x @ Cy - y @ Cx):.3g} (relative > 1e-8)",
+            )
         if not (x @ Cx > 0 and y @ Cy > 0):
             raise InputError("compliance", "must be positive definite: xᵀCx <= 0 for a random x")
         object.__setattr__(self, "compliance", op)
@@ -210,10 +221,13 @@ class ContactSystem:
         """C of a matrix-free system as a matrix (m products), up to COMPLIANCE_DENSE."""
         if "C" not in self._cache:
             if self.m > COMPLIANCE_DENSE:
-                raise InputError("method", f"this matrix-free system has {self.m} unknowns: its "
-                                           f"compliance is formed only up to "
-                                           f"{COMPLIANCE_DENSE}; use method='active-set', "
-                                           f"which needs its products only")
+                raise InputError(
+                    "method",
+                    f"this matrix-free system has {self.m} unknowns: its "
+                    f"compliance is formed only up to "
+                    f"{COMPLIANCE_DENSE}; use method='active-set', "
+                    f"which needs its products only",
+                )
             C = np.asarray(self.compliance.matmat(np.eye(self.m)), dtype=float)
             self._cache["C"] = 0.5 * (C + C.T)
         return self._cache["C"]
@@ -224,13 +238,17 @@ class ContactSystem:
         C = np.asarray(C.toarray() if hasattr(C, "toarray") else C, dtype=float)
         m = self.m
         if C.shape != (m, m) or not np.all(np.isfinite(C)):
-            raise InputError("compliance", f"must be a finite {m} x {m} matrix, got shape "
-                                           f"{C.shape}")
+            raise InputError(
+                "compliance", f"must be a finite {m} x {m} matrix, got shape {C.shape}"
+            )
         X = np.eye(m) if m <= 2000 else np.random.default_rng(0).standard_normal((m, 8))
         err = float(np.max(np.abs(self.stiffness @ (C @ X) - X)))
         if not err <= 1e-8:
-            raise InputError("compliance", f"must be the inverse of the stiffness: "
-                                           f"max |K C x - x| = {err:.3g} > 1e-8 on unit vectors")
+            raise InputError(
+                "compliance",
+                f"must be the inverse of the stiffness: "
+                f"max |K C x - x| = {err:.3g} > 1e-8 on unit vectors",
+            )
         object.__setattr__(self, "compliance", C)
 
     @property
@@ -266,8 +284,12 @@ class ContactSystem:
         if self.matrix_free:
             return self._formed()
         if self.compliance is not None:
-            return np.asarray(self.compliance.toarray() if hasattr(self.compliance, "toarray")
-                              else self.compliance, dtype=float)
+            return np.asarray(
+                self.compliance.toarray()
+                if hasattr(self.compliance, "toarray")
+                else self.compliance,
+                dtype=float,
+            )
         if "C" not in self._cache:
             K = self.stiffness.toarray() if hasattr(self.stiffness, "toarray") else self.stiffness
             self._cache["C"] = np.linalg.inv(K)
@@ -398,8 +420,11 @@ class ContactSystem:
         if info != 0:
             from ..errors import SolverError
 
-            raise SolverError(f"K u of a matrix-free system: conjugate gradients stopped after "
-                              f"{info} iterations", backend="cg", status="maxiter")
+            raise SolverError(
+                f"K u of a matrix-free system: conjugate gradients stopped after {info} iterations",
+                backend="cg",
+                status="maxiter",
+            )
         return x
 
     def compliance_diagonal(self) -> np.ndarray:

@@ -35,8 +35,9 @@ def _phase_data(P1: float, Q1s, points: int):
     return sweep([P1], list(Q1s), phi, progress=False)["W_hat"].sel(P1=P1)
 
 
-def figure_phase(P1: float, Q1s, points: int = 361, title: str | None = None,
-                 mark_peaks: bool = True):
+def figure_phase(
+    P1: float, Q1s, points: int = 361, title: str | None = None, mark_peaks: bool = True
+):
     """Ŵ against φ in [0, π] for one P̂1 and several Q̂1 (Figs. 5-7), maxima marked.
 
     One column wide (3.5 in). Curves differ in colour (dark to light with Q̂1), marker and line
@@ -68,8 +69,15 @@ def _figure_phase(P1, Q1s, points, title, mark_peaks):
     tops = []
     for i, (q, color) in enumerate(zip(Q1_values, _ramp(n))):
         style = {} if n == 1 else _curve_style(i, n, len(x))
-        line, = ax.plot(x, data.sel(Q1=q).values, lw=1.2, color=color, zorder=2,
-                        label=rf"$\hat Q_1 = {q:g}$", **style)
+        (line,) = ax.plot(
+            x,
+            data.sel(Q1=q).values,
+            lw=1.2,
+            color=color,
+            zorder=2,
+            label=rf"$\hat Q_1 = {q:g}$",
+            **style,
+        )
         if n > 1:
             handles.append(line)
             labels.append(line.get_label())
@@ -77,8 +85,17 @@ def _figure_phase(P1, Q1s, points, title, mark_peaks):
             best, top = peak_phase(P1, float(q))
             if top > 0:
                 tops.append((best, top))
-                ax.plot(best / PI, top, "o", ms=5, mfc="white", mec="black", mew=0.9,
-                        zorder=4, label="_maximum")
+                ax.plot(
+                    best / PI,
+                    top,
+                    "o",
+                    ms=5,
+                    mfc="white",
+                    mec="black",
+                    mew=0.9,
+                    zorder=4,
+                    label="_maximum",
+                )
     ax.axvline(0.5, color="0.35", lw=0.9, ls=":", zorder=1)
     ax.set_xlim(0, 1)
     ymax = float(data.max()) if data.size else 1.0
@@ -86,22 +103,33 @@ def _figure_phase(P1, Q1s, points, title, mark_peaks):
     if n == 1 and tops:
         best, top = tops[0]
         ax.set_ylim(0, 1.2 * max(top, ymax))
-        ax.annotate(rf"maximum $\hat W$ = {top:.4f}" + f"\nat φ = {best / PI:.4f}π",
-                    (best / PI, top), xytext=(0.03, 0.96), textcoords="axes fraction",
-                    ha="left", va="top", fontsize=_SMALL,
-                    arrowprops={"arrowstyle": "-", "lw": 0.5, "color": "0.3",
-                                "shrinkA": 2, "shrinkB": 4})
+        ax.annotate(
+            rf"maximum $\hat W$ = {top:.4f}" + f"\nat φ = {best / PI:.4f}π",
+            (best / PI, top),
+            xytext=(0.03, 0.96),
+            textcoords="axes fraction",
+            ha="left",
+            va="top",
+            fontsize=_SMALL,
+            arrowprops={"arrowstyle": "-", "lw": 0.5, "color": "0.3", "shrinkA": 2, "shrinkB": 4},
+        )
     ax.set_xlabel(r"$\varphi / \pi$", labelpad=2)
     ax.set_ylabel(r"$\hat W$", labelpad=2)
     ax.grid(alpha=0.25)
     if tops:
-        handles.append(Line2D([], [], ls="", marker="o", ms=5, mfc="white", mec="black",
-                              mew=0.9))
+        handles.append(Line2D([], [], ls="", marker="o", ms=5, mfc="white", mec="black", mew=0.9))
         labels.append(r"maximum over φ")
     handles.append(Line2D([], [], color="0.35", lw=0.9, ls=":"))
     labels.append("φ = π/2")
-    fig.legend(handles, labels, loc="outside lower center", ncols=3 if n > 1 else 2,
-               frameon=False, handlelength=2.8, columnspacing=1.0)
+    fig.legend(
+        handles,
+        labels,
+        loc="outside lower center",
+        ncols=3 if n > 1 else 2,
+        frameon=False,
+        handlelength=2.8,
+        columnspacing=1.0,
+    )
     ax.set_title(title or rf"$\hat P_1 = {P1:g}$", fontsize=_NORMAL)
     return _finish(fig)
 
@@ -112,14 +140,20 @@ def _motor_speeds(motor, friction, points: int):
     speed, plus speeds crowding just above each shakedown speed (where W rises from 0)."""
     unit = motor.separation_speed()
     base = np.geomspace(0.25 * unit, 3.0 * unit, points)
-    extra = [motor.shakedown_speed(f) * (1.0 + np.geomspace(1e-7, 0.05, 24))
-             for f in friction]
+    extra = [motor.shakedown_speed(f) * (1.0 + np.geomspace(1e-7, 0.05, 24)) for f in friction]
     return np.unique(np.concatenate([base, *extra]))
 
 
-def figure_motor(M: float = MOTOR["M"], delta: float = MOTOR["delta"], P0: float = MOTOR["P0"],
-                 k11: float = MOTOR["k11"], friction=MOTOR_FRICTION, speeds=None,
-                 points: int = 400, log: bool = True):
+def figure_motor(
+    M: float = MOTOR["M"],
+    delta: float = MOTOR["delta"],
+    P0: float = MOTOR["P0"],
+    k11: float = MOTOR["k11"],
+    friction=MOTOR_FRICTION,
+    speeds=None,
+    points: int = 400,
+    log: bool = True,
+):
     """Fig. 9: energy dissipated per revolution against rotational speed, several f.
 
     One column wide (3.5 in), on logarithmic axes by default: W rises from 0 at each shakedown
@@ -159,8 +193,7 @@ def _figure_motor(M, delta, P0, k11, friction, speeds, points, log):
     unit = motor.separation_speed()
     friction = [float(f) for f in friction]
     if speeds is None:
-        speeds = _motor_speeds(motor, friction,
-                               _checks.positive_int("points", points, 3))
+        speeds = _motor_speeds(motor, friction, _checks.positive_int("points", points, 3))
     speeds = _checks.finite_array("speeds", speeds, nonneg=True)
     fig = _figure(figsize=(COLUMN_WIDTH, 3.5), layout="constrained")
     fig.get_layout_engine().set(w_pad=0.03, h_pad=0.03)
@@ -176,10 +209,21 @@ def _figure_motor(M, delta, P0, k11, friction, speeds, points, log):
         tops.append(float(W.max()) if W.size else 0.0)
         style = _curve_style(i, n, min(len(speeds), points))
         style["markevery"] = _log_markevery(speeds, i, n) if log else style["markevery"]
-        line, = ax.plot(speeds, W, lw=1.2, color=color, label=f"f = {f:g}", **style)
+        (line,) = ax.plot(speeds, W, lw=1.2, color=color, label=f"f = {f:g}", **style)
         curves.append(line)
-        ax.plot([motor.shakedown_speed(f)], [0.0], ls="", marker="|", ms=9, mew=1.4, color=color,
-                transform=on_axis, clip_on=False, zorder=5, label="_shakedown")
+        ax.plot(
+            [motor.shakedown_speed(f)],
+            [0.0],
+            ls="",
+            marker="|",
+            ms=9,
+            mew=1.4,
+            color=color,
+            transform=on_axis,
+            clip_on=False,
+            zorder=5,
+            label="_shakedown",
+        )
     ax.axvline(unit, color="0.35", ls="--", lw=0.9, zorder=1)
     positive = speeds[speeds > 0]
     low = positive.min() if log and positive.size else speeds.min()
@@ -205,16 +249,34 @@ def _figure_motor(M, delta, P0, k11, friction, speeds, points, log):
     ax.grid(alpha=0.25, which="major")
     # the curves' legend in the empty upper left (log axes: W is small at low speed); the
     # marks' legend below the axes
-    ax.legend(handles=curves, loc="upper left", frameon=True, framealpha=0.9, edgecolor="none",
-              handlelength=2.8, borderaxespad=0.4)
-    fig.legend([Line2D([], [], ls="", marker="|", ms=9, mew=1.4, color="black"),
-                Line2D([], [], color="0.35", ls="--", lw=0.9)],
-               ["shakedown speed (W = 0 below)", "separation begins"],
-               loc="outside lower center", ncols=2, frameon=False, handlelength=2.2,
-               columnspacing=1.0)
-    ax.set_title(rf"motor: $M$ = {M:g} kg, $\delta$ = {1e3 * delta:g} mm, $P_0$ = {_sci(P0)} N,"
-                 "\n" rf"$k_{{11}}$ = ${_sci(k11)}$ N/m, $\varphi = \pi/2$",
-                 fontsize=_SMALL + 0.5, pad=4)
+    ax.legend(
+        handles=curves,
+        loc="upper left",
+        frameon=True,
+        framealpha=0.9,
+        edgecolor="none",
+        handlelength=2.8,
+        borderaxespad=0.4,
+    )
+    fig.legend(
+        [
+            Line2D([], [], ls="", marker="|", ms=9, mew=1.4, color="black"),
+            Line2D([], [], color="0.35", ls="--", lw=0.9),
+        ],
+        ["shakedown speed (W = 0 below)", "separation begins"],
+        loc="outside lower center",
+        ncols=2,
+        frameon=False,
+        handlelength=2.2,
+        columnspacing=1.0,
+    )
+    ax.set_title(
+        rf"motor: $M$ = {M:g} kg, $\delta$ = {1e3 * delta:g} mm, $P_0$ = {_sci(P0)} N,"
+        "\n"
+        rf"$k_{{11}}$ = ${_sci(k11)}$ N/m, $\varphi = \pi/2$",
+        fontsize=_SMALL + 0.5,
+        pad=4,
+    )
     return _finish(fig)
 
 

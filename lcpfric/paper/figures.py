@@ -34,13 +34,33 @@ from ..figures.style import save as _save
 from .curves import FIG5_Q1, FIG7_Q1, MOTOR, MOTOR_FRICTION, figure_motor, figure_phase
 from .maps import FIG4_PHASES, figure_maps, map_data
 
-__all__ = ["map_data", "figure_maps", "figure_phase", "figure_motor", "write_figures",
-           "FIG4_PHASES", "FIG5_Q1", "FIG7_Q1", "MOTOR", "MOTOR_FRICTION", "COLUMN_WIDTH",
-           "PAGE_WIDTH", "MIN_FONT_SIZE", "DPI"]
+__all__ = [
+    "map_data",
+    "figure_maps",
+    "figure_phase",
+    "figure_motor",
+    "write_figures",
+    "FIG4_PHASES",
+    "FIG5_Q1",
+    "FIG7_Q1",
+    "MOTOR",
+    "MOTOR_FRICTION",
+    "COLUMN_WIDTH",
+    "PAGE_WIDTH",
+    "MIN_FONT_SIZE",
+    "DPI",
+]
 
 
-def write_figures(out_dir, grid: int = 101, points: int = 361, formats=("png", "pdf"),
-                  data=None, progress=None, **sweep_options) -> list[Path]:
+def write_figures(
+    out_dir,
+    grid: int = 101,
+    points: int = 361,
+    formats=("png", "pdf"),
+    data=None,
+    progress=None,
+    **sweep_options,
+) -> list[Path]:
     """Compute and write Figs. 3-7 and 9 into ``out_dir``.
 
     Parameters
@@ -85,19 +105,24 @@ def write_figures(out_dir, grid: int = 101, points: int = 361, formats=("png", "
     if data is None:
         t0 = time.perf_counter()
         ds = map_data(grid, **sweep_options)
-        say(f"maps: Ŵ on {grid}x{grid} points x {ds.sizes['phi']} phases "
-            f"({time.perf_counter() - t0:.1f} s)")
+        say(
+            f"maps: Ŵ on {grid}x{grid} points x {ds.sizes['phi']} phases "
+            f"({time.perf_counter() - t0:.1f} s)"
+        )
     else:
         ds = data
     figures = {
         "fig3_map_phi0": lambda: figure_maps(ds, [0.0]),
         "fig4_maps": lambda: figure_maps(ds, FIG4_PHASES, ncols=5),
-        "fig5_phase_P1_0.5": lambda: figure_phase(0.5, FIG5_Q1, points,
-                                                  r"$\hat P_1 = 0.5$ (full contact)"),
-        "fig6_phase_P1_Q1_5": lambda: figure_phase(5.0, (5.0,), points,
-                                                   r"$\hat P_1 = \hat Q_1 = 5$"),
-        "fig7_phase_P1_1.5": lambda: figure_phase(1.5, FIG7_Q1, points,
-                                                  r"$\hat P_1 = 1.5$ (separation)"),
+        "fig5_phase_P1_0.5": lambda: figure_phase(
+            0.5, FIG5_Q1, points, r"$\hat P_1 = 0.5$ (full contact)"
+        ),
+        "fig6_phase_P1_Q1_5": lambda: figure_phase(
+            5.0, (5.0,), points, r"$\hat P_1 = \hat Q_1 = 5$"
+        ),
+        "fig7_phase_P1_1.5": lambda: figure_phase(
+            1.5, FIG7_Q1, points, r"$\hat P_1 = 1.5$ (separation)"
+        ),
         "fig9_motor": lambda: figure_motor(points=points),
     }
     written = []
@@ -107,6 +132,8 @@ def write_figures(out_dir, grid: int = 101, points: int = 361, formats=("png", "
         paths = _save(fig, out_dir, name, formats)
         written += paths
         width, height = fig.get_size_inches()
-        say(f"[{k}/{len(figures)}] {name}: {', '.join(p.suffix[1:] for p in paths)}, "
-            f"{width:.2f} x {height:.2f} in ({time.perf_counter() - t0:.1f} s)")
+        say(
+            f"[{k}/{len(figures)}] {name}: {', '.join(p.suffix[1:] for p in paths)}, "
+            f"{width:.2f} x {height:.2f} in ({time.perf_counter() - t0:.1f} s)"
+        )
     return written

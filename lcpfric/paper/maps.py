@@ -9,7 +9,7 @@ import math
 import numpy as np
 
 from .. import _checks
-from ..figures.style import (COLUMN_WIDTH, PAGE_WIDTH, PI)
+from ..figures.style import COLUMN_WIDTH, PAGE_WIDTH, PI
 from ..figures.style import CMAP as _CMAP
 from ..figures.style import NORMAL as _NORMAL
 from ..figures.style import SMALL as _SMALL
@@ -58,7 +58,7 @@ def _map_levels(tops):
         levels += [m * decade for m in (1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8)]
         decade *= 10
     end = next(i for i, v in enumerate(levels) if v >= top)
-    return np.array(levels[:end + 1]), True
+    return np.array(levels[: end + 1]), True
 
 
 def _luminance(rgba) -> float:
@@ -71,8 +71,10 @@ def _boundary_effects():
     colour of the map, also in greyscale."""
     from matplotlib import patheffects
 
-    return [patheffects.Stroke(linewidth=_BOUNDARY["linewidths"] + 1.0, foreground="0.1"),
-            patheffects.Normal()]
+    return [
+        patheffects.Stroke(linewidth=_BOUNDARY["linewidths"] + 1.0, foreground="0.1"),
+        patheffects.Normal(),
+    ]
 
 
 def _separation_line(ax, x: float = 1.0):
@@ -84,8 +86,10 @@ def _separation_line(ax, x: float = 1.0):
 def _separation_handle():
     from matplotlib.lines import Line2D
 
-    return (Line2D([], [], color="white", lw=1.3),
-            Line2D([], [], color="black", lw=1.3, ls=(0, (3, 2))))
+    return (
+        Line2D([], [], color="white", lw=1.3),
+        Line2D([], [], color="black", lw=1.3, ls=(0, (3, 2))),
+    )
 
 
 def _label_spots(lines, levels, xlim, ylim):
@@ -107,25 +111,46 @@ def _label_spots(lines, levels, xlim, ylim):
     return spots
 
 
-def _draw_map(ax, W2d, P1, Q1, phi, levels, norm, boundary_points: int = 401,
-              line_levels=None, label_levels=None):
+def _draw_map(
+    ax,
+    W2d,
+    P1,
+    Q1,
+    phi,
+    levels,
+    norm,
+    boundary_points: int = 401,
+    line_levels=None,
+    label_levels=None,
+):
     from matplotlib.patches import Polygon
 
     from ..analysis.shakedown import shakedown_margin
 
     filled = ax.contourf(P1, Q1, W2d.T, levels=levels, cmap=_CMAP, norm=norm)
-    line_levels = [v for v in (levels[1:-1] if line_levels is None else line_levels)
-                   if levels[0] < v < W2d.max()]
+    line_levels = [
+        v
+        for v in (levels[1:-1] if line_levels is None else line_levels)
+        if levels[0] < v < W2d.max()
+    ]
     if line_levels:
-        colors = ["white" if _luminance(filled.cmap(norm(v))) < 0.45 else "black"
-                  for v in line_levels]
-        lines = ax.contour(P1, Q1, W2d.T, levels=line_levels, colors=colors, linewidths=0.45,
-                           alpha=0.75)
+        colors = [
+            "white" if _luminance(filled.cmap(norm(v))) < 0.45 else "black" for v in line_levels
+        ]
+        lines = ax.contour(
+            P1, Q1, W2d.T, levels=line_levels, colors=colors, linewidths=0.45, alpha=0.75
+        )
         shown = [v for v in line_levels if label_levels is None or v in label_levels]
         spots = _label_spots(lines, shown, (P1.min(), P1.max()), (Q1.min(), Q1.max()))
         if spots:
-            ax.clabel(lines, levels=[v for v, _ in spots], fmt="%g", fontsize=_SMALL,
-                      inline_spacing=2, manual=[xy for _, xy in spots])
+            ax.clabel(
+                lines,
+                levels=[v for v, _ in spots],
+                fmt="%g",
+                fontsize=_SMALL,
+                inline_spacing=2,
+                manual=[xy for _, xy in spots],
+            )
     p = np.linspace(P1.min(), P1.max(), boundary_points)
     q = np.linspace(Q1.min(), Q1.max(), boundary_points)
     margin = shakedown_margin(p[:, None], q[None, :], phi)
@@ -136,9 +161,18 @@ def _draw_map(ax, W2d, P1, Q1, phi, levels, norm, boundary_points: int = 401,
     no_slip = abs(math.sin(phi)) < 1e-12 and P1.max() > 1.0
     if no_slip:  # φ = 0 or π: Ŵ = 0 also for P̂1 > 1, Q̂1 <= P̂1 (Section 3.1)
         big = 10.0 * max(P1.max(), Q1.max(), 1.0)
-        ax.add_patch(Polygon([(1, 0), (big, 0), (big, big), (1, 1)], closed=True,
-                             facecolor="none", edgecolor="white", hatch=_NO_SLIP_HATCH, lw=0,
-                             alpha=0.55, zorder=2))
+        ax.add_patch(
+            Polygon(
+                [(1, 0), (big, 0), (big, big), (1, 1)],
+                closed=True,
+                facecolor="none",
+                edgecolor="white",
+                hatch=_NO_SLIP_HATCH,
+                lw=0,
+                alpha=0.55,
+                zorder=2,
+            )
+        )
     if P1.min() < 1.0 < P1.max():
         _separation_line(ax)
     ax.set_xlim(P1.min(), P1.max())
@@ -152,15 +186,26 @@ def _map_legend_handles(no_slip: bool, cmap_low):
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    handles = [Line2D([], [], color=_BOUNDARY["colors"], lw=_BOUNDARY["linewidths"],
-                      path_effects=_boundary_effects()),
-               _separation_handle()]
-    labels = [r"shakedown boundary ($\hat W$ = 0 inside)",
-              r"$\hat P_1 = 1$ (separation for $\hat P_1 > 1$)"]
+    handles = [
+        Line2D(
+            [],
+            [],
+            color=_BOUNDARY["colors"],
+            lw=_BOUNDARY["linewidths"],
+            path_effects=_boundary_effects(),
+        ),
+        _separation_handle(),
+    ]
+    labels = [
+        r"shakedown boundary ($\hat W$ = 0 inside)",
+        r"$\hat P_1 = 1$ (separation for $\hat P_1 > 1$)",
+    ]
     if no_slip:
         handles.append(Patch(facecolor=cmap_low, edgecolor="white", hatch=_NO_SLIP_HATCH, lw=0))
-        labels.append(r"$\hat W$ = 0 without shakedown: $\hat Q_1 \leq \hat P_1$, no slip "
-                      r"(φ = 0, π)")
+        labels.append(
+            r"$\hat W$ = 0 without shakedown: $\hat Q_1 \leq \hat P_1$, no slip "
+            r"(φ = 0, π)"
+        )
     return handles, labels
 
 
@@ -205,8 +250,7 @@ def _figure_maps(ds, phases, ncols, title):
     panels = [ds["W_hat"].sel(phi=p, method="nearest") for p in phases]
     levels, uneven = _map_levels([float(w.max()) for w in panels])
     cmap = colormaps[_CMAP]
-    norm = (BoundaryNorm(levels, cmap.N) if uneven
-            else Normalize(vmin=levels[0], vmax=levels[-1]))
+    norm = BoundaryNorm(levels, cmap.N) if uneven else Normalize(vmin=levels[0], vmax=levels[-1])
     if single:
         width, height = COLUMN_WIDTH, 3.5 + (0.2 if title else 0.0)
     else:
@@ -214,8 +258,7 @@ def _figure_maps(ds, phases, ncols, title):
         height = nrows * (panel + 0.2) + 0.55 + (0.2 if title else 0.0)
         width = PAGE_WIDTH
     fig = _figure(figsize=(width, height), layout="constrained")
-    fig.get_layout_engine().set(w_pad=0.02, h_pad=0.02, wspace=0.0 if single else 0.06,
-                                hspace=0.02)
+    fig.get_layout_engine().set(w_pad=0.02, h_pad=0.02, wspace=0.0 if single else 0.06, hspace=0.02)
     axes = np.atleast_1d(fig.subplots(nrows, ncols, sharex=True, sharey=True, squeeze=False))
     extent = max(P1.max() - P1.min(), Q1.max() - Q1.min())
     if uneven:
@@ -226,8 +269,17 @@ def _figure_maps(ds, phases, ncols, title):
         label_levels = None
     filled, no_slip = None, False
     for ax, w in zip(axes.flat, panels):
-        filled, ns = _draw_map(ax, w.transpose("P1", "Q1").values, P1, Q1, float(w["phi"]),
-                               levels, norm, line_levels=line_levels, label_levels=label_levels)
+        filled, ns = _draw_map(
+            ax,
+            w.transpose("P1", "Q1").values,
+            P1,
+            Q1,
+            float(w["phi"]),
+            levels,
+            norm,
+            line_levels=line_levels,
+            label_levels=label_levels,
+        )
         no_slip |= ns
         if extent >= 4:
             step = 2.0 if single else 5.0
@@ -236,7 +288,7 @@ def _figure_maps(ds, phases, ncols, title):
             if not single:
                 ax.xaxis.set_minor_locator(MultipleLocator(1.0))
                 ax.yaxis.set_minor_locator(MultipleLocator(1.0))
-    for ax in axes.flat[len(panels):]:
+    for ax in axes.flat[len(panels) :]:
         ax.set_visible(False)
     for ax in axes[-1, :]:
         ax.set_xlabel(r"$\hat P_1$", labelpad=1)
@@ -247,19 +299,27 @@ def _figure_maps(ds, phases, ncols, title):
         label += ", one scale, uneven bands"
     spacing = "uniform" if uneven else "proportional"
     if single:  # as tall as the (square) map
-        bar = fig.colorbar(filled, cax=axes[0, 0].inset_axes([1.05, 0.0, 0.06, 1.0]),
-                           label=label, spacing=spacing)
+        bar = fig.colorbar(
+            filled, cax=axes[0, 0].inset_axes([1.05, 0.0, 0.06, 1.0]), label=label, spacing=spacing
+        )
     else:
-        bar = fig.colorbar(filled, ax=axes, label=label, shrink=0.95, aspect=30, pad=0.02,
-                           spacing=spacing)
+        bar = fig.colorbar(
+            filled, ax=axes, label=label, shrink=0.95, aspect=30, pad=0.02, spacing=spacing
+        )
     bar.set_ticks(levels if uneven else levels[::2])
     bar.ax.yaxis.set_major_formatter("{x:g}")
     bar.ax.minorticks_off()
     bar.outline.set_linewidth(0.5)
     handles, labels = _map_legend_handles(no_slip, cmap(0.0))
-    fig.legend(handles, labels, loc="outside lower center", ncols=1 if single else len(handles),
-               frameon=False, handler_map={tuple: HandlerTuple(ndivide=1)},
-               handlelength=2.4)
+    fig.legend(
+        handles,
+        labels,
+        loc="outside lower center",
+        ncols=1 if single else len(handles),
+        frameon=False,
+        handler_map={tuple: HandlerTuple(ndivide=1)},
+        handlelength=2.4,
+    )
     if title:
         fig.suptitle(title, fontsize=_NORMAL + 1)
     return _finish(fig)

@@ -61,15 +61,18 @@ class Anderson:
         self.x: list = []
         self.g: list = []
         self.norms: list = []
-        self.starts: list | None = None       # the plain iteration's starts, once stalled
+        self.starts: list | None = None  # the plain iteration's starts, once stalled
 
     def __call__(self, x: np.ndarray, g: np.ndarray):
         """The next start after the cycle from ``x`` that ended at ``g``, or None (go on
         from g)."""
         f = g - x
         self.norms.append(float(np.linalg.norm(f)))
-        if self.starts is None and len(self.norms) >= 4 and all(
-                b > 0.9 * a for a, b in zip(self.norms[-4:-1], self.norms[-3:])):
+        if (
+            self.starts is None
+            and len(self.norms) >= 4
+            and all(b > 0.9 * a for a, b in zip(self.norms[-4:-1], self.norms[-3:]))
+        ):
             self.starts = [x]
         if self.starts is not None:
             self.starts.append(g)
@@ -79,8 +82,8 @@ class Anderson:
             return jump
         if self.x and self.norms[-1] > self.norms[-2]:
             self.x, self.g = [], []
-        self.x = (self.x + [x])[-(self.depth + 1):]
-        self.g = (self.g + [g])[-(self.depth + 1):]
+        self.x = (self.x + [x])[-(self.depth + 1) :]
+        self.g = (self.g + [g])[-(self.depth + 1) :]
         if len(self.x) < 2:
             return None
         G = np.array(self.g).T
@@ -94,8 +97,13 @@ class Acceleration:
     (a :class:`SlipMemory`, or None), ``anderson`` (apply :class:`Anderson`) and ``aitken``
     (Aitken's jumps on the plain iteration's starts)."""
 
-    def __init__(self, memory: SlipMemory | None = None, anderson: bool = False,
-                 aitken: bool = False, first=None):
+    def __init__(
+        self,
+        memory: SlipMemory | None = None,
+        anderson: bool = False,
+        aitken: bool = False,
+        first=None,
+    ):
         self.memory = memory
         self.anderson = Anderson() if anderson else None
         self.starts = [first] if aitken else None
@@ -148,6 +156,5 @@ def choose(scene, stepper, history: bool, start) -> Acceleration | None:
     system = scene.system
     if history and system.dims == 2:
         c = np.asarray(system.compliance_diagonal(), dtype=float).reshape(system.n, -1)
-        return Acceleration(SlipMemory(c.mean(axis=1), system.n),
-                            anderson=not system.is_diagonal())
+        return Acceleration(SlipMemory(c.mean(axis=1), system.n), anderson=not system.is_diagonal())
     return Acceleration(aitken=True, first=start)

@@ -34,9 +34,20 @@ from .measure import MEASURES, cycle_change
 __all__ = ["run"]
 
 
-def run(stepper, *, tol: float, max_cycles: int, on_nonconvergence: str, measure: str,
-        quantity: str, values: Callable, method: str, steps_requested: int, shape=None,
-        start: float | None = None) -> BatchResult:
+def run(
+    stepper,
+    *,
+    tol: float,
+    max_cycles: int,
+    on_nonconvergence: str,
+    measure: str,
+    quantity: str,
+    values: Callable,
+    method: str,
+    steps_requested: int,
+    shape=None,
+    start: float | None = None,
+) -> BatchResult:
     """Whole cycles of every point of ``stepper`` until each repeats (module docstring).
 
     Parameters
@@ -84,8 +95,9 @@ def run(stepper, *, tol: float, max_cycles: int, on_nonconvergence: str, measure
             if scales is None:
                 scales = stepper.scales()
             moved = x0 - prev_x0 if measure == "cycles" else x - x0
-            ch = cycle_change(np.max(np.abs(moved), axis=1), np.max(hi - lo, axis=1),
-                              W - prev_W, W, scales)
+            ch = cycle_change(
+                np.max(np.abs(moved), axis=1), np.max(hi - lo, axis=1), W - prev_W, W, scales
+            )
             new = ~done & (ch <= tol)
             J[new] = W[new]
             cycles[new] = c + 1
@@ -96,9 +108,11 @@ def run(stepper, *, tol: float, max_cycles: int, on_nonconvergence: str, measure
         prev_x0, prev_W = x0, W
     left = int(npts - np.count_nonzero(done))
     if left:
-        msg = (f"{left} of {npts} points reached no periodic steady state in {max_cycles} "
-               f"cycles (largest relative change {float(np.max(change[~done])):.3g} > tol "
-               f"{tol:g}; their values are NaN); raise max_cycles or loosen tol")
+        msg = (
+            f"{left} of {npts} points reached no periodic steady state in {max_cycles} "
+            f"cycles (largest relative change {float(np.max(change[~done])):.3g} > tol "
+            f"{tol:g}; their values are NaN); raise max_cycles or loosen tol"
+        )
         if on_nonconvergence == "raise":
             raise ConvergenceError(msg)
         if on_nonconvergence == "warn":
@@ -106,8 +120,14 @@ def run(stepper, *, tol: float, max_cycles: int, on_nonconvergence: str, measure
     out = values(J)
     shape = (npts,) if shape is None else tuple(shape)
     out = out.reshape(shape)
-    return BatchResult(values=out if out.ndim else float(out), quantity=quantity,
-                       converged=done.reshape(shape), cycles=cycles.reshape(shape),
-                       change=change.reshape(shape), method=method,
-                       steps_requested=steps_requested, steps_used=stepper.steps,
-                       seconds=time.perf_counter() - start)
+    return BatchResult(
+        values=out if out.ndim else float(out),
+        quantity=quantity,
+        converged=done.reshape(shape),
+        cycles=cycles.reshape(shape),
+        change=change.reshape(shape),
+        method=method,
+        steps_requested=steps_requested,
+        steps_used=stepper.steps,
+        seconds=time.perf_counter() - start,
+    )

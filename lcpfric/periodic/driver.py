@@ -42,8 +42,15 @@ __all__ = ["steady_state", "loose_tolerance", "DRIVER_OPTIONS"]
 
 #: The driver's own keyword options: the names of :func:`steady_state`'s keyword arguments that
 #: the driver takes itself (everything else goes to the method).
-DRIVER_OPTIONS = ("steps_per_cycle", "tol", "max_cycles", "on_nonconvergence", "placement", "u0",
-                  "history")
+DRIVER_OPTIONS = (
+    "steps_per_cycle",
+    "tol",
+    "max_cycles",
+    "on_nonconvergence",
+    "placement",
+    "u0",
+    "history",
+)
 #: steppers with loose early cycles: the increments' tolerance, this times the last cycle's
 #: change, at most ``_LOOSE_MAX`` (and at least the final one)
 _LOOSE, _LOOSE_MAX = 1e-2, 1e-6
@@ -55,14 +62,19 @@ _FINAL = 0.1
 _TOL_MIN = 1e-12
 
 
-def steady_state(model: SingleNode | ContactSystem | MDRSphere | HalfPlaneCylinder | HalfSpace
-                 | Scene,
-                 method: str | Stepper | ExactSolver | None = None,
-                 steps_per_cycle: int | None = None, *, tol: float = 1e-10,
-                 max_cycles: int | None = None,
-                 on_nonconvergence: str = "raise", placement: str | None = None,
-                 u0: ArrayLike | None = None, history: bool = True,
-                 **options: Any) -> SteadyState:
+def steady_state(
+    model: SingleNode | ContactSystem | MDRSphere | HalfPlaneCylinder | HalfSpace | Scene,
+    method: str | Stepper | ExactSolver | None = None,
+    steps_per_cycle: int | None = None,
+    *,
+    tol: float = 1e-10,
+    max_cycles: int | None = None,
+    on_nonconvergence: str = "raise",
+    placement: str | None = None,
+    u0: ArrayLike | None = None,
+    history: bool = True,
+    **options: Any,
+) -> SteadyState:
     """The periodic steady state and its dissipation per cycle.
 
     A closed-form method (``"exact"``) returns the steady state directly. A time stepper is
@@ -186,32 +198,45 @@ def steady_state(model: SingleNode | ContactSystem | MDRSphere | HalfPlaneCylind
     base = _base(model)
     method = base.default_method if method is None else method
     max_cycles = base.default_max_cycles if max_cycles is None else max_cycles
-    tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles,
-                                                                on_nonconvergence)
+    tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles, on_nonconvergence)
     solver = _method(method, options)
     history = _checks.boolean("history", history)
-    if not history and (solver.kind == CLOSED_FORM
-                        or "history" not in inspect.signature(solver.cycle).parameters):
-        raise InputError("history", f"history=False is not supported by {solver.label!r} (it "
-                                    f"keeps the whole cycle); use 'active-set', 'explicit' or "
-                                    f"'projection', or history=True")
+    if not history and (
+        solver.kind == CLOSED_FORM or "history" not in inspect.signature(solver.cycle).parameters
+    ):
+        raise InputError(
+            "history",
+            f"history=False is not supported by {solver.label!r} (it "
+            f"keeps the whole cycle); use 'active-set', 'explicit' or "
+            f"'projection', or history=True",
+        )
     steps = _requested(model, steps_per_cycle, base)
     if isinstance(model, (SingleNode, ContactSystem)):
-        memory.check(memory.steady_state_bytes(steps if history else 1,
-                                               getattr(solver, "label", ""),
-                                               model.m if isinstance(model, ContactSystem)
-                                               else 1),
-                     "steps_per_cycle", f"a steady state with {steps} steps per cycle")
+        memory.check(
+            memory.steady_state_bytes(
+                steps if history else 1,
+                getattr(solver, "label", ""),
+                model.m if isinstance(model, ContactSystem) else 1,
+            ),
+            "steps_per_cycle",
+            f"a steady state with {steps} steps per cycle",
+        )
     if solver.kind == CLOSED_FORM:
         return solver.steady_state(model, steps, max_cycles=max_cycles)
-    scene = model if isinstance(model, Scene) else make_scene(model, steps, placement=placement,
-                                                               history=history)
+    scene = (
+        model
+        if isinstance(model, Scene)
+        else make_scene(model, steps, placement=placement, history=history)
+    )
     solver.check(scene)
     loose = scene.system is None and solver.loose(scene)
     if loose and tol < _TOL_MIN:
-        raise InputError("tol", f"= {tol:g} is below what the increments can hold: the last "
-                                f"cycles' increments are solved to a tenth of it, and they hold "
-                                f"about 1e-13 at best; give tol >= {_TOL_MIN:g}")
+        raise InputError(
+            "tol",
+            f"= {tol:g} is below what the increments can hold: the last "
+            f"cycles' increments are solved to a tenth of it, and they hold "
+            f"about 1e-13 at best; give tol >= {_TOL_MIN:g}",
+        )
     if u0 is not None and scene.system is not None:
         u0 = _checks.finite_array("u0", u0)
         if u0.size != scene.system.m:
@@ -235,39 +260,71 @@ def steady_state(model: SingleNode | ContactSystem | MDRSphere | HalfPlaneCylind
             final = max(_LOOSE * tol, min(solver.increment_tol, _FINAL * tol))
             options["tol"] = max(final, loose_tolerance(change))
             accurate = options["tol"] == final
-        state, cyc = (solver.cycle(work, state, **options) if history
-                      else solver.cycle(work, state, history=False, **options))
+        state, cyc = (
+            solver.cycle(work, state, **options)
+            if history
+            else solver.cycle(work, state, history=False, **options)
+        )
         W_cycles.append(cyc.W * scale * scale)
         if prev is not None:
-            change = cycle_change(displacement_change(solver.cycle_measure, cyc, prev, held),
-                                  np.max(cyc.u_span), cyc.W - prev.W, cyc.W, scales)
+            change = cycle_change(
+                displacement_change(solver.cycle_measure, cyc, prev, held),
+                np.max(cyc.u_span),
+                cyc.W - prev.W,
+                cyc.W,
+                scales,
+            )
             changes.append(change)
             if accurate:
                 smallest = min(smallest, change)
             if change <= tol and accurate:
                 break
         prev = cyc
-        jump = (accelerate(cyc, FrictionLimits(work) if work.system is not None else None)
-                if accelerate is not None else None)
+        jump = (
+            accelerate(cyc, FrictionLimits(work) if work.system is not None else None)
+            if accelerate is not None
+            else None
+        )
         if jump is not None:
             state = solver.restart(work, state, jump)
             accelerate.restarted(state.u)
             extrapolations += 1
     if scale != 1.0:
-        cyc = replace(cyc, u=cyc.u * scale, F=cyc.F * scale, W=cyc.W * scale * scale,
-                      span=None if cyc.span is None else cyc.span * scale)
+        cyc = replace(
+            cyc,
+            u=cyc.u * scale,
+            F=cyc.F * scale,
+            W=cyc.W * scale * scale,
+            span=None if cyc.span is None else cyc.span * scale,
+        )
     converged = bool(change <= tol and accurate)
-    result = _assemble(scene, solver, cyc, np.asarray(W_cycles), converged, change, steps,
-                       time.perf_counter() - start, np.asarray(changes), extrapolations)
+    result = _assemble(
+        scene,
+        solver,
+        cyc,
+        np.asarray(W_cycles),
+        converged,
+        change,
+        steps,
+        time.perf_counter() - start,
+        np.asarray(changes),
+        extrapolations,
+    )
     if converged and _shakedown(cyc):
-        result = replace(result, message="converged: shakedown (no node slips over the steady "
-                                         "cycle)")
+        result = replace(
+            result, message="converged: shakedown (no node slips over the steady cycle)"
+        )
     if not converged:
-        at = (f"; the smallest at full accuracy {smallest:.3g}"
-              if loose and smallest < math.inf else "")
-        msg = (f"{_name(scene)}: no periodic steady state after {len(W_cycles)} cycles "
-               f"(relative change of the cycle {change:.3g} > tol {tol:g}{at}); raise "
-               f"max_cycles or loosen tol")
+        at = (
+            f"; the smallest at full accuracy {smallest:.3g}"
+            if loose and smallest < math.inf
+            else ""
+        )
+        msg = (
+            f"{_name(scene)}: no periodic steady state after {len(W_cycles)} cycles "
+            f"(relative change of the cycle {change:.3g} > tol {tol:g}{at}); raise "
+            f"max_cycles or loosen tol"
+        )
         result = replace(result, message=msg)
         if on_nonconvergence == "raise":
             raise ConvergenceError(msg, result)
@@ -290,9 +347,12 @@ def _base(model):
     if isinstance(model, Scene):
         return model.model if model.model is not None else model.system
     if not hasattr(type(model), "default_method"):
-        raise InputError("model", "expected a SingleNode, ContactSystem, continuum contact "
-                                  f"(MDRSphere, HalfPlaneCylinder, HalfSpace) or Scene, got "
-                                  f"{type(model).__name__}")
+        raise InputError(
+            "model",
+            "expected a SingleNode, ContactSystem, continuum contact "
+            f"(MDRSphere, HalfPlaneCylinder, HalfSpace) or Scene, got "
+            f"{type(model).__name__}",
+        )
     return model
 
 
@@ -307,11 +367,14 @@ def _unresolved(scene, W: float) -> None:
     P, Q = scene.loads
     if W == 0.0 and not (P.is_constant and Q.is_constant) and np.any(scene.Q != 0.0):
         model = scene.model
-        warnings.warn(f"{type(model).__name__}: no element slipped over the steady cycle "
-                      f"(W = 0 on {model.nodes} nodes): a slip zone thinner than an element is "
-                      f"not resolved (unless the loads change in proportion, |dQ/dP| < mu, "
-                      f"where W = 0 is exact); {model.refine_hint}", ResolutionWarning,
-                      stacklevel=3)
+        warnings.warn(
+            f"{type(model).__name__}: no element slipped over the steady cycle "
+            f"(W = 0 on {model.nodes} nodes): a slip zone thinner than an element is "
+            f"not resolved (unless the loads change in proportion, |dQ/dP| < mu, "
+            f"where W = 0 is exact); {model.refine_hint}",
+            ResolutionWarning,
+            stacklevel=3,
+        )
 
 
 def _compliance_scale(scene) -> float:
@@ -324,8 +387,7 @@ def _compliance_scale(scene) -> float:
 
 def _shakedown(cyc: CycleResult) -> bool:
     """A shakedown: no node recorded slipping over the cycle and no dissipation at all."""
-    return cyc.W == 0.0 and not np.any((cyc.state == State.FORWARD)
-                                       | (cyc.state == State.BACKWARD))
+    return cyc.W == 0.0 and not np.any((cyc.state == State.FORWARD) | (cyc.state == State.BACKWARD))
 
 
 def _method(method, options: dict):
@@ -338,8 +400,9 @@ def _method(method, options: dict):
             raise
         close = difflib.get_close_matches(exc.parameter, DRIVER_OPTIONS, n=1)
         hint = f" (did you mean {close[0]!r}?)" if close else ""
-        raise InputError(exc.parameter, f"{exc.detail}{hint}; the driver's options: "
-                                        f"{', '.join(DRIVER_OPTIONS)}") from None
+        raise InputError(
+            exc.parameter, f"{exc.detail}{hint}; the driver's options: {', '.join(DRIVER_OPTIONS)}"
+        ) from None
 
 
 def _requested(model, steps_per_cycle, base) -> int:
@@ -367,35 +430,61 @@ def _unit_scaled(scene: Scene) -> tuple[Scene, float]:
     scale = float(2.0 ** np.round(np.log2(size)))
     if scale == 1.0:
         return scene, 1.0
-    return replace(scene, Q=scene.Q / scale, N=scene.N / scale,
-                   _cache={"contact": scene.contact}), scale  # contact is scale-free
+    return replace(
+        scene, Q=scene.Q / scale, N=scene.N / scale, _cache={"contact": scene.contact}
+    ), scale  # contact is scale-free
 
 
-def _assemble(scene, solver, cyc, W_cycles, converged, change, requested, seconds, changes,
-              extrapolations) -> SteadyState:
+def _assemble(
+    scene, solver, cyc, W_cycles, converged, change, requested, seconds, changes, extrapolations
+) -> SteadyState:
     model = scene.model
     stats = dict(cyc.stats)
     if extrapolations:
         stats["extrapolations"] = extrapolations
-    common = dict(cycles=len(W_cycles), converged=converged, method=solver.label,
-                  steps_requested=requested, steps_used=scene.steps, t=cyc.t,
-                  seconds=seconds, change=change, message="converged" if converged else "",
-                  changes=changes)
+    common = dict(
+        cycles=len(W_cycles),
+        converged=converged,
+        method=solver.label,
+        steps_requested=requested,
+        steps_used=scene.steps,
+        t=cyc.t,
+        seconds=seconds,
+        change=change,
+        message="converged" if converged else "",
+        changes=changes,
+    )
     rows = [0, -1] if cyc.t.size != scene.t.size else slice(None)
     if scene.system is None:
         return _continuum(scene, cyc, W_cycles, rows, {**scene.stats, **stats}, common)
     if model is None:
         N = scene.N if cyc.t.size == scene.t.size else scene.N[[0, -1]]
-        return SteadyState(W=float(W_cycles[-1]), W_cycles=W_cycles, v=cyc.u, F=cyc.F,
-                           N=np.asarray(N), state=cyc.state, solver_stats=stats, **common)
+        return SteadyState(
+            W=float(W_cycles[-1]),
+            W_cycles=W_cycles,
+            v=cyc.u,
+            F=cyc.F,
+            N=np.asarray(N),
+            state=cyc.state,
+            solver_stats=stats,
+            **common,
+        )
     # a single node is advanced in the units f P0 (force), f P0/k11 (displacement): J = Q̂1 Ŵ
     q1 = model.Q1_hat
     W_hat_cycles = W_cycles / q1 if q1 > 0 else np.zeros_like(W_cycles)
     v, F, N = model.series(cyc.u[:, 0], cyc.F[:, 0], scene.N[:, 0])
-    return SteadyState(W=float(model.W(W_hat_cycles[-1])),
-                       W_cycles=np.atleast_1d(model.W(W_hat_cycles)), v=v, F=F, N=N,
-                       state=cyc.state[:, 0], normalization=model.normalization(),
-                       W_hat_cycles=W_hat_cycles, solver_stats=stats, **common)
+    return SteadyState(
+        W=float(model.W(W_hat_cycles[-1])),
+        W_cycles=np.atleast_1d(model.W(W_hat_cycles)),
+        v=v,
+        F=F,
+        N=N,
+        state=cyc.state[:, 0],
+        normalization=model.normalization(),
+        W_hat_cycles=W_hat_cycles,
+        solver_stats=stats,
+        **common,
+    )
 
 
 def _continuum(scene, cyc, W_cycles, rows, stats, common) -> SteadyState:
@@ -404,11 +493,24 @@ def _continuum(scene, cyc, W_cycles, rows, stats, common) -> SteadyState:
     name, factor = model.normalization()
     W = W_cycles[-1]
     size = scene.sizes
-    extras = ContactExtras(W_normalized=W * factor, normalization=name,
-                           contact_size_max=float(size.max()), k_t0=model.k_t0,
-                           nodes=model.nodes,
-                           nodes_in_contact_max=int(np.max(np.count_nonzero(scene.limits > 0,
-                                                                            axis=1))),
-                           x=model.x, size=size)
-    return SteadyState(W=W, W_cycles=W_cycles, v=cyc.u, F=cyc.F, N=scene.N[rows],
-                       state=cyc.state, solver_stats=stats, contact=extras, **common)
+    extras = ContactExtras(
+        W_normalized=W * factor,
+        normalization=name,
+        contact_size_max=float(size.max()),
+        k_t0=model.k_t0,
+        nodes=model.nodes,
+        nodes_in_contact_max=int(np.max(np.count_nonzero(scene.limits > 0, axis=1))),
+        x=model.x,
+        size=size,
+    )
+    return SteadyState(
+        W=W,
+        W_cycles=W_cycles,
+        v=cyc.u,
+        F=cyc.F,
+        N=scene.N[rows],
+        state=cyc.state,
+        solver_stats=stats,
+        contact=extras,
+        **common,
+    )

@@ -26,10 +26,13 @@ __all__ = ["cycle_change", "displacement_change", "load_scales", "MEASURES"]
 MEASURES = ("cycles", "map")
 
 
-def cycle_change(du: float | np.ndarray, v_span: float | np.ndarray, dW: float | np.ndarray,
-                 W: float | np.ndarray,
-                 load_span: tuple[float | np.ndarray, float | np.ndarray]
-                 ) -> float | np.ndarray:
+def cycle_change(
+    du: float | np.ndarray,
+    v_span: float | np.ndarray,
+    dW: float | np.ndarray,
+    W: float | np.ndarray,
+    load_span: tuple[float | np.ndarray, float | np.ndarray],
+) -> float | np.ndarray:
     """The convergence measure of a cycle (the one criterion of every cycle loop).
 
     ``max(du / s_v, |dW| / s_W)`` with the scales
@@ -64,10 +67,16 @@ def cycle_change(du: float | np.ndarray, v_span: float | np.ndarray, dW: float |
     s_v = np.maximum(np.asarray(v_span, dtype=float), u_scale)
     s_W = np.maximum(np.abs(np.asarray(W, dtype=float)), u_scale * f_scale)
     with np.errstate(divide="ignore", invalid="ignore"):
-        a = np.where(s_v > 0, np.abs(du) / np.where(s_v > 0, s_v, 1.0),
-                     np.where(np.asarray(du) == 0, 0.0, np.inf))
-        b = np.where(s_W > 0, np.abs(dW) / np.where(s_W > 0, s_W, 1.0),
-                     np.where(np.asarray(dW) == 0, 0.0, np.inf))
+        a = np.where(
+            s_v > 0,
+            np.abs(du) / np.where(s_v > 0, s_v, 1.0),
+            np.where(np.asarray(du) == 0, 0.0, np.inf),
+        )
+        b = np.where(
+            s_W > 0,
+            np.abs(dW) / np.where(s_W > 0, s_W, 1.0),
+            np.where(np.asarray(dW) == 0, 0.0, np.inf),
+        )
     out = np.maximum(a, b)
     return out if out.ndim else float(out)
 

@@ -91,8 +91,12 @@ from .rates import first_event, path_is_exact
 
 __all__ = ["ActiveSetStepper", "ActiveSetData", "PatternUpdate"]
 
-STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
-                                        int(State.BACKWARD), int(State.SEPARATION))
+STICK, FORWARD, BACKWARD, SEPARATION = (
+    int(State.STICK),
+    int(State.FORWARD),
+    int(State.BACKWARD),
+    int(State.SEPARATION),
+)
 BLOCKS = ("auto", "dense", "banded", "sparse")
 _EPS = np.finfo(float).eps
 _CHECK_ROWS = 64  # increments checked together for equilibrium
@@ -122,8 +126,15 @@ class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
 
     name = "active-set"
 
-    def __init__(self, *, block: str = "auto", check_tol: float = 1e-6, max_iter: int = 200,
-                 locate_events: bool = True, cg_max_iter: int = 2000):
+    def __init__(
+        self,
+        *,
+        block: str = "auto",
+        check_tol: float = 1e-6,
+        max_iter: int = 200,
+        locate_events: bool = True,
+        cg_max_iter: int = 2000,
+    ):
         if block not in BLOCKS:
             raise InputError("block", f"must be one of {BLOCKS}, got {block!r}")
         self.block = block
@@ -134,29 +145,41 @@ class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
 
     def check_system(self, system) -> None:
         if system.matrix_free and system.dims != 1:
-            raise InputError("method", "'active-set' solves a matrix-free system (a compliance "
-                                       "operator) with d = 1 only; for d = 2 give the stiffness "
-                                       "matrix, or use a convex backend on up to 2000 unknowns")
+            raise InputError(
+                "method",
+                "'active-set' solves a matrix-free system (a compliance "
+                "operator) with d = 1 only; for d = 2 give the stiffness "
+                "matrix, or use a convex backend on up to 2000 unknowns",
+            )
         if system.matrix_free and self.block != "auto":
-            raise InputError("block", f"{self.block!r} applies to a stiffness matrix; a "
-                                      f"matrix-free system is solved by conjugate gradients "
-                                      f"(leave block='auto')")
+            raise InputError(
+                "block",
+                f"{self.block!r} applies to a stiffness matrix; a "
+                f"matrix-free system is solved by conjugate gradients "
+                f"(leave block='auto')",
+            )
 
     # -- the stepper contract ----------------------------------------------------------------
     def init(self, scene, u0=None) -> StepState:
         self.check_system(scene.system)
         plan = Plan(scene, self.block, self.cg_max_iter)
         state = super().init(scene, u0)
-        stats = {"solves": 0, "iterations": 0, "refinements": 0, "single_changes": 0,
-                 "max_residual": 0.0, "events": 0}
-        return replace(state, data=ActiveSetData(plan, stats, np.zeros(plan.m), state.F,
-                                                 state.u))
+        stats = {
+            "solves": 0,
+            "iterations": 0,
+            "refinements": 0,
+            "single_changes": 0,
+            "max_residual": 0.0,
+            "events": 0,
+        }
+        return replace(state, data=ActiveSetData(plan, stats, np.zeros(plan.m), state.F, state.u))
 
     def step(self, scene, k, state):
         data = state.data
         stats = dict(data.stats)
-        du, F1, Fc, s, dW = self._increment(data.plan, k, state.F,
-                                            data.computed_forces(state), stats)
+        du, F1, Fc, s, dW = self._increment(
+            data.plan, k, state.F, data.computed_forces(state), stats
+        )
         u1, lo = _accumulate(state.u, data.u_lo, du)
         return StepState(u1, F1, s, dW, replace(data, stats=stats, u_lo=lo, Fc=Fc, u_of_Fc=u1))
 
@@ -186,11 +209,13 @@ class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
                 self._check_equilibrium(plan, Ub, Fb, Qb, rows, peak)
                 filled = 0
         if filled:
-            self._check_equilibrium(plan, Ub[:filled], Fb[:filled], Qb[:filled], rows[:filled],
-                                    peak)
+            self._check_equilibrium(
+                plan, Ub[:filled], Fb[:filled], Qb[:filled], rows[:filled], peak
+            )
         u = u.copy()
-        end = StepState(u, F.copy(), s.copy(), 0.0,
-                        replace(data, stats=stats, u_lo=lo.copy(), Fc=Fc, u_of_Fc=u))
+        end = StepState(
+            u, F.copy(), s.copy(), 0.0, replace(data, stats=stats, u_lo=lo.copy(), Fc=Fc, u_of_Fc=u)
+        )
         return end, record.result(W, self.stats(end))
 
     def stats(self, state) -> dict:
@@ -231,20 +256,21 @@ class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
         a, moved, Fa, Fca = 0.0, np.zeros(plan.m), F, Fc0
         dW = 0.0
         for _ in range(4 * plan.n + 16):
-            tau = first_event(plan.K, f, Fa, Qk + a * dQ, Nk + a * dN, dQ, dN, sep, a,
-                              rates=rates)
+            tau = first_event(plan.K, f, Fa, Qk + a * dQ, Nk + a * dN, dQ, dN, sep, a, rates=rates)
             if tau is None:
                 break
             bt = f * (Nk + tau * dN)
-            dua, Fc, _ = self._project(plan, Fca + (tau - a) * dQ, bt, inside, stats, k,
-                                       _on_limits(Fa, f * (Nk + a * dN)))
+            dua, Fc, _ = self._project(
+                plan, Fca + (tau - a) * dQ, bt, inside, stats, k, _on_limits(Fa, f * (Nk + a * dN))
+            )
             Fb, _ = self._finish(plan, dua, Fc, bt, inside, stats, k)
             stats["events"] += 1
             dW += increment_dissipation(Fa, Fb, dua)
             a, Fa, Fca = tau, Fb, Fc
             moved += dua
-            du, Fc, limit = self._project(plan, Fca + (1.0 - a) * dQ, b, contact, stats, k,
-                                          _on_limits(Fb, bt))
+            du, Fc, limit = self._project(
+                plan, Fca + (1.0 - a) * dQ, b, contact, stats, k, _on_limits(Fb, bt)
+            )
             F1, s = self._finish(plan, du, Fc, b, contact, stats, k)
             if path_is_exact(Fa, f * (Nk + a * dN), F1, limit, separating, plan.force_scale):
                 break
@@ -320,10 +346,15 @@ class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
             F[fwd] = -b[fwd]
             F[bwd] = b[bwd]
             F[~contact] = 0.0
-        res = residuals(F[cols], du[cols], b[A], plan.dims, plan.force_scale,
-                        plan.compliance_scale)
-        floor = 16 * _EPS * (plan.row_norm * float(np.max(np.abs(du), initial=0.0))
-                             + float(np.max(np.abs(Fc), initial=0.0)))
+        res = residuals(F[cols], du[cols], b[A], plan.dims, plan.force_scale, plan.compliance_scale)
+        floor = (
+            16
+            * _EPS
+            * (
+                plan.row_norm * float(np.max(np.abs(du), initial=0.0))
+                + float(np.max(np.abs(Fc), initial=0.0))
+            )
+        )
         off = float(np.max(np.abs(F - Fc), initial=0.0))
         res["equilibrium"] = max(off - floor, 0.0) / plan.force_scale
         bad = worst(res)
@@ -346,8 +377,9 @@ class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
             R = plan.block.apply_many((Fs - Qs).T).T
             R -= U
             floor = 64 * _EPS * peak
-            eq = (np.maximum(np.abs(R).max(axis=1) - floor, 0.0)
-                  / (plan.compliance_scale * plan.force_scale))
+            eq = np.maximum(np.abs(R).max(axis=1) - floor, 0.0) / (
+                plan.compliance_scale * plan.force_scale
+            )
         else:
             R = (plan.K @ U.T).T
             R += Qs
@@ -359,15 +391,22 @@ class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
             self._fail(int(rows[bad[0]]) - 1, {"equilibrium": float(eq[bad[0]])})
 
     def unsettled(self, k, what):
-        return SolverError(f"active-set: increment {k}: {what} did not settle in "
-                           f"{self.max_iter} iterations; raise max_iter",
-                           backend=self.name, status="max_iter")
+        return SolverError(
+            f"active-set: increment {k}: {what} did not settle in "
+            f"{self.max_iter} iterations; raise max_iter",
+            backend=self.name,
+            status="max_iter",
+        )
 
     def _fail(self, k, res):
         name = max(res, key=lambda r: math.inf if res[r] != res[r] else res[r])
-        raise SolverError(f"active-set: increment {k}: the answer fails lcpfric's residual "
-                          f"check ({name} {res[name]:.3g} > check_tol {self.check_tol:g})",
-                          backend=self.name, status="residual", residuals=res)
+        raise SolverError(
+            f"active-set: increment {k}: the answer fails lcpfric's residual "
+            f"check ({name} {res[name]:.3g} > check_tol {self.check_tol:g})",
+            backend=self.name,
+            status="residual",
+            residuals=res,
+        )
 
 
 def _accumulate(u, lo, du):

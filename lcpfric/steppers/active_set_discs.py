@@ -38,8 +38,9 @@ class DiscPatterns:
             start = contact & ~slip & (norm > b * (1.0 + 4 * _EPS))
             if start.any():  # the slip each would make alone, against its force
                 d2 = delta.reshape(n, 2)
-                d2[start] = -((norm[start] - b[start]) / (kn[start] * norm[start]))[:, None] \
-                    * F2[start]
+                d2[start] = (
+                    -((norm[start] - b[start]) / (kn[start] * norm[start]))[:, None] * F2[start]
+                )
                 F = F_tr + K @ delta
             elif self._settled(plan, delta, F, b, slip, sep):
                 return delta, F, slip
@@ -101,7 +102,7 @@ class DiscPatterns:
             else:
                 H = K[np.ix_(dofs, dofs)]
                 for i, node in enumerate(fn):
-                    H[2 * i:2 * i + 2, 2 * i:2 * i + 2] += blocks[node]
+                    H[2 * i : 2 * i + 2, 2 * i : 2 * i + 2] += blocks[node]
                 step = -cho_solve(cho_factor(H), gf)
             full = np.zeros(plan.m)
             full[dofs] = step
@@ -120,8 +121,10 @@ class DiscPatterns:
             noise = 64 * _EPS * (abs(phi0) + float(np.abs(full) @ np.abs(F)))
             for _ in range(60):
                 trial = delta + t * full
-                if (-slope * t <= noise or _objective(plan, F_tr, trial, b, slip)
-                        <= phi0 + 1e-4 * t * slope):
+                if (
+                    -slope * t <= noise
+                    or _objective(plan, F_tr, trial, b, slip) <= phi0 + 1e-4 * t * slope
+                ):
                     break
                 t *= 0.5
             delta = trial
@@ -137,6 +140,4 @@ def _objective(plan, F_tr, delta, b, slip) -> float:
     """``½ δᵀKδ + F^trᵀδ + Σ_slip b_i ||δ_i||`` (d = 2), the function Newton descends."""
     d2 = delta.reshape(-1, 2)
     Kd = plan.K @ delta
-    return float(0.5 * delta @ Kd + F_tr @ delta
-                 + b[slip] @ np.hypot(d2[slip, 0], d2[slip, 1]))
-
+    return float(0.5 * delta @ Kd + F_tr @ delta + b[slip] @ np.hypot(d2[slip, 0], d2[slip, 1]))

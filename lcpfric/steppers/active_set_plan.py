@@ -40,8 +40,11 @@ class Plan:
         sizes = column_reduce(self.Q, lambda x: float(np.max(np.abs(x), initial=0.0)))
         sizes += column_reduce(self.N, lambda x: float(np.max(x * f, initial=0.0)))
         if not all(np.isfinite(sizes)):
-            raise InputError("scene", "the tangential loads and normal reactions on the grid "
-                                      "must be finite; found NaN or inf")
+            raise InputError(
+                "scene",
+                "the tangential loads and normal reactions on the grid "
+                "must be finite; found NaN or inf",
+            )
         scale = max(sizes, default=0.0)
         self.force_scale = scale if scale > 0 else 1.0
         # the compliance scale of the residuals: 1/min k_ii (max C_ii for a diagonal K; C is
@@ -60,6 +63,7 @@ class Plan:
             N = self.N[k]
             out = self._rows[k] = (self.Q[k], N, N * self.friction, N > 0.0)
         return out
+
 
 @dataclass(frozen=True)
 class ActiveSetData:

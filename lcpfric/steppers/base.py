@@ -116,11 +116,14 @@ class Stepper:
         """
         if scene.system is None:
             what = type(scene.model).__name__
-            raise InputError("method", f"{self.label!r} solves discrete systems (SingleNode, "
-                                       f"ContactSystem), not {what}; methods for {what}: "
-                                       f"{', '.join(methods_for(scene.model))}, or solve its "
-                                       f"ContactSystem, steady_state(model.system(), "
-                                       f"{self.label!r}) (k_support > 0)")
+            raise InputError(
+                "method",
+                f"{self.label!r} solves discrete systems (SingleNode, "
+                f"ContactSystem), not {what}; methods for {what}: "
+                f"{', '.join(methods_for(scene.model))}, or solve its "
+                f"ContactSystem, steady_state(model.system(), "
+                f"{self.label!r}) (k_support > 0)",
+            )
         self.check_system(scene.system)
 
     def check_system(self, system: ContactSystem) -> None:
@@ -192,8 +195,9 @@ class Stepper:
         state = np.where(scene.N[0] > 0.0, State.STICK, State.SEPARATION).astype(np.int8)
         return StepState(u=u, F=F, state=state)
 
-    def step(self, scene: Scene, k: int,
-             state: StepState) -> StepState:  # pragma: no cover - abstract
+    def step(
+        self, scene: Scene, k: int, state: StepState
+    ) -> StepState:  # pragma: no cover - abstract
         """Increment k: a new state at ``scene.t[k+1]`` from the state at ``scene.t[k]``.
 
         Each stepper implements it (the base raises :class:`NotImplementedError`), without
@@ -222,8 +226,9 @@ class Stepper:
         """
         raise NotImplementedError
 
-    def cycle(self, scene: Scene, state: StepState,
-              history: bool = True) -> tuple[StepState, CycleResult]:
+    def cycle(
+        self, scene: Scene, state: StepState, history: bool = True
+    ) -> tuple[StepState, CycleResult]:
         """Run one cycle from ``state`` at ``scene.t[0]``.
 
         With ``history=False`` only its ends and ranges are kept.

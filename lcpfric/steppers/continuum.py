@@ -47,8 +47,12 @@ from .dissipation import increment_dissipation
 
 __all__ = ["ContinuumStepper", "ContinuumData", "node_states"]
 
-STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
-                                        int(State.BACKWARD), int(State.SEPARATION))
+STICK, FORWARD, BACKWARD, SEPARATION = (
+    int(State.STICK),
+    int(State.FORWARD),
+    int(State.BACKWARD),
+    int(State.SEPARATION),
+)
 #: bytes per node, unknown and increment of the guesses kept (changes of the forces and their
 #: products, a pattern; the previous cycle's and the current one's together)
 _GUESS_BYTES = 16
@@ -93,9 +97,12 @@ class ContinuumStepper(Stepper):
         if scene.system is not None or not isinstance(scene.model, self.model_type):
             model = scene.model if scene.model is not None else scene.system
             what = type(model).__name__
-            raise InputError("method", f"{self.name!r} solves {self.model_type.__name__}, not "
-                                       f"{what}; methods for {what}: "
-                                       f"{', '.join(methods_for(model))}")
+            raise InputError(
+                "method",
+                f"{self.name!r} solves {self.model_type.__name__}, not "
+                f"{what}; methods for {what}: "
+                f"{', '.join(methods_for(model))}",
+            )
 
     # -- hooks ----------------------------------------------------------------------------------
     def context(self, scene):
@@ -128,8 +135,9 @@ class ContinuumStepper(Stepper):
     def init(self, scene, u0=None) -> StepState:
         self.check(scene)
         if u0 is not None:
-            raise InputError("u0", f"{self.name!r} starts from the virgin contact; u0 is for "
-                                   f"discrete systems")
+            raise InputError(
+                "u0", f"{self.name!r} starts from the virgin contact; u0 is for discrete systems"
+            )
         context = self.context(scene)
         tangential = self.start(scene, context)
         n, d = scene.model.nodes, scene.model.dims
@@ -140,8 +148,9 @@ class ContinuumStepper(Stepper):
         state = node_states(scene.limits[0], None, d)
         return StepState(u=tangential.v.copy(), F=np.zeros(n * d), state=state, data=data)
 
-    def cycle(self, scene, state: StepState, history: bool = True, tol: float | None = None
-              ) -> tuple[StepState, CycleResult]:
+    def cycle(
+        self, scene, state: StepState, history: bool = True, tol: float | None = None
+    ) -> tuple[StepState, CycleResult]:
         """One cycle from ``state`` (``tol``: its increments' tolerance, for a stepper the
         driver solves loosely in its early cycles)."""
         data = state.data
@@ -154,17 +163,22 @@ class ContinuumStepper(Stepper):
         guesses = [] if data.guessing else None
         memory = self.memory(scene) if self.can_restart else None
         R = memory.start() if memory is not None else None
-        record = Recorder(scene, StepState(tangential.v, F, node_states(b[0], dv, dims)),
-                          history)
+        record = Recorder(scene, StepState(tangential.v, F, node_states(b[0], dv, dims)), history)
         W = 0.0
         for j in range(scene.steps):
             if guesses is None:
-                tangential, F1, dv = self.increment(context, tangential, b[j + 1], Q[j + 1],
-                                                    **options)
+                tangential, F1, dv = self.increment(
+                    context, tangential, b[j + 1], Q[j + 1], **options
+                )
             else:
-                tangential, F1, dv = self.increment(context, tangential, b[j + 1], Q[j + 1],
-                                                    previous[j] if previous else None,
-                                                    **options)
+                tangential, F1, dv = self.increment(
+                    context,
+                    tangential,
+                    b[j + 1],
+                    Q[j + 1],
+                    previous[j] if previous else None,
+                    **options,
+                )
                 guesses.append(self.guess(tangential))
             W += increment_dissipation(F, F1, dv, dims)
             if memory is not None:
@@ -173,9 +187,13 @@ class ContinuumStepper(Stepper):
             F = F1
         stats = self.context_stats(context)
         cyc = replace(record.result(W, stats), memory=R)
-        new = StepState(u=tangential.v.copy(), F=F, state=cyc.state[-1], dW=0.0,
-                        data=replace(data, tangential=tangential, context=context,
-                                     guesses=guesses, dv=dv))
+        new = StepState(
+            u=tangential.v.copy(),
+            F=F,
+            state=cyc.state[-1],
+            dW=0.0,
+            data=replace(data, tangential=tangential, context=context, guesses=guesses, dv=dv),
+        )
         return new, cyc
 
     def stats(self, state: StepState) -> dict:

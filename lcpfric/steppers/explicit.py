@@ -45,8 +45,12 @@ if TYPE_CHECKING:
 
 __all__ = ["ExplicitStepper"]
 
-STICK, FORWARD, BACKWARD, SEPARATION = (State.STICK, State.FORWARD, State.BACKWARD,
-                                        State.SEPARATION)
+STICK, FORWARD, BACKWARD, SEPARATION = (
+    State.STICK,
+    State.FORWARD,
+    State.BACKWARD,
+    State.SEPARATION,
+)
 
 
 class ExplicitStepper(Stepper):
@@ -77,9 +81,12 @@ class ExplicitStepper(Stepper):
             ``method``: d = 2 (the message names the methods that can).
         """
         if system.dims != 1:
-            raise InputError("method", "'explicit' handles d = 1 (one tangential direction per "
-                                       "node); for d = 2 use 'clarabel', 'cvxpy:CLARABEL' or "
-                                       "'projection' (diagonal K)")
+            raise InputError(
+                "method",
+                "'explicit' handles d = 1 (one tangential direction per "
+                "node); for d = 2 use 'clarabel', 'cvxpy:CLARABEL' or "
+                "'projection' (diagonal K)",
+            )
 
     def init(self, scene: Scene, u0: ArrayLike | None = None) -> StepState:
         """The initial state at ``scene.t[0]``, with the dense K.
@@ -158,8 +165,9 @@ class ExplicitStepper(Stepper):
             Qt = Qa + tau * dQ
             bound = f * Nt
             F0 = _on_limits(Qt + K @ u, bound, slipping & ~sep, slipping_b & ~sep)
-            du, node_state = slip_rates(K, f, F0, bound, dQ, dN, sep, slipping, slipping_b,
-                                        touch_lo, touch_hi)
+            du, node_state = slip_rates(
+                K, f, F0, bound, dQ, dN, sep, slipping, slipping_b, touch_lo, touch_hi
+            )
             events = limit_crossings(K, f, F0, bound, dQ, dN, du, node_state, tau)
             t_end = min(1.0, float(np.min(events[0])), float(np.min(events[1])))
             now = tau + EPS8 * max(1.0, tau)
@@ -169,8 +177,12 @@ class ExplicitStepper(Stepper):
                 continue
             touch_lo = touch_hi = np.zeros(n, dtype=bool)
             u_new = u + (t_end - tau) * du
-            F1 = _on_limits(Qa + t_end * dQ + K @ u_new, f * (Na + t_end * dN),
-                            node_state == FORWARD, node_state == BACKWARD)
+            F1 = _on_limits(
+                Qa + t_end * dQ + K @ u_new,
+                f * (Na + t_end * dN),
+                node_state == FORWARD,
+                node_state == BACKWARD,
+            )
             W += increment_dissipation(F0, F1, u_new - u)
             substeps += 1
             u = u_new
@@ -181,17 +193,24 @@ class ExplicitStepper(Stepper):
             tau = t_end
             n_events += 1
         else:
-            raise SolverError(f"explicit stepper: more than {4 * n + 16} state changes in "
-                              f"increment {k}; the loads may be inconsistent", backend="explicit",
-                              status="too_many_events")
+            raise SolverError(
+                f"explicit stepper: more than {4 * n + 16} state changes in "
+                f"increment {k}; the loads may be inconsistent",
+                backend="explicit",
+                status="too_many_events",
+            )
         F = F1
-        data = {"K": K, "substeps": data["substeps"] + substeps,
-                "events": data["events"] + n_events}
+        data = {
+            "K": K,
+            "substeps": data["substeps"] + substeps,
+            "events": data["events"] + n_events,
+        }
         return StepState(u, F, node_state, W, data)
 
     # ------------------------------------------------------------------------------------------
-    def cycle(self, scene: Scene, state: StepState,
-              history: bool = True) -> tuple[StepState, CycleResult]:
+    def cycle(
+        self, scene: Scene, state: StepState, history: bool = True
+    ) -> tuple[StepState, CycleResult]:
         """One cycle from ``state`` at ``scene.t[0]``.
 
         :meth:`Stepper.cycle <lcpfric.steppers.base.Stepper.cycle>`; one unknown with the
@@ -311,8 +330,12 @@ def _single_node_cycle(scene, state):
     Ua = np.array(U)[:, None]
     Fa = np.array(Fs)[:, None]
     Sa = np.array(S, dtype=np.int8)[:, None]
-    data = {"K": state.data["K"], "substeps": state.data["substeps"] + n + events,
-            "events": state.data["events"] + events}
+    data = {
+        "K": state.data["K"],
+        "substeps": state.data["substeps"] + n + events,
+        "events": state.data["events"] + events,
+    }
     end = StepState(Ua[-1].copy(), Fa[-1].copy(), Sa[-1].copy(), 0.0, data)
-    return end, CycleResult(scene.t, Ua, Fa, Sa, W, {"substeps": data["substeps"],
-                                                     "events": data["events"]})
+    return end, CycleResult(
+        scene.t, Ua, Fa, Sa, W, {"substeps": data["substeps"], "events": data["events"]}
+    )

@@ -62,8 +62,7 @@ class HalfPlanePDASStepper(ContinuumStepper):
         none = np.zeros(total, dtype=bool)
         return _Surface(np.zeros(total), 0.0, none, none)
 
-    def increment(self, context, state: _Surface, b: np.ndarray, Q: float, guess=None,
-                  tol=None):
+    def increment(self, context, state: _Surface, b: np.ndarray, Q: float, guess=None, tol=None):
         """Problem (P) with the load-control constraint (module docstring): ``(state, F,
         Δs)``."""
         model, block = context
@@ -91,9 +90,12 @@ class HalfPlanePDASStepper(ContinuumStepper):
             elif ks > 0.0:
                 delta = (F.sum() + Q) / ks
             else:
-                raise SolverError("half-plane: every node in contact slips or is separated "
-                                  "under pure load control (gross sliding)",
-                                  backend="halfplane", status="gross_sliding")
+                raise SolverError(
+                    "half-plane: every node in contact slips or is separated "
+                    "under pure load control (gross sliding)",
+                    backend="halfplane",
+                    status="gross_sliding",
+                )
             s = delta + C @ F
             s[S] = s0[S]
             ds = s - s0
@@ -107,15 +109,18 @@ class HalfPlanePDASStepper(ContinuumStepper):
                 return _Surface(s, delta, up, dn), F, ds
             up, dn = nxt
             if ks > 0.0 and updates.stats["single_changes"] > _SINGLE_MAX:
-                break                     # Murty's rule is slow here, or cycling: see below
+                break  # Murty's rule is slow here, or cycling: see below
         if ks > 0.0:
             # with a support the increment is a bounded least-squares problem: solved by
             # scipy's bounded-variable least squares, whose active set terminates (the
             # patterns above can cycle under gross sliding, a node flipping between its
             # bounds)
             return self._bounded(model, state, b, Q, contact)
-        raise SolverError(f"half-plane: the stick/slip pattern did not settle in {limit} "
-                          f"iterations", backend="halfplane", status="max_iter")
+        raise SolverError(
+            f"half-plane: the stick/slip pattern did not settle in {limit} iterations",
+            backend="halfplane",
+            status="max_iter",
+        )
 
     @staticmethod
     def _bounded(model, state, b, Q, contact):
@@ -129,11 +134,12 @@ class HalfPlanePDASStepper(ContinuumStepper):
         on = np.flatnonzero(contact)
         H = C[np.ix_(on, on)] + 1.0 / ks
         g = Q / ks - s0[on]
-        U, _ = cho_factor(H, lower=False)                  # H = Uᵀ U
+        U, _ = cho_factor(H, lower=False)  # H = Uᵀ U
         U = np.triu(U)
-        y = -solve_triangular(U, g, trans="T")              # ½|U F - y|² = ½FᵀHF + gᵀF + c
-        sol = lsq_linear(U, y, bounds=(-b[on], b[on]), method="bvls", tol=1e-14,
-                         max_iter=50 * on.size)
+        y = -solve_triangular(U, g, trans="T")  # ½|U F - y|² = ½FᵀHF + gᵀF + c
+        sol = lsq_linear(
+            U, y, bounds=(-b[on], b[on]), method="bvls", tol=1e-14, max_iter=50 * on.size
+        )
         F = np.zeros(model.total)
         F[on] = sol.x
         delta = (F.sum() + Q) / ks
@@ -144,13 +150,17 @@ class HalfPlanePDASStepper(ContinuumStepper):
         stick = contact & ~up & ~dn
         # the natural map's residual: sticking nodes keep their slip, the others sit on
         # their limits with the slip opposing the force
-        worst = max(float(np.max(np.abs(ds[stick]) / model.cdiag[stick], initial=0.0)),
-                    float(np.max(np.abs(np.abs(F[~stick & contact]) - b[~stick & contact]),
-                                 initial=0.0)))
+        worst = max(
+            float(np.max(np.abs(ds[stick]) / model.cdiag[stick], initial=0.0)),
+            float(np.max(np.abs(np.abs(F[~stick & contact]) - b[~stick & contact]), initial=0.0)),
+        )
         if not sol.success or worst > 1e-8 * model.force_scale:
-            raise SolverError(f"half-plane: the bounded least-squares increment ended with "
-                              f"residual {worst:.3g} (status {sol.status}: {sol.message})",
-                              backend="halfplane", status=str(sol.status))
+            raise SolverError(
+                f"half-plane: the bounded least-squares increment ended with "
+                f"residual {worst:.3g} (status {sol.status}: {sol.message})",
+                backend="halfplane",
+                status=str(sol.status),
+            )
         s[stick] = s0[stick]
         ds[stick] = 0.0
         np.clip(F, -b, b, out=F)

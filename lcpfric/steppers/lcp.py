@@ -37,5 +37,8 @@ def solve_lcp(M: np.ndarray, q: np.ndarray, basis=None, max_pivots: int | None =
             return np.maximum(z, 0.0)
         i = int(np.argmax(bad))
         B[i] = ~B[i]
-    raise SolverError("explicit stepper: the slip-rate LCP did not settle (is K positive "
-                      "definite?)", backend="explicit", status="lcp_max_pivots")
+    raise SolverError(
+        "explicit stepper: the slip-rate LCP did not settle (is K positive definite?)",
+        backend="explicit",
+        status="lcp_max_pivots",
+    )

@@ -45,8 +45,9 @@ class MDRBarStepper(ContinuumStepper):
         v, u = state.v, state.u
         if model.k_support == 0.0 and abs(Q) > float(b.sum()) * (1.0 + 1e-12):
             _no_root(Q, b)
-        u1, F, v1 = bar_increment(v[None], np.array([u]), model.k[None], b[None],
-                                  np.array([Q]), model.k_support)
+        u1, F, v1 = bar_increment(
+            v[None], np.array([u]), model.k[None], b[None], np.array([Q]), model.k_support
+        )
         v1 = v1[0]
         return _Bar(v1, float(u1[0])), F[0], v1 - state.v
 
@@ -70,8 +71,8 @@ def bar_root(v, u, k, b, Q, ks):
     linear between the breakpoints ``v ∓ b/k``, so a step that keeps every spring's stick/slip
     side lands on the root exactly; a bracket keeps the iteration inside. Under pure load
     control with |Q| beyond every limit there is no root: the caller checks."""
-    lo = np.min(v - b / k, axis=1)   # below: every spring at +b
-    hi = np.max(v + b / k, axis=1)   # above: every spring at -b
+    lo = np.min(v - b / k, axis=1)  # below: every spring at +b
+    hi = np.max(v + b / k, axis=1)  # above: every spring at -b
     total = b.sum(axis=1)
     h_lo = total - ks * lo + Q
     h_hi = -total - ks * hi + Q
@@ -98,7 +99,7 @@ def bar_root(v, u, k, b, Q, ks):
             Lt, Ht = L[todo], H[todo]
         t = Kv * (Vv - xv[:, None])
         c = np.minimum(np.maximum(t, -Bv), Bv)
-        side = np.sign(c - t)                             # 0: sticking; ±1: at -b / +b
+        side = np.sign(c - t)  # 0: sticking; ±1: at -b / +b
         h = c.sum(axis=1) - ks * xv + qv
         slope = -(Kv * (side == 0)).sum(axis=1) - ks
         Lt = np.where(h > 0.0, xv, Lt)
@@ -109,8 +110,12 @@ def bar_root(v, u, k, b, Q, ks):
         new = np.where(h == 0.0, xv, step)
         t2 = Kv * (Vv - new[:, None])
         same = np.all(np.sign(np.minimum(np.maximum(t2, -Bv), Bv) - t2) == side, axis=1)
-        finished = ((h == 0.0) | (same & (slope < 0.0)) | (new == xv)
-                    | (Ht - Lt <= eps * np.maximum(np.abs(Lt), np.abs(Ht))))
+        finished = (
+            (h == 0.0)
+            | (same & (slope < 0.0))
+            | (new == xv)
+            | (Ht - Lt <= eps * np.maximum(np.abs(Lt), np.abs(Ht)))
+        )
         if todo is None:
             x, L, H = new, Lt, Ht
             todo = np.flatnonzero(~finished)
@@ -132,7 +137,10 @@ class _Bar:
 
 
 def _no_root(Q, b):
-    raise InputError("k_support", f"is 0 and |Q| = {abs(Q):.6g} exceeds the friction limit "
-                                  f"μP = {float(np.sum(b)):.6g} of the whole contact at an "
-                                  f"increment: gross sliding has no equilibrium under pure load "
-                                  f"control; give k_support > 0")
+    raise InputError(
+        "k_support",
+        f"is 0 and |Q| = {abs(Q):.6g} exceeds the friction limit "
+        f"μP = {float(np.sum(b)):.6g} of the whole contact at an "
+        f"increment: gross sliding has no equilibrium under pure load "
+        f"control; give k_support > 0",
+    )

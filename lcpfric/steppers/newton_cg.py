@@ -61,8 +61,7 @@ from ..model.continuum.halfspace import HalfSpace, compliance, pad
 from ..model.continuum.influence import Counted
 from .slip_memory import SlipMemory, row_norms
 from .continuum import ContinuumStepper
-from .newton_step import (CG_TOL, ETA, NewtonSteps, column_sums,
-                          nearest_to_sticking, project_discs)
+from .newton_step import CG_TOL, ETA, NewtonSteps, column_sums, nearest_to_sticking, project_discs
 
 __all__ = ["NewtonCGStepper", "HalfSpaceIncrements"]
 
@@ -90,7 +89,7 @@ class _Tangential:
     F: np.ndarray
     dF: np.ndarray
     ddelta: np.ndarray
-    side: np.ndarray          # d = 1: +1 / -1 on the upper / lower limit, else 0
+    side: np.ndarray  # d = 1: +1 / -1 on the upper / lower limit, else 0
     CF: np.ndarray
     CdF: np.ndarray
 
@@ -122,8 +121,15 @@ class NewtonCGStepper(ContinuumStepper):
     name = "newton-cg"
     model_type = HalfSpace
 
-    def __init__(self, *, increment_tol: float = 1e-10, warm_start: bool = True,
-                 accelerate: bool = True, slip_memory: bool = True, loose_cycles: bool = True):
+    def __init__(
+        self,
+        *,
+        increment_tol: float = 1e-10,
+        warm_start: bool = True,
+        accelerate: bool = True,
+        slip_memory: bool = True,
+        loose_cycles: bool = True,
+    ):
         self.increment_tol = _checks.positive("increment_tol", increment_tol)
         self.guesses = _checks.boolean("warm_start", warm_start)
         self.can_restart = _checks.boolean("accelerate", accelerate)
@@ -142,8 +148,16 @@ class NewtonCGStepper(ContinuumStepper):
     def start(self, scene, context) -> _Tangential:
         n, d = scene.model.nodes, scene.model.dims
         m = n * d
-        return _Tangential(np.zeros(m), np.zeros(d), np.zeros(m), np.zeros(m), np.zeros(d),
-                           np.zeros(n, dtype=np.int8), np.zeros((n, d)), np.zeros((n, d)))
+        return _Tangential(
+            np.zeros(m),
+            np.zeros(d),
+            np.zeros(m),
+            np.zeros(m),
+            np.zeros(d),
+            np.zeros(n, dtype=np.int8),
+            np.zeros((n, d)),
+            np.zeros((n, d)),
+        )
 
     def increment(self, context, state, b, Q, guess=None, tol=None):
         return context.increment(state, b, Q, guess, tol)
@@ -164,19 +178,24 @@ class NewtonCGStepper(ContinuumStepper):
         context = data.context.copy()
         context.stats["tangential_products"] += 1
         t = data.tangential
-        new = _Tangential(np.asarray(v, dtype=float).copy(), t.delta, t.F, np.zeros_like(t.dF),
-                          np.zeros_like(t.ddelta), t.side, context.compliance(t.F),
-                          np.zeros_like(t.CF))
-        return replace(state, u=new.v.copy(), data=replace(data, tangential=new,
-                                                           context=context))
+        new = _Tangential(
+            np.asarray(v, dtype=float).copy(),
+            t.delta,
+            t.F,
+            np.zeros_like(t.dF),
+            np.zeros_like(t.ddelta),
+            t.side,
+            context.compliance(t.F),
+            np.zeros_like(t.CF),
+        )
+        return replace(state, u=new.v.copy(), data=replace(data, tangential=new, context=context))
 
     def memory(self, scene):
         """d = 2: the per-node memory of a cycle's starting slips, the driver's preconditioner
         of the cycle map (:class:`~lcpfric.steppers.slip_memory.SlipMemory`); None for
         d = 1 (a node that slips forgets its start)."""
         model = scene.model
-        return (SlipMemory(model.c, model.nodes) if model.dims == 2 and self.slip_memory
-                else None)
+        return SlipMemory(model.c, model.nodes) if model.dims == 2 and self.slip_memory else None
 
     def loose(self, scene) -> bool:
         """d = 2 settles over many cycles: the driver solves the early ones loosely."""
@@ -190,16 +209,26 @@ class HalfSpaceIncrements(NewtonSteps):
 
     def __init__(self, model, tol: float, load_scale: float):
         self.model = model
-        self.nodes, self.dims, self.k_support, self.c = (model.nodes, model.dims,
-                                                         model.k_support, model.c)
+        self.nodes, self.dims, self.k_support, self.c = (
+            model.nodes,
+            model.dims,
+            model.k_support,
+            model.c,
+        )
         self.N, self.h, self.pos, self.cpos = model.N, model.h, model.pos, model.cpos
         self.force_scale = model.force_scale
         self.op = Counted(model.op)
         self.tol = tol
         self.load_scale = load_scale
-        self.stats = {"tangential_seconds": 0.0, "tangential_products": 0, "increments": 0,
-                      "newton": 0, "cg": 0, "stalled": 0}
-        self.first_right = True        # d = 1: the last increment's first pattern held
+        self.stats = {
+            "tangential_seconds": 0.0,
+            "tangential_products": 0,
+            "increments": 0,
+            "newton": 0,
+            "cg": 0,
+            "stalled": 0,
+        }
+        self.first_right = True  # d = 1: the last increment's first pattern held
 
     def copy(self) -> "HalfSpaceIncrements":
         out = copy.copy(self)
@@ -253,12 +282,12 @@ class HalfSpaceIncrements(NewtonSteps):
         updates = PatternUpdate(contact) if d == 1 else None
         up = dn = None
         restarted = loose = fresh = changed = False
-        close = 0             # damped steps begun within ten times the tolerance
+        close = 0  # damped steps begun within ten times the tolerance
         # d = 1: Murty's rule changes one node per iteration, so allow one per node
         limit = _MAX_NEWTON + (int(contact.sum()) if d == 1 else 0)
         eq_tol = tolF * max(1, int(contact.sum()))
-        ev = None             # d = 2: the residual at the iterate, if the line search has it
-        damped = d == 2       # d = 1 turns to the damped steps if its patterns stall
+        ev = None  # d = 2: the residual at the iterate, if the line search has it
+        damped = d == 2  # d = 1 turns to the damped steps if its patterns stall
         for it in range(limit):
             if not damped:
                 ds = delta + CF - s0
@@ -267,18 +296,17 @@ class HalfSpaceIncrements(NewtonSteps):
                 # the primal-dual active-set pattern, with Murty's rule once one repeats
                 zz = z[:, 0]
                 band = tolF + 64 * _EPS * (b + np.abs(F[:, 0]))
-                if up is None:      # the previous increment's pattern, where still in contact,
+                if up is None:  # the previous increment's pattern, where still in contact,
                     # and (unless restarted) the nodes the extrapolated forces put beyond
                     side = state.side if restarted else side0
                     warm = (contact & (side > 0), contact & (side < 0))
-                    up, dn = warm if restarted else updates.first(zz, -b - band, b + band,
-                                                                  warm)
+                    up, dn = warm if restarted else updates.first(zz, -b - band, b + band, warm)
                     fresh = True
                 else:
                     nxt = updates.next(zz, -b - band, b + band, up, dn)
                     if nxt is None and not loose:
                         break
-                    fresh = nxt is not None     # else: a loose step's pattern repeats
+                    fresh = nxt is not None  # else: a loose step's pattern repeats
                     if fresh:
                         up, dn = nxt
                         changed = True
@@ -292,9 +320,8 @@ class HalfSpaceIncrements(NewtonSteps):
                         continue
                 slip = up | dn
                 zn = np.abs(zz)
-                worst = float(np.max(np.abs(F[:, 0] - np.clip(zz, -b, b))[contact],
-                                     initial=0.0))
-                z = np.where(up, 1.0, -1.0)[:, None]              # the slip nodes' sides
+                worst = float(np.max(np.abs(F[:, 0] - np.clip(zz, -b, b))[contact], initial=0.0))
+                z = np.where(up, 1.0, -1.0)[:, None]  # the slip nodes' sides
                 if updates.stats["single_changes"] > _SINGLE_MAX:
                     # the patterns stall (a large increment on a fine grid: thousands of
                     # nodes change state, and Murty's rule changes one per iteration): the
@@ -313,7 +340,7 @@ class HalfSpaceIncrements(NewtonSteps):
                 ev = None
                 if worst <= tolF and float(np.max(np.abs(eq))) <= eq_tol:
                     break
-                if it == 2 * _RESTART and not restarted:      # as for d = 1 below
+                if it == 2 * _RESTART and not restarted:  # as for d = 1 below
                     F, delta, CF = self._safe_start(state, b, contact)
                     restarted = True
                     continue
@@ -323,9 +350,12 @@ class HalfSpaceIncrements(NewtonSteps):
                 # as many as can carry what the others' slip forces leave of the load
                 total = float(b[contact].sum())
                 if abs(Q) > total * (1.0 + 1e-12):
-                    raise SolverError(f"half-space: |Q| = {abs(Q):.6g} exceeds the sum of "
-                                      f"the friction limits {total:.6g} (gross sliding)",
-                                      backend="halfspace", status="gross_sliding")
+                    raise SolverError(
+                        f"half-space: |Q| = {abs(Q):.6g} exceeds the sum of "
+                        f"the friction limits {total:.6g} (gross sliding)",
+                        backend="halfspace",
+                        status="gross_sliding",
+                    )
                 stuck = nearest_to_sticking(z, zn, b, contact, Qv)
                 slip[stuck] = False
                 if d == 1:
@@ -334,33 +364,54 @@ class HalfSpaceIncrements(NewtonSteps):
             # d = 1: a step whose pattern is new is solved loosely (its answer only says
             # which pattern comes next), once a pattern repeats to full accuracy; the first
             # pattern too, unless the last increment's first pattern was its answer
-            loose = (not damped and fresh and _ETA1 * worst > 0.1 * tolF
-                     and (it > 0 or not self.first_right))
+            loose = (
+                not damped
+                and fresh
+                and _ETA1 * worst > 0.1 * tolF
+                and (it > 0 or not self.first_right)
+            )
             # the damped steps' linear solves stop at CG_TOL of the tolerance; where a step
             # that began near it did not end the increment (the natural map's residual can
             # then hover about the tolerance), the next ones stop ten times lower each
             frac = CG_TOL
             if damped and worst <= 10.0 * tolF:
-                frac = max(CG_TOL * 0.1 ** close, 1e-3)
+                frac = max(CG_TOL * 0.1**close, 1e-3)
                 close += 1
-            dF, dd, CdF = self.newton_step(F, ds, z, zn, b, contact, slip, eq, worst, tolF,
-                                       _ETA1 if loose else (ETA if damped else None), frac)
+            dF, dd, CdF = self.newton_step(
+                F,
+                ds,
+                z,
+                zn,
+                b,
+                contact,
+                slip,
+                eq,
+                worst,
+                tolF,
+                _ETA1 if loose else (ETA if damped else None),
+                frac,
+            )
             if not damped:
                 F += dF
                 CF += CdF
                 delta = delta + dd
             else:
-                F, CF, delta, ev = self._step(merit, F, CF, delta, dF, CdF, dd, s0, b,
-                                              contact, Qv)
+                F, CF, delta, ev = self._step(merit, F, CF, delta, dF, CdF, dd, s0, b, contact, Qv)
         else:
             total = float(b[contact].sum())
-            near = (f"; |Q| is {abs(Q) / total:.6f} of the sum of the friction limits, so "
-                    f"close to gross sliding that the stick zone spans about one element: "
-                    f"refine the grid or lower Q" if ks <= 0.0 and total > 0.0
-                    and abs(Q) >= 0.999 * (1.0 - 1e-9) * total else "")
-            raise SolverError(f"half-space tangential increment: residual {worst:.3g} above "
-                              f"{tolF:.3g} after {limit} Newton iterations{near}",
-                              backend="halfspace", status="max_iter")
+            near = (
+                f"; |Q| is {abs(Q) / total:.6f} of the sum of the friction limits, so "
+                f"close to gross sliding that the stick zone spans about one element: "
+                f"refine the grid or lower Q"
+                if ks <= 0.0 and total > 0.0 and abs(Q) >= 0.999 * (1.0 - 1e-9) * total
+                else ""
+            )
+            raise SolverError(
+                f"half-space tangential increment: residual {worst:.3g} above "
+                f"{tolF:.3g} after {limit} Newton iterations{near}",
+                backend="halfspace",
+                status="max_iter",
+            )
         if d == 1:
             self.first_right = not changed
             if damped:
@@ -375,8 +426,9 @@ class HalfSpaceIncrements(NewtonSteps):
         if d == 1:
             side[up] = 1
             side[dn] = -1
-        new = _Tangential(v.ravel(), delta, F_end, F_end - state.F, delta - state.delta, side,
-                          CF, CF - state.CF)
+        new = _Tangential(
+            v.ravel(), delta, F_end, F_end - state.F, delta - state.delta, side, CF, CF - state.CF
+        )
         return new, F_flat, ds.ravel()
 
     def _tolerance_scale(self) -> float:
@@ -415,8 +467,15 @@ class HalfSpaceIncrements(NewtonSteps):
         if self.k_support:
             eq -= self.k_support * delta
         eq += Qv
-        return (ds, z, zn, slip, float(np.max(np.abs(R), initial=0.0)),
-                float(np.vdot(R, R) + eq @ eq), eq)
+        return (
+            ds,
+            z,
+            zn,
+            slip,
+            float(np.max(np.abs(R), initial=0.0)),
+            float(np.vdot(R, R) + eq @ eq),
+            eq,
+        )
 
     def _step(self, m0, F, CF, delta, dF, CdF, dd, s0, b, contact, Qv):
         """d = 2 (and d = 1 once its patterns stall): the Newton step, its length halved from

@@ -16,8 +16,15 @@ from ..errors import SolverError
 from ..linalg.cg import cg
 from .slip_memory import row_norms
 
-__all__ = ["NewtonSteps", "nearest_to_sticking", "project_discs", "column_sums",
-           "every_node_slips", "CG_TOL", "ETA"]
+__all__ = [
+    "NewtonSteps",
+    "nearest_to_sticking",
+    "project_discs",
+    "column_sums",
+    "every_node_slips",
+    "CG_TOL",
+    "ETA",
+]
 
 #: d = 2: the linear solves of the Newton steps are to this fraction of the residual
 ETA = 1e-2
@@ -36,8 +43,7 @@ class NewtonSteps:
     holds the grid: ``nodes``, ``k_support``, ``c``, ``N``, ``h``, ``pos``, ``cpos``, the
     counted operator ``op``, ``stats``, and ``compliance`` and ``pad``)."""
 
-    def newton_step(self, F, ds, z, zn, b, contact, slip, eq, worst, tolF, eta=None,
-                frac=CG_TOL):
+    def newton_step(self, F, ds, z, zn, b, contact, slip, eq, worst, tolF, eta=None, frac=CG_TOL):
         """One semismooth Newton step (module docstring): ``(ΔF, Δδ, C ΔF)``. For d = 2
         (:meth:`_newton2`) the linear solve is inexact while the residual ``worst`` is large
         (to ``1e-2`` of it: the slip directions are corrected by the next step anyway); for
@@ -48,7 +54,7 @@ class NewtonSteps:
         n, ks, c = self.nodes, self.k_support, self.c
         stick = np.flatnonzero(contact & ~slip)
         L = np.flatnonzero(slip)
-        known = np.where(contact[:, None], 0.0, -F)          # off the contact: no force
+        known = np.where(contact[:, None], 0.0, -F)  # off the contact: no force
         known[L, 0] = np.sign(z[L, 0]) * b[L] - F[L, 0]
         space = _Space(stick, self.pos, self.op)
         rhs = -ds[stick, 0]
@@ -60,9 +66,9 @@ class NewtonSteps:
         if ks > 0.0:
             x0 = np.zeros(space.size)
         else:
-            x0 = np.full(space.size, float(cons[0]) / space.size)     # B = 1ᵀ: B⁺ cons
+            x0 = np.full(space.size, float(cons[0]) / space.size)  # B = 1ᵀ: B⁺ cons
         # the known forces and the start in one product (linearity); the residual from it
-        h2 = self.h ** 2
+        h2 = self.h**2
         N = self.N
         if np.any(known) or np.any(x0):
             start = self.pad(known)
@@ -91,8 +97,17 @@ class NewtonSteps:
         if eta is not None:
             tol = max(tol, eta * c * worst)
         if ks > 0.0:
-            x, _ = cg(lambda y: M(y) + y.sum() / ks, None, x0, None, pre, tol, self.stats,
-                       step, res=res + float(cons[0]) / ks)
+            x, _ = cg(
+                lambda y: M(y) + y.sum() / ks,
+                None,
+                x0,
+                None,
+                pre,
+                tol,
+                self.stats,
+                step,
+                res=res + float(cons[0]) / ks,
+            )
             dd = (np.array([x.sum()]) - cons) / ks
         else:
 
@@ -120,17 +135,17 @@ class NewtonSteps:
         L = np.flatnonzero(slip)
         ns = stick.size
         size = ns + L.size
-        known = np.where(contact, 0.0, -Fc)                  # off the contact: no force
+        known = np.where(contact, 0.0, -Fc)  # off the contact: no force
         zL = zn[L]
-        e = zc[L] / zL                                       # the slip directions
+        e = zc[L] / zL  # the slip directions
         FL = Fc[L]
-        known[L] = e * (b[L] - (e.conjugate() * FL).real)    # Re(ē F): F's part along e
+        known[L] = e * (b[L] - (e.conjugate() * FL).real)  # Re(ē F): F's part along e
         if size == 0:
             if ks <= 0.0:
                 every_node_slips()
             kn = _floats(known, n)
             return kn, (eq + column_sums(kn)) / ks, self.compliance(kn)
-        tau = 1j * e                                         # the tangents
+        tau = 1j * e  # the tangents
         taub = tau.conjugate()
         tx, ty = tau.real, tau.imag
         beta = b[L] / zL
@@ -151,7 +166,7 @@ class NewtonSteps:
             out[ns:] = tau * (tx * lam[0] + ty * lam[1])
             return out.view(float)
 
-        def bsum(r):                                         # B r: the force sums
+        def bsum(r):  # B r: the force sums
             t = r.view(complex).sum()
             return np.array([t.real, t.imag])
 
@@ -159,12 +174,15 @@ class NewtonSteps:
             x0 = np.zeros(2 * size)
         else:
             if _condition(BBt) > 1e12:
-                raise SolverError("half-space: the sticking nodes cannot carry the load in "
-                                  "every direction (gross sliding)", backend="halfspace",
-                                  status="gross_sliding")
+                raise SolverError(
+                    "half-space: the sticking nodes cannot carry the load in "
+                    "every direction (gross sliding)",
+                    backend="halfspace",
+                    status="gross_sliding",
+                )
             Winv = _inverse(BBt)
-            x0 = bt(Winv @ cons)                             # Bᵀ (B Bᵀ)⁻¹ cons
-        h2 = self.h ** 2
+            x0 = bt(Winv @ cons)  # Bᵀ (B Bᵀ)⁻¹ cons
+        h2 = self.h**2
         buf = op.empty()
         flat = buf.reshape(-1)
 
@@ -220,16 +238,24 @@ class NewtonSteps:
         tol = frac * c * tolF
         tol = max(tol, (ETA if eta is None else eta) * c * worst)
         if ks > 0.0:
-            x, _ = cg(lambda y: M(y) + bt(bsum(y) / ks), None, x0, None, pre, tol,
-                       self.stats, step, res=res.view(float) + bt(cons / ks))
+            x, _ = cg(
+                lambda y: M(y) + bt(bsum(y) / ks),
+                None,
+                x0,
+                None,
+                pre,
+                tol,
+                self.stats,
+                step,
+                res=res.view(float) + bt(cons / ks),
+            )
             dd = (bsum(x) - cons) / ks
         else:
 
             def project(r):
                 return r - bt(Winv @ bsum(r))
 
-            x, res = cg(M, None, x0, project, pre, tol, self.stats, step,
-                         res=res.view(float))
+            x, res = cg(M, None, x0, project, pre, tol, self.stats, step, res=res.view(float))
             dd = Winv @ bsum(res)
         u = x.view(complex)
         dF = known.copy()
@@ -250,9 +276,12 @@ def _floats(Z, n):
 
 
 def every_node_slips():
-    raise SolverError("half-space: every node in contact slips or is separated under pure "
-                      "load control (gross sliding)", backend="halfspace",
-                      status="gross_sliding")
+    raise SolverError(
+        "half-space: every node in contact slips or is separated under pure "
+        "load control (gross sliding)",
+        backend="halfspace",
+        status="gross_sliding",
+    )
 
 
 def nearest_to_sticking(z, zn, b, contact, Qv):
@@ -265,7 +294,7 @@ def nearest_to_sticking(z, zn, b, contact, Qv):
     inside = np.flatnonzero(contact)
     order = inside[np.argsort(zn[inside] / b[inside], kind="stable")]
     e = np.sign(z[order]) if z.shape[1] == 1 else z[order] / zn[order, None]
-    pull = b[order, None] * e                       # each node's force while it slips
+    pull = b[order, None] * e  # each node's force while it slips
     # the load left to the stuck nodes with the first k + 1 of the order stuck
     left = Qv + pull.sum(axis=0) - np.cumsum(pull, axis=0)
     need = np.sqrt(np.einsum("ij,ij->i", left, left))

@@ -28,8 +28,12 @@ if TYPE_CHECKING:
 
 __all__ = ["ProjectionStepper"]
 
-STICK, FORWARD, BACKWARD, SEPARATION = (int(State.STICK), int(State.FORWARD),
-                                        int(State.BACKWARD), int(State.SEPARATION))
+STICK, FORWARD, BACKWARD, SEPARATION = (
+    int(State.STICK),
+    int(State.FORWARD),
+    int(State.BACKWARD),
+    int(State.SEPARATION),
+)
 
 
 class ProjectionStepper(Stepper):
@@ -61,15 +65,21 @@ class ProjectionStepper(Stepper):
             differ (relative 1e-12); the message names the methods that can.
         """
         if not system.is_diagonal():
-            raise InputError("method", "'projection' needs a diagonal tangential stiffness "
-                                       "(uncoupled nodes); for a coupled K use 'clarabel', 'osqp', "
-                                       "'qpsolvers:<solver>', 'cvxpy:<SOLVER>' or 'explicit' (d=1)")
+            raise InputError(
+                "method",
+                "'projection' needs a diagonal tangential stiffness "
+                "(uncoupled nodes); for a coupled K use 'clarabel', 'osqp', "
+                "'qpsolvers:<solver>', 'cvxpy:<SOLVER>' or 'explicit' (d=1)",
+            )
         if system.dims == 2:
             k = np.diag(system.dense_stiffness()).reshape(system.n, 2)
             if not np.allclose(k[:, 0], k[:, 1], rtol=1e-12, atol=0):
-                raise InputError("method", "'projection' with d = 2 needs equal stiffness in both "
-                                           "tangential directions of each node; use 'clarabel' or "
-                                           "'cvxpy:CLARABEL'")
+                raise InputError(
+                    "method",
+                    "'projection' with d = 2 needs equal stiffness in both "
+                    "tangential directions of each node; use 'clarabel' or "
+                    "'cvxpy:CLARABEL'",
+                )
 
     def init(self, scene: Scene, u0: ArrayLike | None = None) -> StepState:
         """The initial state at ``scene.t[0]``, with K's diagonal.
@@ -120,8 +130,9 @@ class ProjectionStepper(Stepper):
         bound = system.friction * scene.N[k + 1]
         if system.dims == 1:
             F = np.clip(f_tr, -bound, bound)
-            slip = np.where(F > f_tr, State.FORWARD, np.where(F < f_tr, State.BACKWARD,
-                                                              State.STICK))
+            slip = np.where(
+                F > f_tr, State.FORWARD, np.where(F < f_tr, State.BACKWARD, State.STICK)
+            )
         else:
             ft = f_tr.reshape(-1, 2)
             norm = np.linalg.norm(ft, axis=1)
@@ -133,8 +144,9 @@ class ProjectionStepper(Stepper):
         dW = increment_dissipation(state.F, F, u - state.u, system.dims)
         return StepState(u, F, node_state, dW, kdiag)
 
-    def cycle(self, scene: Scene, state: StepState,
-              history: bool = True) -> tuple[StepState, CycleResult]:
+    def cycle(
+        self, scene: Scene, state: StepState, history: bool = True
+    ) -> tuple[StepState, CycleResult]:
         """One cycle from ``state`` at ``scene.t[0]``.
 
         :meth:`Stepper.cycle <lcpfric.steppers.base.Stepper.cycle>`; one unknown (d = 1) with

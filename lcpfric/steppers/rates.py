@@ -58,8 +58,12 @@ from .lcp import solve_lcp
 
 __all__ = ["slip_rates", "limit_crossings", "path_is_exact", "first_event", "REL", "EPS8"]
 
-STICK, FORWARD, BACKWARD, SEPARATION = (State.STICK, State.FORWARD, State.BACKWARD,
-                                        State.SEPARATION)
+STICK, FORWARD, BACKWARD, SEPARATION = (
+    State.STICK,
+    State.FORWARD,
+    State.BACKWARD,
+    State.SEPARATION,
+)
 REL = 1e-12  # relative tolerance for "on the friction limit" and for a margin's rate
 EPS8 = 8 * np.finfo(float).eps  # an event closer than this (relative) to τ happens at τ
 _ON_LIMIT = 1e-10  # a node within this (relative to the force scale) of its limit is on it
@@ -119,14 +123,16 @@ def slip_rates(K, f, F0, bound, dQ, dN, sep, was_fwd, was_bwd, touch_lo, touch_h
         state[Bi[slip & (D < 0)]] = BACKWARD
         # a re-contact node that sticks must also respect the limit on its other side
         dF = dQ + K @ du
-        flip = both & (state == STICK) & (f * dN - s * dF < -REL * (np.abs(f * dN)
-                                                                   + np.abs(dF)))
+        flip = both & (state == STICK) & (f * dN - s * dF < -REL * (np.abs(f * dN) + np.abs(dF)))
         if not flip.any():
             return du, state
         s[flip] = -s[flip]
         state[:] = np.where(sep, SEPARATION, STICK)
-    raise SolverError("explicit stepper: could not decide the slip directions at re-contact",
-                      backend="explicit", status="recontact_sign")
+    raise SolverError(
+        "explicit stepper: could not decide the slip directions at re-contact",
+        backend="explicit",
+        status="recontact_sign",
+    )
 
 
 def limit_crossings(K, f, F0, bound, dQ, dN, du, node_state, tau, dF=None):
@@ -146,7 +152,6 @@ def limit_crossings(K, f, F0, bound, dQ, dN, du, node_state, tau, dF=None):
             hit = stick & (r < -rtol) & (g > gtol)
             events.append(np.where(hit, tau + g / -r, 2.0))
     return events
-
 
 
 def path_is_exact(F_start, b_start, F_end, limit, separating, fscale: float) -> bool:
@@ -182,8 +187,9 @@ def first_event(K, f, F0, Q0, N0, dQ, dN, sep, tau: float, rates=None):
     touch_lo = touch_hi = np.zeros(n, dtype=bool)
     for _ in range(n + 2):
         if rates is None:
-            du, state = slip_rates(K, f, F0, bound, dQ, dN, sep, was_fwd, was_bwd, touch_lo,
-                                   touch_hi)
+            du, state = slip_rates(
+                K, f, F0, bound, dQ, dN, sep, was_fwd, was_bwd, touch_lo, touch_hi
+            )
             dF = None
         else:
             du, state, dF = rates(F0, bound, dQ, dN, sep, touch_lo, touch_hi)

@@ -57,17 +57,17 @@ class SlipMemory:
         """After an increment with the slips ``dv`` (flat, node-major) under the limits b:
         ``R_i <- r p pᵀ R_i`` on every node that moved, in place."""
         d = dv.reshape(self.n, 2)
-        mag = row_norms(d)                                # |Δs|
+        mag = row_norms(d)  # |Δs|
         moved = np.flatnonzero(mag > 0.0)
         if not moved.size:
             return
         m = mag[moved]
         c = self.c if np.ndim(self.c) == 0 else self.c[moved]
         cb = c * b[moved]
-        rm = cb / ((cb + m) * m * m)      # r / |Δs|², with p = (-Δs_y, Δs_x) / |Δs|
+        rm = cb / ((cb + m) * m * m)  # r / |Δs|², with p = (-Δs_y, Δs_x) / |Δs|
         px, py = -d[moved, 1], d[moved, 0]
-        Rm = R[moved]                                 # (k, 2, 2)
-        q0 = (px * Rm[:, 0, 0] + py * Rm[:, 1, 0]) * rm           # r pᵀ R / |Δs|
+        Rm = R[moved]  # (k, 2, 2)
+        q0 = (px * Rm[:, 0, 0] + py * Rm[:, 1, 0]) * rm  # r pᵀ R / |Δs|
         q1 = (px * Rm[:, 0, 1] + py * Rm[:, 1, 1]) * rm
         Rm[:, 0, 0], Rm[:, 0, 1] = px * q0, px * q1
         Rm[:, 1, 0], Rm[:, 1, 1] = py * q0, py * q1

@@ -37,24 +37,37 @@ def fitted_order(steps, errors):
 
 
 #: the pip extra that installs each optional module the tests use
-EXTRAS = {"matplotlib": "plot", "xarray": "dist", "h5netcdf": "dist", "h5py": "dist",
-          "dask": "dist", "distributed": "dist", "dask.distributed": "dist", "tqdm": "dist",
-          "mpmath": "test",
-          "clarabel": "clarabel", "osqp": "osqp", "qpsolvers": "qpsolvers", "cvxpy": "cvxpy"}
+EXTRAS = {
+    "matplotlib": "plot",
+    "xarray": "dist",
+    "h5netcdf": "dist",
+    "h5py": "dist",
+    "dask": "dist",
+    "distributed": "dist",
+    "dask.distributed": "dist",
+    "tqdm": "dist",
+    "mpmath": "test",
+    "clarabel": "clarabel",
+    "osqp": "osqp",
+    "qpsolvers": "qpsolvers",
+    "cvxpy": "cvxpy",
+}
 
 
 def need_modules(*modules: str) -> None:
     """Skip the test when one of ``modules`` is not installed, naming the extra to install."""
     for module in modules:
         if _missing(module):
-            pytest.skip(f"needs {module} (pip install \"lcpfric[{EXTRAS.get(module, 'all')}]\")",
-                        allow_module_level=True)
+            pytest.skip(
+                f'needs {module} (pip install "lcpfric[{EXTRAS.get(module, "all")}]")',
+                allow_module_level=True,
+            )
 
 
 def _missing(module: str) -> bool:
     try:
         return importlib.util.find_spec(module) is None
-    except ModuleNotFoundError:          # a submodule of a missing package
+    except ModuleNotFoundError:  # a submodule of a missing package
         return True
 
 
@@ -62,26 +75,27 @@ def needs(*modules: str):
     """The same as a mark: ``@needs("matplotlib")``."""
     missing = [m for m in modules if _missing(m)]
     extras = sorted({EXTRAS.get(m, "all") for m in missing})
-    return pytest.mark.skipif(bool(missing), reason=f"needs {', '.join(missing)} (pip install "
-                                                    f"\"lcpfric[{','.join(extras)}]\")")
-
+    return pytest.mark.skipif(
+        bool(missing),
+        reason=f'needs {", ".join(missing)} (pip install "lcpfric[{",".join(extras)}]")',
+    )
 
 
 REFINED = 1e-12  # relative, Ŵ against the projection on the same grid
 
 BACKENDS = {
     # method              extra        unrefined  steps  (iteration-cap setting, status prefix)
-    "clarabel":           ("clarabel",  2e-6,  2000, ({"max_iter": 1}, "MaxIterations")),
-    "osqp":               ("osqp",      1e-8,  2000, ({"max_iter": 1}, "maximum iterations")),
-    "qpsolvers:clarabel": ("qpsolvers", 2e-6,   100, ({"max_iter": 1}, "MaxIterations")),
-    "qpsolvers:highs":    ("qpsolvers", 1e-10,  100, ({"qp_iteration_limit": 0}, "not found")),
-    "qpsolvers:osqp":     ("qpsolvers", 1e-8,   100, ({"max_iter": 1}, "maximum iterations")),
-    "qpsolvers:proxqp":   ("qpsolvers", 1e-9,   100, ({"max_iter": 1}, "QPSolverOutput.PROXQP")),
-    "qpsolvers:scs":      ("qpsolvers", 1e-7,   100, ({"max_iters": 1}, "solved (inaccurate")),
-    "cvxpy:CLARABEL":     ("cvxpy",     2e-6,    60, ({"max_iter": 1}, "user_limit")),
-    "cvxpy:OSQP":         ("cvxpy",     1e-7,    60, ({"max_iter": 1}, "user_limit")),
-    "cvxpy:SCS":          ("cvxpy",     1e-7,    60, ({"max_iters": 1}, "optimal_inaccurate")),
-    "cvxpy:ECOS":         ("ecos",      1e-7,    60, ({"max_iters": 1}, "user_limit")),
+    "clarabel": ("clarabel", 2e-6, 2000, ({"max_iter": 1}, "MaxIterations")),
+    "osqp": ("osqp", 1e-8, 2000, ({"max_iter": 1}, "maximum iterations")),
+    "qpsolvers:clarabel": ("qpsolvers", 2e-6, 100, ({"max_iter": 1}, "MaxIterations")),
+    "qpsolvers:highs": ("qpsolvers", 1e-10, 100, ({"qp_iteration_limit": 0}, "not found")),
+    "qpsolvers:osqp": ("qpsolvers", 1e-8, 100, ({"max_iter": 1}, "maximum iterations")),
+    "qpsolvers:proxqp": ("qpsolvers", 1e-9, 100, ({"max_iter": 1}, "QPSolverOutput.PROXQP")),
+    "qpsolvers:scs": ("qpsolvers", 1e-7, 100, ({"max_iters": 1}, "solved (inaccurate")),
+    "cvxpy:CLARABEL": ("cvxpy", 2e-6, 60, ({"max_iter": 1}, "user_limit")),
+    "cvxpy:OSQP": ("cvxpy", 1e-7, 60, ({"max_iter": 1}, "user_limit")),
+    "cvxpy:SCS": ("cvxpy", 1e-7, 60, ({"max_iters": 1}, "optimal_inaccurate")),
+    "cvxpy:ECOS": ("ecos", 1e-7, 60, ({"max_iters": 1}, "user_limit")),
 }
 
 FAST = ("clarabel", "osqp")  # the direct APIs: cheap enough for every case
@@ -122,8 +136,6 @@ def texts(fig):
     return [t for t in found.values() if t.get_visible() and t.get_text().strip()]
 
 
-
-
 # -- contacts ----------------------------------------------------------------------------------
 def halfspace_sphere(P1=0.0, Q1=0.25, phi=0.0, nu=0.0, grid=16, dims=1, k_support=0.0, **kw):
     """The half-space sphere of the contact tests: R = E = 1, μ = 0.5, P0 = 1, period 2π."""
@@ -133,6 +145,15 @@ def halfspace_sphere(P1=0.0, Q1=0.25, phi=0.0, nu=0.0, grid=16, dims=1, k_suppor
     from lcpfric.model.continuum import HalfSpace
 
     two_pi = 2.0 * math.pi
-    return HalfSpace.sphere(1.0, 1.0, nu, 0.5, Harmonic(1.0, P1, 0.0, two_pi),
-                            Harmonic(0.0, Q1, phi, two_pi), grid=grid, dims=dims,
-                            k_support=k_support, **kw)
+    return HalfSpace.sphere(
+        1.0,
+        1.0,
+        nu,
+        0.5,
+        Harmonic(1.0, P1, 0.0, two_pi),
+        Harmonic(0.0, Q1, phi, two_pi),
+        grid=grid,
+        dims=dims,
+        k_support=k_support,
+        **kw,
+    )

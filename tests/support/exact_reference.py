@@ -28,8 +28,14 @@ import sys
 import mpmath as mp
 import numpy as np
 
-__all__ = ["reference_W_hat", "reference_cycle", "default_dps", "input_spread", "grid_W_hat",
-           "jang_barber_mp"]
+__all__ = [
+    "reference_W_hat",
+    "reference_cycle",
+    "default_dps",
+    "input_spread",
+    "grid_W_hat",
+    "jang_barber_mp",
+]
 
 
 def default_dps(P1: float, Q1: float) -> int:
@@ -72,8 +78,14 @@ class _Node:
 
     def H(self, th, sign, R, a):
         """Antiderivative of (sign (1 + R sin(θ + a))) Q1 cos(θ + φ): ∫ bound dQ̂ in θ."""
-        return sign * self.Q1 * (mp.sin(th + self.phi) + R * (
-            -mp.cos(2 * th + a + self.phi) / 2 + th * mp.sin(a - self.phi)) / 2)
+        return (
+            sign
+            * self.Q1
+            * (
+                mp.sin(th + self.phi)
+                + R * (-mp.cos(2 * th + a + self.phi) / 2 + th * mp.sin(a - self.phi)) / 2
+            )
+        )
 
 
 def _next_at(psi, a, th0, strict, eps):
@@ -85,8 +97,9 @@ def _next_at(psi, a, th0, strict, eps):
     return th + two_pi * k
 
 
-def reference_cycle(P1: float, Q1: float, phi: float, dps: int | None = None,
-                    max_cycles: int = 12) -> dict:
+def reference_cycle(
+    P1: float, Q1: float, phi: float, dps: int | None = None, max_cycles: int = 12
+) -> dict:
     """Ŵ and diagnostics of the steady cycle by a high-precision event-by-event simulation.
 
     Returns a dict with ``W_hat`` (mpf), ``J`` = ∮ L|dw|, ``J_energy`` = ∮ w dQ̂ over the same
@@ -105,7 +118,7 @@ def reference_cycle(P1: float, Q1: float, phi: float, dps: int | None = None,
         n = _Node(P1m, Q1m, phim)
         eps = mp.mpf(10) ** (-(dps - 15))
         two_pi = 2 * mp.pi
-        th = mp.mpf(0)                       # θ = 0 is in contact (L = 1)
+        th = mp.mpf(0)  # θ = 0 is in contact (L = 1)
         w = min(max(mp.mpf(0), n.lo(th)), n.hi(th))
         mode = "stick"
         arc_end = _next_at(n.th_s, 0, th, False, eps) if n.sep else mp.inf
@@ -148,8 +161,9 @@ def reference_cycle(P1: float, Q1: float, phi: float, dps: int | None = None,
                     mode = "fwd" if t_lo <= t_hi else "bwd"
             else:
                 end = min(arc_end, cycle_end)
-                R, a, sign, bound = ((n.Rl, n.al, -1, n.lo) if mode == "fwd"
-                                     else (n.Rh, n.ah, 1, n.hi))
+                R, a, sign, bound = (
+                    (n.Rl, n.al, -1, n.lo) if mode == "fwd" else (n.Rh, n.ah, 1, n.hi)
+                )
                 ext = _next_at(3 * mp.pi / 2, a, th, False, eps)  # end of the bound's motion
                 nxt = min(ext, end)
                 J += n.G(nxt, R, a) - n.G(th, R, a)
@@ -211,8 +225,9 @@ def grid_W_hat(P1, Q1, phi, steps: int = 200_000, cycles: int = 4):
         w_new = np.clip(w, -L - Qh, L - Qh)
         separating = sep & (L_prev > 0) & (L == 0)
         if k > (cycles - 1) * steps:
-            J += np.where(separating, 0.5 * L_prev * np.abs(w_s - w),
-                          0.5 * (L + L_prev) * np.abs(w_new - w))
+            J += np.where(
+                separating, 0.5 * L_prev * np.abs(w_s - w), 0.5 * (L + L_prev) * np.abs(w_new - w)
+            )
         w, L_prev = w_new, L
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(Q1 > 0, J / np.where(Q1 > 0, Q1, 1.0), 0.0)
@@ -222,7 +237,7 @@ def jang_barber_mp(P1, Q1):
     """Eqs. (11)/(12) (φ = 0, corrected) in mpmath, for checking :func:`reference_cycle`."""
     P1, Q1 = mp.mpf(P1), mp.mpf(Q1)
     if P1 < 1:
-        return 4 * (Q1 - 1) * (Q1 - P1 ** 2) / (Q1 ** 2 - P1 ** 2) if Q1 > 1 else mp.mpf(0)
+        return 4 * (Q1 - 1) * (Q1 - P1**2) / (Q1**2 - P1**2) if Q1 > 1 else mp.mpf(0)
     return (Q1 - P1) * (1 + P1) ** 2 / (P1 * (Q1 + P1)) if Q1 > P1 else mp.mpf(0)
 
 
@@ -233,13 +248,18 @@ def input_spread(P1: float, Q1: float, phi: float, ulps: int = 16) -> float:
     A measure of the conditioning: an answer within it is exact for inputs indistinguishable
     from the given ones.
     """
-    eps = 2.0 ** -52
+    eps = 2.0**-52
     ref = reference_cycle(P1, Q1, phi)["W_hat"]
     d = ulps * eps
     out = mp.mpf(0)
-    for p, q, f in ((P1 * (1 + d), Q1, phi), (P1 * (1 - d), Q1, phi),
-                    (P1, Q1 * (1 + d), phi), (P1, Q1 * (1 - d), phi),
-                    (P1, Q1, phi + d * max(1.0, abs(phi))), (P1, Q1, phi - d * max(1.0, abs(phi)))):
+    for p, q, f in (
+        (P1 * (1 + d), Q1, phi),
+        (P1 * (1 - d), Q1, phi),
+        (P1, Q1 * (1 + d), phi),
+        (P1, Q1 * (1 - d), phi),
+        (P1, Q1, phi + d * max(1.0, abs(phi))),
+        (P1, Q1, phi - d * max(1.0, abs(phi))),
+    ):
         out = max(out, abs(reference_cycle(p, q, f)["W_hat"] - ref))
     return float(out)
 
@@ -252,9 +272,11 @@ def reference_W_hat(P1: float, Q1: float, phi: float, dps: int | None = None) ->
 if __name__ == "__main__":
     p, q, f = (float(x) for x in sys.argv[1:4])
     r = reference_cycle(p, q, f)
-    print(f"W_hat = {mp.nstr(r['W_hat'], 25)}  (energy identity: "
-          f"{mp.nstr(r['J_energy'] / mp.mpf(q) if q else 0, 25)}; cycles {r['cycles']}, "
-          f"dps {r['dps']})")
+    print(
+        f"W_hat = {mp.nstr(r['W_hat'], 25)}  (energy identity: "
+        f"{mp.nstr(r['J_energy'] / mp.mpf(q) if q else 0, 25)}; cycles {r['cycles']}, "
+        f"dps {r['dps']})"
+    )
 
 
 def draw(n: int, seed: int) -> np.ndarray:
@@ -271,23 +293,35 @@ def draw(n: int, seed: int) -> np.ndarray:
     fam.append(np.c_[P, P * lu(-20, -3, m), phi(m)])
     P = 1.0 + rng.choice([-1, 1], m) * lu(-16, 0, m)
     fam.append(np.c_[P, lu(-8, 8, m), phi(m)])
-    fam.append(np.c_[lu(-3, 8, m), lu(-8, 8, m),
-                     rng.choice([0.0, math.pi, 2 * math.pi], m)
-                     + rng.choice([-1, 1], m) * lu(-12, 0, m)])
+    fam.append(
+        np.c_[
+            lu(-3, 8, m),
+            lu(-8, 8, m),
+            rng.choice([0.0, math.pi, 2 * math.pi], m) + rng.choice([-1, 1], m) * lu(-12, 0, m),
+        ]
+    )
     P = lu(-2, 8, m)
     near0 = rng.choice([0.0, math.pi], m) + rng.choice([-1, 1], m) * lu(-12, -1, m)
-    fam.append(np.c_[P, P * (1 + np.where(rng.random(m) < 0.2, 0.0, rng.choice([-1, 1], m)
-                                          * lu(-16, 0, m))),
-                     np.where(rng.random(m) < 0.5, phi(m), near0)])
+    fam.append(
+        np.c_[
+            P,
+            P * (1 + np.where(rng.random(m) < 0.2, 0.0, rng.choice([-1, 1], m) * lu(-16, 0, m))),
+            np.where(rng.random(m) < 0.5, phi(m), near0),
+        ]
+    )
     fam.append(np.c_[rng.uniform(0, 4, m), rng.uniform(0, 4, m), phi(m)])
     P = rng.uniform(0, 50, m)
     off = np.where(rng.random(m) < 0.5, 0.0, rng.choice([-1, 1], m) * lu(-8, 0, m))
-    fam.append(np.c_[P, np.maximum(P + rng.uniform(-3, 3, m), 0.0),
-                     rng.choice([0.0, math.pi], m) + off])
+    fam.append(
+        np.c_[P, np.maximum(P + rng.uniform(-3, 3, m), 0.0), rng.choice([0.0, math.pi], m) + off]
+    )
     k = n - 8 * m
-    base = np.array([[p, q] for p in (0.0, 0.5, 1.0, 2.0, 1e10) for q in (0.0, 0.5, 1.0, 2.0, 1e10)]
-                    + [[x, x] for x in (0.5, 1.0, 2.0, 1e10)])
+    base = np.array(
+        [[p, q] for p in (0.0, 0.5, 1.0, 2.0, 1e10) for q in (0.0, 0.5, 1.0, 2.0, 1e10)]
+        + [[x, x] for x in (0.5, 1.0, 2.0, 1e10)]
+    )
     idx = rng.integers(0, len(base), k)
-    fam.append(np.c_[base[idx], np.r_[rng.choice([0.0, math.pi / 2, math.pi], k // 2),
-                                      phi(k - k // 2)]])
+    fam.append(
+        np.c_[base[idx], np.r_[rng.choice([0.0, math.pi / 2, math.pi], k // 2), phi(k - k // 2)]]
+    )
     return np.concatenate(fam)

@@ -68,9 +68,9 @@ STIFF_OPTIONS = dict(locate_events=False, tol=1e-13, max_cycles=200)
 class Scenario:
     group: str
     name: str
-    build: object          # () -> model
-    reference: object      # () -> (value, description)
-    value: object          # result -> float
+    build: object  # () -> model
+    reference: object  # () -> (value, description)
+    value: object  # result -> float
     scale: float | None = None  # size of typical values (None: the reference's own size)
     point: tuple | None = None  # (P̂1, Q̂1, φ) of a single-node scenario
     spread: float = 0.0  # change of the exact value under 16-ulp input changes (conditioning)
@@ -111,11 +111,16 @@ def _node_reference(P1, Q1, phi):
 
 def _node_scenario(group, P1, Q1, phi):
     pinned = _pinned(P1, Q1, phi)
-    return Scenario(group, f"P1={P1:g} Q1={Q1:g} phi={_phi_name(phi)}",
-                    lambda P1=P1, Q1=Q1, phi=phi: _node(P1, Q1, phi),
-                    lambda P1=P1, Q1=Q1, phi=phi: _node_reference(P1, Q1, phi),
-                    lambda r: r.W_hat, 1.0 + math.sqrt(P1 * Q1), (P1, Q1, phi),
-                    pinned[1] if pinned else 0.0)
+    return Scenario(
+        group,
+        f"P1={P1:g} Q1={Q1:g} phi={_phi_name(phi)}",
+        lambda P1=P1, Q1=Q1, phi=phi: _node(P1, Q1, phi),
+        lambda P1=P1, Q1=Q1, phi=phi: _node_reference(P1, Q1, phi),
+        lambda r: r.W_hat,
+        1.0 + math.sqrt(P1 * Q1),
+        (P1, Q1, phi),
+        pinned[1] if pinned else 0.0,
+    )
 
 
 def scenarios(quick: bool = False) -> list[Scenario]:
@@ -134,17 +139,25 @@ def scenarios(quick: bool = False) -> list[Scenario]:
     P0s = (1e-6, 1e6) if quick else (1e-6, 1e-3, 1.0, 1e3, 1e6)
     for k11 in k11s:
         for P0 in P0s:
-            out.append(Scenario(
-                "dimensional", f"k11={k11:g} P0={P0:g}",
-                lambda k11=k11, P0=P0: _dimensional(k11, P0),
-                lambda k11=k11, P0=P0: _dimensional_reference(k11, P0),
-                lambda r: r.W))
+            out.append(
+                Scenario(
+                    "dimensional",
+                    f"k11={k11:g} P0={P0:g}",
+                    lambda k11=k11, P0=P0: _dimensional(k11, P0),
+                    lambda k11=k11, P0=P0: _dimensional_reference(k11, P0),
+                    lambda r: r.W,
+                )
+            )
     for ratio in (1e4, 1e8):
-        out.append(Scenario(
-            "multi-node", f"uncoupled, stiffness ratio {ratio:g}",
-            lambda ratio=ratio: _spread_nodes(ratio)[0],
-            lambda ratio=ratio: (_spread_nodes(ratio)[1], "sum of the nodes' mpmath answers"),
-            lambda r: r.W))
+        out.append(
+            Scenario(
+                "multi-node",
+                f"uncoupled, stiffness ratio {ratio:g}",
+                lambda ratio=ratio: _spread_nodes(ratio)[0],
+                lambda ratio=ratio: (_spread_nodes(ratio)[1], "sum of the nodes' mpmath answers"),
+                lambda r: r.W,
+            )
+        )
     return out + stiff_scenarios()
 
 
@@ -157,10 +170,20 @@ def stiff_scenarios() -> list[Scenario]:
     for name, (system, steps) in stiff_cases().items():
         W, pinned_steps = STIFF_REFERENCE[name][:2]
         assert pinned_steps == steps, name  # the reference is of this grid
-        out.append(Scenario("stiff", name, lambda system=system: system,
-                            lambda W=W: (W, "mpmath reference of the discretization "
-                                            "(tests/support/stiff_reference.py)"),
-                            lambda r: r.W, steps=steps, options=STIFF_OPTIONS))
+        out.append(
+            Scenario(
+                "stiff",
+                name,
+                lambda system=system: system,
+                lambda W=W: (
+                    W,
+                    "mpmath reference of the discretization (tests/support/stiff_reference.py)",
+                ),
+                lambda r: r.W,
+                steps=steps,
+                options=STIFF_OPTIONS,
+            )
+        )
     return out
 
 
@@ -189,8 +212,11 @@ def applies(scenario: Scenario, method: str) -> bool:
 
 def boundary_cases() -> list[tuple[float, float, float]]:
     """The régime borders P̂1 = 1, Q̂1 = 1 and Q̂1 = P̂1, exactly."""
-    pairs = [(1.0, q) for q in (0.5, 1.0, 2.0)] + [(p, 1.0) for p in (0.5, 2.0)] + \
-        [(x, x) for x in (0.5, 2.0, 10.0)]
+    pairs = (
+        [(1.0, q) for q in (0.5, 1.0, 2.0)]
+        + [(p, 1.0) for p in (0.5, 2.0)]
+        + [(x, x) for x in (0.5, 2.0, 10.0)]
+    )
     return [(P1, Q1, phi) for P1, Q1 in pairs for phi in (0.0, PI / 2)]
 
 
@@ -208,10 +234,10 @@ def ratio_cases(quick: bool = False) -> list[tuple[float, float, float]]:
     phases = (1.0,) if quick else (0.0, 1.0, PI / 2)
     out = []
     for r in RATIOS_SMALL:
-        for P1 in ((2.0,) if quick else (2.0, 1e6)):
+        for P1 in (2.0,) if quick else (2.0, 1e6):
             out += [(P1, P1 * r, phi) for phi in phases]
     for r in RATIOS_LARGE:
-        for P1 in ((0.5,) if quick else ((0.5, 1.0) if r < 1e20 else (1e-3, 1.0))):
+        for P1 in (0.5,) if quick else ((0.5, 1.0) if r < 1e20 else (1e-3, 1.0)):
             out += [(P1, P1 * r, phi) for phi in phases]
     return out
 
@@ -227,8 +253,15 @@ def _dimensional(k11, P0):
     from lcpfric.model import SingleNode
 
     f = _DIM["f"]
-    return SingleNode(k11=k11, f=f, P0=P0, P1=_DIM["P1_hat"] * P0, Q1=_DIM["Q1_hat"] * f * P0,
-                      phi=_DIM["phi"], omega=1.0)
+    return SingleNode(
+        k11=k11,
+        f=f,
+        P0=P0,
+        P1=_DIM["P1_hat"] * P0,
+        Q1=_DIM["Q1_hat"] * f * P0,
+        phi=_DIM["phi"],
+        omega=1.0,
+    )
 
 
 def _dimensional_reference(k11, P0):
@@ -246,11 +279,14 @@ def _spread_nodes(ratio):
     from lcpfric.model import Harmonic
     from lcpfric.model import ContactSystem, IndependentSprings
 
-    k = np.array([ratio ** -0.5, 1.0, ratio ** 0.5])
+    k = np.array([ratio**-0.5, 1.0, ratio**0.5])
     P, Q, F = (np.array(x) for x in zip(*_SPREAD))
-    system = ContactSystem(stiffness=np.diag(k), friction=np.ones(3),
-                           tangential_loads=tuple(Harmonic(0.0, q, f) for q, f in zip(Q, F)),
-                           normal=IndependentSprings(tuple(Harmonic(1.0, p, 0.0) for p in P)))
+    system = ContactSystem(
+        stiffness=np.diag(k),
+        friction=np.ones(3),
+        tangential_loads=tuple(Harmonic(0.0, q, f) for q, f in zip(Q, F)),
+        normal=IndependentSprings(tuple(Harmonic(1.0, p, 0.0) for p in P)),
+    )
     W_hat = np.array([_node_reference(p, q, f)[0] for p, q, f in _SPREAD])
     exact = float(np.sum(Q * W_hat / k))  # W_i = f P0 Q1 Ŵ_i / k_i
     return system, exact
@@ -288,14 +324,25 @@ def run_scenario(scenario: Scenario, method: str, steps: int = 4000, refine: int
     ref, how = scenario.reference()
     if scenario.scale is None:
         scenario = replace(scenario, scale=abs(ref) or 1.0)
-    row = dict(group=scenario.group, scenario=scenario.name, method=method, reference=ref,
-               reference_from=how, spread=scenario.spread, value=None, rel_error=None,
-               scaled_error=None, verdict="", message="")
+    row = dict(
+        group=scenario.group,
+        scenario=scenario.name,
+        method=method,
+        reference=ref,
+        reference_from=how,
+        spread=scenario.spread,
+        value=None,
+        rel_error=None,
+        scaled_error=None,
+        verdict="",
+        message="",
+    )
     try:
         model = scenario.build()
         fixed = scenario.steps is not None
-        val = scenario.value(steady_state(model, method, scenario.steps or steps,
-                                          **(scenario.options or {})))
+        val = scenario.value(
+            steady_state(model, method, scenario.steps or steps, **(scenario.options or {}))
+        )
         if not math.isfinite(val):
             row.update(value=val, verdict="wrong", message="non-finite result")
             return row
@@ -304,8 +351,10 @@ def run_scenario(scenario: Scenario, method: str, steps: int = 4000, refine: int
         if not ok and not fixed and method != "exact" and refine > 1:
             val2 = scenario.value(steady_state(model, method, steps * refine))
             ok, rel2, scaled2 = _judge(method, val2, ref, scenario.scale, scenario.spread)
-            row["message"] = (f"error on the scale {scaled:.2e} at {steps} steps, "
-                              f"{scaled2:.2e} at {steps * refine}")
+            row["message"] = (
+                f"error on the scale {scaled:.2e} at {steps} steps, "
+                f"{scaled2:.2e} at {steps * refine}"
+            )
             row.update(value=val2, rel_error=rel2, scaled_error=scaled2)
     except LcpfricError as exc:
         row.update(verdict="error", message=f"{type(exc).__name__}: {exc}")
@@ -326,18 +375,23 @@ def mp_table_source() -> str:
     """Python source of stability_references.py (needs mpmath; takes about a minute)."""
     from .exact_reference import default_dps, input_spread, reference_W_hat
 
-    lines = ['"""Ŵ of the stability scenarios from the independent mpmath solution, pinned.',
-             "",
-             "Generated by ``python tests/support/stability_cases.py --mp-table`` with",
-             "tests/support/exact_reference.py (60 + 2 x decimal exponent spread digits). Each entry",
-             "is ``(P̂1, Q̂1, φ): (Ŵ, spread)``, spread being the largest change of the exact Ŵ",
-             "when one input moves by 16 units of round-off (the conditioning).",
-             '"""', "", "MP_REFERENCE = {"]
+    lines = [
+        '"""Ŵ of the stability scenarios from the independent mpmath solution, pinned.',
+        "",
+        "Generated by ``python tests/support/stability_cases.py --mp-table`` with",
+        "tests/support/exact_reference.py (60 + 2 x decimal exponent spread digits). Each entry",
+        "is ``(P̂1, Q̂1, φ): (Ŵ, spread)``, spread being the largest change of the exact Ŵ",
+        "when one input moves by 16 units of round-off (the conditioning).",
+        '"""',
+        "",
+        "MP_REFERENCE = {",
+    ]
     for P1, Q1, phi in node_points():
         W = reference_W_hat(P1, Q1, phi)
         spread = input_spread(P1, Q1, phi)
-        lines.append(f"    ({P1!r}, {Q1!r}, {phi!r}): ({W!r}, {spread!r}),"
-                     f"  # dps {default_dps(P1, Q1)}")
+        lines.append(
+            f"    ({P1!r}, {Q1!r}, {phi!r}): ({W!r}, {spread!r}),  # dps {default_dps(P1, Q1)}"
+        )
     lines.append("}")
     return "\n".join(lines) + "\n"
 
@@ -356,8 +410,12 @@ def coupled_agreement(methods, ratio: float, steps: int = 2000) -> dict:
     K[0, 0] = K[-1, -1] = kc + kg
     P = [Harmonic(1.0, p, 0.0) for p in (0.5, 1.5, 0.8, 2.0)]
     Qs = [Harmonic(0.0, q, f) for q, f in ((2.0, 0.3), (1.0, 1.9), (1.5, 1.0), (2.5, 2.2))]
-    system = ContactSystem(stiffness=K, friction=np.ones(n), tangential_loads=tuple(Qs),
-                           normal=IndependentSprings(tuple(P)))
+    system = ContactSystem(
+        stiffness=K,
+        friction=np.ones(n),
+        tangential_loads=tuple(Qs),
+        normal=IndependentSprings(tuple(P)),
+    )
     out = {}
     for m in methods:
         if m == "exact":
@@ -375,5 +433,7 @@ if __name__ == "__main__":
     if sys.argv[1:] == ["--mp-table"]:
         sys.stdout.write(mp_table_source())
     else:
-        sys.exit("usage: python tests/support/stability_cases.py --mp-table > "
-                 "tests/support/stability_references.py")
+        sys.exit(
+            "usage: python tests/support/stability_cases.py --mp-table > "
+            "tests/support/stability_references.py"
+        )

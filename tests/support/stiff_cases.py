@@ -64,8 +64,8 @@ def _chain_loads(n: int, seed: int) -> dict:
     phi, psi = rng.uniform(0.0, 2 * np.pi, n), rng.uniform(0.0, 2 * np.pi, n)
     h = n // 2
     for x in (P1, Q1, psi, phi):
-        x[n - h:] = x[:h][::-1]
-    phi[n - h:] += np.pi
+        x[n - h :] = x[:h][::-1]
+    phi[n - h :] += np.pi
     return dict(P1=P1, Q1=Q1, phi=phi, normal_phase=psi)
 
 
@@ -98,10 +98,14 @@ def stiff_cases() -> dict:
     out = {}
     for ratio in RATIOS:
         out[_name("chain", ratio)] = (
-            chain(6, k_coupling=1.0, k_ground=1.0 / ratio, **_chain_loads(6, 0)), STEPS)
+            chain(6, k_coupling=1.0, k_ground=1.0 / ratio, **_chain_loads(6, 0)),
+            STEPS,
+        )
     for ratio in RATIOS:
         out[_name("stiff-chain", ratio)] = (
-            chain(4, k_coupling=ratio, k_ground=1.0, **_chain_loads(4, 0)), STEPS)
+            chain(4, k_coupling=ratio, k_ground=1.0, **_chain_loads(4, 0)),
+            STEPS,
+        )
     for ratio in RATIOS:
         out[_name("dense", ratio)] = (_dense(6, ratio, 3), STEPS)
     return out

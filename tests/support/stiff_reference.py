@@ -142,8 +142,10 @@ class _Stepper:
         f = [num(float(x)) for x in friction]
         self.b = [[f[i] * num(float(x)) for i, x in enumerate(row)] for row in N]
         self.steps = len(self.Q) - 1
-        sF = [max(max(abs(self.Q[k][i]), self.b[k][i]) for k in range(self.steps + 1))
-              for i in range(n)]
+        sF = [
+            max(max(abs(self.Q[k][i]), self.b[k][i]) for k in range(self.steps + 1))
+            for i in range(n)
+        ]
         sF = [s if s > 0 else num(1) for s in sF]
         C = _solve(self.K, _identity(n, ar))
         self.sF = sF
@@ -179,18 +181,22 @@ class _Stepper:
         Ftr = [Q[i] + dot(K[i], u) for i in range(n)]
         pat = [FREE if b[i] == 0 else (STICK if p == FREE else p) for i, p in enumerate(pattern)]
         fewest, failures = n + 1, 0
-        for it in range(50 + 10 * 3 ** n):
+        for it in range(50 + 10 * 3**n):
             J = tuple(i for i in range(n) if pat[i] != STICK)
-            target = {i: (-b[i] if pat[i] == FORWARD else (b[i] if pat[i] == BACKWARD
-                                                             else zero)) for i in J}
+            target = {
+                i: (-b[i] if pat[i] == FORWARD else (b[i] if pat[i] == BACKWARD else zero))
+                for i in J
+            }
             delta = [zero] * n
             if J:
                 r = [target[i] - Ftr[i] for i in J]
                 for g, i in zip(self._inverse(J), J):
                     delta[i] = dot(g, r)
             dJ = [delta[j] for j in J]
-            F = [target[i] if i in target else Ftr[i] + dot([K[i][j] for j in J], dJ)
-                 for i in range(n)]
+            F = [
+                target[i] if i in target else Ftr[i] + dot([K[i][j] for j in J], dJ)
+                for i in range(n)
+            ]
             bad = []
             for i in range(n):
                 p = pat[i]
@@ -200,7 +206,8 @@ class _Stepper:
                     elif F[i] < -b[i] - self.tol_F[i]:
                         bad.append((i, FORWARD))
                 elif (p == FORWARD and delta[i] < -self.tol_u[i]) or (
-                        p == BACKWARD and delta[i] > self.tol_u[i]):
+                    p == BACKWARD and delta[i] > self.tol_u[i]
+                ):
                     bad.append((i, STICK))
             if not bad:
                 break
@@ -208,12 +215,13 @@ class _Stepper:
                 fewest, failures = len(bad), 0
             else:
                 failures += 1
-            for i, new in (bad if failures <= _BLOCK_FAILURES else bad[:1]):
+            for i, new in bad if failures <= _BLOCK_FAILURES else bad[:1]:
                 pat[i] = new
         else:
             if self.strict:
-                raise RuntimeError(f"increment {k}: no pattern satisfies the conditions after "
-                                   f"{it + 1} pivots")
+                raise RuntimeError(
+                    f"increment {k}: no pattern satisfies the conditions after {it + 1} pivots"
+                )
         self.max_pivots = max(self.max_pivots, it)
         u1 = [u[i] + delta[i] for i in range(n)]
         if self.strict:
@@ -237,8 +245,10 @@ class _Stepper:
             else:
                 ok = ok and b[i] == 0 and F[i] == 0
             if not ok:
-                raise RuntimeError(f"increment {k}: node {i} fails its optimality conditions "
-                                   f"(state {p}, F = {F[i]}, b = {b[i]}, Δ = {delta[i]})")
+                raise RuntimeError(
+                    f"increment {k}: node {i} fails its optimality conditions "
+                    f"(state {p}, F = {F[i]}, b = {b[i]}, Δ = {delta[i]})"
+                )
 
     def cycle(self, u, F, pattern, jacobian=False):
         """One cycle from ``(u, F)`` at t_0; with ``jacobian``, also A = ∂u_N/∂u_0."""
@@ -258,8 +268,7 @@ class _Stepper:
                 if J:
                     H = self._slope(J)
                     cols = [[A[r][c] for r in range(n)] for c in range(n)]
-                    rows = {i: [A[i][c] - dot(h, cols[c]) for c in range(n)]
-                            for h, i in zip(H, J)}
+                    rows = {i: [A[i][c] - dot(h, cols[c]) for c in range(n)] for h, i in zip(H, J)}
                     A = [rows.get(i, A[i]) for i in range(n)]
             u, F = u1, F1
             U.append(u)
@@ -298,8 +307,10 @@ class _Stepper:
             for k in range(self.steps):
                 if self.b[k + 1][i] == 0:
                     counts["separated"] += 1
-                elif (cyc.patterns[k + 1][i] in (FORWARD, BACKWARD)
-                      and abs(cyc.U[k + 1][i] - cyc.U[k][i]) > small):
+                elif (
+                    cyc.patterns[k + 1][i] in (FORWARD, BACKWARD)
+                    and abs(cyc.U[k + 1][i] - cyc.U[k][i]) > small
+                ):
                     counts["slip"] += 1
                 else:
                     counts["stick"] += 1
@@ -349,8 +360,9 @@ def _steady(data, dps, tol, max_cycles):
     n = len(K)
     # warm start in float64: same algorithm, no verification, any number of cycles
     flt = _Stepper(*data, _Arithmetic(False), 1e-12, strict=False)
-    cyc, fc, fj, _ = _periodic(flt, [0.0] * n, [float(x) for x in Q[0]], [STICK] * n, 1e-13,
-                               4 * max_cycles)
+    cyc, fc, fj, _ = _periodic(
+        flt, [0.0] * n, [float(x) for x in Q[0]], [STICK] * n, 1e-13, 4 * max_cycles
+    )
     st = _Stepper(*data, _Arithmetic(True), mp.mpf(10) ** (15 - dps), strict=True)
     u = [mp.mpf(x) for x in cyc.U[-1]]
     F = [mp.mpf(x) for x in cyc.F[-1]]
@@ -362,16 +374,24 @@ def _steady(data, dps, tol, max_cycles):
     if not change <= tol:
         raise RuntimeError(f"the confirming cycle changed u by {float(change):.3g}")
     A = np.array([[float(x) for x in row] for row in final.A])
-    info = dict(dps=dps, float_cycles=fc, float_jumps=fj, mp_cycles=mc + 1, mp_jumps=mj,
-                change=float(max(change, st.change(cyc))),
-                cond=float(np.linalg.cond(np.eye(n) - A)),
-                rho=float(np.max(np.abs(np.linalg.eigvals(A)))),
-                states=st.states(final), pivots=st.max_pivots)
+    info = dict(
+        dps=dps,
+        float_cycles=fc,
+        float_jumps=fj,
+        mp_cycles=mc + 1,
+        mp_jumps=mj,
+        change=float(max(change, st.change(cyc))),
+        cond=float(np.linalg.cond(np.eye(n) - A)),
+        rho=float(np.max(np.abs(np.linalg.eigvals(A)))),
+        states=st.states(final),
+        pivots=st.max_pivots,
+    )
     return final, info
 
 
-def reference_W(system, steps, *, dps: int | None = None, tol: float = 1e-30,
-                max_cycles: int = 40) -> tuple[float, dict]:
+def reference_W(
+    system, steps, *, dps: int | None = None, tol: float = 1e-30, max_cycles: int = 40
+) -> tuple[float, dict]:
     """The periodic steady state's W on ``make_scene(system, steps)``, to ``tol``.
 
     Returns ``(W, info)``; info holds ``dps``, ``float_cycles`` and ``mp_cycles`` (with their
@@ -401,9 +421,12 @@ def input_spread(system, steps, W, *, rel: float = 1e-15, seeds=(1, 2)) -> float
     for seed in seeds:
         rng = np.random.default_rng(seed)
         E = np.triu(rng.choice([-1.0, 1.0], K.shape))
-        data = (K * (1 + rel * (E + np.triu(E, 1).T)), f,
-                Q * (1 + rel * rng.choice([-1.0, 1.0], Q.shape)),
-                N * (1 + rel * rng.choice([-1.0, 1.0], N.shape)))
+        data = (
+            K * (1 + rel * (E + np.triu(E, 1).T)),
+            f,
+            Q * (1 + rel * rng.choice([-1.0, 1.0], Q.shape)),
+            N * (1 + rel * rng.choice([-1.0, 1.0], N.shape)),
+        )
         with mp.workdps(dps):
             final, _ = _steady(data, dps, 1e-30, 40)
             out = max(out, abs(float(final.W) - W) / abs(W))
@@ -415,30 +438,39 @@ def table_source(names=None) -> str:
     times: the case and two perturbations of its inputs)."""
     from .stiff_cases import stiff_cases
 
-    lines = ['"""W of the stiff cases (tests/support/stiff_cases.py) from the independent mpmath',
-             "reference (tests/support/stiff_reference.py), pinned so that tests need no mpmath run.",
-             "",
-             "Generated by ``python tests/support/stiff_reference.py --table``. STIFF_REFERENCE:",
-             "``name: (W, steps per cycle, mpmath digits, seconds the reference took)``; the",
-             "comment gives the mpmath cycles, the spectral radius ρ of the cycle map's Jacobian A",
-             "(plain cycling contracts by ρ per cycle), cond(I - A) and, per node, the increments",
-             "of the steady cycle it sticks / slips / is separated. INPUT_SPREAD: the",
-             "relative change of W when every input moves by 1e-15 relative (input_spread), what",
-             "a float64 method cannot be asked to beat.",
-             '"""', "", "STIFF_REFERENCE = {"]
+    lines = [
+        '"""W of the stiff cases (tests/support/stiff_cases.py) from the independent mpmath',
+        "reference (tests/support/stiff_reference.py), pinned so that tests need no mpmath run.",
+        "",
+        "Generated by ``python tests/support/stiff_reference.py --table``. STIFF_REFERENCE:",
+        "``name: (W, steps per cycle, mpmath digits, seconds the reference took)``; the",
+        "comment gives the mpmath cycles, the spectral radius ρ of the cycle map's Jacobian A",
+        "(plain cycling contracts by ρ per cycle), cond(I - A) and, per node, the increments",
+        "of the steady cycle it sticks / slips / is separated. INPUT_SPREAD: the",
+        "relative change of W when every input moves by 1e-15 relative (input_spread), what",
+        "a float64 method cannot be asked to beat.",
+        '"""',
+        "",
+        "STIFF_REFERENCE = {",
+    ]
     spreads = []
     for name, (system, steps) in stiff_cases().items():
         if names and name not in names:
             continue
         W, info = reference_W(system, steps)
-        if not (all(s["stick"] and s["slip"] for s in info["states"])
-                and any(s["separated"] for s in info["states"])):
-            raise RuntimeError(f"{name}: a node never sticks or never slips, or none separates: "
-                               f"{info['states']}")
+        if not (
+            all(s["stick"] and s["slip"] for s in info["states"])
+            and any(s["separated"] for s in info["states"])
+        ):
+            raise RuntimeError(
+                f"{name}: a node never sticks or never slips, or none separates: {info['states']}"
+            )
         states = " ".join(f"{s['stick']}/{s['slip']}/{s['separated']}" for s in info["states"])
-        lines.append(f"    {name!r}: ({W!r}, {steps}, {info['dps']}, "
-                     f"{info['seconds']:.1f}),  # cycles {info['mp_cycles']}, "
-                     f"ρ {info['rho']:.1e}, cond {info['cond']:.1e}; {states}")
+        lines.append(
+            f"    {name!r}: ({W!r}, {steps}, {info['dps']}, "
+            f"{info['seconds']:.1f}),  # cycles {info['mp_cycles']}, "
+            f"ρ {info['rho']:.1e}, cond {info['cond']:.1e}; {states}"
+        )
         spreads.append(f"    {name!r}: {input_spread(system, steps, W):.1e},")
     lines += ["}", "", "INPUT_SPREAD = {", *spreads, "}"]
     return "\n".join(lines) + "\n"

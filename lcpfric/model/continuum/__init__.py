@@ -19,13 +19,33 @@ radius; P and Q total forces, per unit length for the cylinder).
 """
 
 from .base import ContactModel
-from .closed_forms import (cattaneo_stick_ratio, ciavarella_jager_W, cylinder_contact,
-                           cylinder_W, hertz_contact, mindlin_deresiewicz_W, moduli)
+from .closed_forms import (
+    cattaneo_stick_ratio,
+    ciavarella_jager_W,
+    cylinder_contact,
+    cylinder_W,
+    hertz_contact,
+    mindlin_deresiewicz_W,
+    moduli,
+)
 from .halfplane import HalfPlaneCylinder
 from .halfspace import HalfSpace
 from .mdr import MDRSphere
 from .profiles import Axisymmetric, PowerLaw, Sphere
 
-__all__ = ["ContactModel", "MDRSphere", "HalfPlaneCylinder", "HalfSpace", "Sphere", "PowerLaw",
-           "Axisymmetric", "moduli", "hertz_contact", "cylinder_contact", "cattaneo_stick_ratio",
-           "mindlin_deresiewicz_W", "cylinder_W", "ciavarella_jager_W"]
+__all__ = [
+    "ContactModel",
+    "MDRSphere",
+    "HalfPlaneCylinder",
+    "HalfSpace",
+    "Sphere",
+    "PowerLaw",
+    "Axisymmetric",
+    "moduli",
+    "hertz_contact",
+    "cylinder_contact",
+    "cattaneo_stick_ratio",
+    "mindlin_deresiewicz_W",
+    "cylinder_W",
+    "ciavarella_jager_W",
+]

@@ -111,8 +111,16 @@ class ContactModel:
     #: what to do where no element slips (the driver's ResolutionWarning)
     refine_hint = "refine the grid"
 
-    def __init__(self, E: float, nu: float, mu: float, P: Load | float, Q: Load | float,
-                 k_support: float, nodes: int) -> None:
+    def __init__(
+        self,
+        E: float,
+        nu: float,
+        mu: float,
+        P: Load | float,
+        Q: Load | float,
+        k_support: float,
+        nodes: int,
+    ) -> None:
         self.E = _checks.positive("E", E)
         self.mu = _checks.positive("mu", mu)
         self.moduli = moduli(self.E, nu)
@@ -275,7 +283,7 @@ class LevelNormal:
     def __init__(self, model):
         self.model = model
         self.levels = np.asarray(model.entry_loads(), dtype=float)
-        self.problem = model.normal_problem()      # warm-started from call to call
+        self.problem = model.normal_problem()  # warm-started from call to call
 
     @property
     def n(self) -> int:
@@ -313,11 +321,13 @@ class LevelNormal:
         lo, hi = np.minimum(Ps[:-1], Ps[1:]), np.maximum(Ps[:-1], Ps[1:])
         levels = np.sort(np.unique(self.levels[np.isfinite(self.levels)]))
         for j in np.flatnonzero(hi > lo):
-            inside = levels[np.searchsorted(levels, lo[j], side="right"):
-                            np.searchsorted(levels, hi[j], side="left")]
+            inside = levels[
+                np.searchsorted(levels, lo[j], side="right") : np.searchsorted(
+                    levels, hi[j], side="left"
+                )
+            ]
             for c in inside:
-                out.append(brentq(lambda x, c=c: float(P(x)) - c, ts[j], ts[j + 1],
-                                  xtol=1e-14 * T))
+                out.append(brentq(lambda x, c=c: float(P(x)) - c, ts[j], ts[j + 1], xtol=1e-14 * T))
         out = np.unique(np.asarray(out, dtype=float))
         return out[(out > t0) & (out < t1)]
 
@@ -340,16 +350,22 @@ def gross_sliding(model, Q: Load, steps: int) -> None:
     bad = t[np.abs(Qt) > model.mu * np.maximum(P, 0.0) + margin]
     if bad.size:
         show = ", ".join(f"{x / T:.4g}" for x in bad[:: max(1, bad.size // 4)][:4])
-        what = ("reaches μ P(t)" if plane else "> μ P(t)")
-        why = ("slides, and with d = 2 nothing holds the body across the load: its transverse "
-               "slip drifts and no cycle repeats" if plane
-               else "slides and has no equilibrium")
-        raise InputError("k_support", f"is 0 (pure load control) but |Q(t)| {what} at "
-                                      f"{bad.size} of {t.size} sampled instants (fractions of "
-                                      f"the period: {show}, ...): the whole contact {why}; "
-                                      f"give the structure that holds the body, a support "
-                                      f"stiffness k_support > 0, or loads with "
-                                      f"|Q| {'<' if plane else '<='} μ P")
+        what = "reaches μ P(t)" if plane else "> μ P(t)"
+        why = (
+            "slides, and with d = 2 nothing holds the body across the load: its transverse "
+            "slip drifts and no cycle repeats"
+            if plane
+            else "slides and has no equilibrium"
+        )
+        raise InputError(
+            "k_support",
+            f"is 0 (pure load control) but |Q(t)| {what} at "
+            f"{bad.size} of {t.size} sampled instants (fractions of "
+            f"the period: {show}, ...): the whole contact {why}; "
+            f"give the structure that holds the body, a support "
+            f"stiffness k_support > 0, or loads with "
+            f"|Q| {'<' if plane else '<='} μ P",
+        )
 
 
 def load(name: str, x) -> Load:
@@ -359,6 +375,7 @@ def load(name: str, x) -> Load:
     try:
         value = float(x)
     except (TypeError, ValueError):
-        raise InputError(name, f"must be a Load (lcpfric.model.loads) or a number, got "
-                               f"{type(x).__name__}") from None
+        raise InputError(
+            name, f"must be a Load (lcpfric.model.loads) or a number, got {type(x).__name__}"
+        ) from None
     return Harmonic(_checks.finite(name, value), 0.0)

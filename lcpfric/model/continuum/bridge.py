@@ -53,10 +53,13 @@ def contact_system(model) -> ContactSystem:
     normal reactions are the model's (:class:`~lcpfric.model.continuum.base.LevelNormal`)."""
     ks = model.k_support
     if ks <= 0.0:
-        raise InputError("k_support", "is 0: under pure load control the contact's "
-                                      "stiffness is singular (a rigid shift of the body), "
-                                      "so it is no ContactSystem; solve the model itself "
-                                      "(lcpfric.steady_state(model)), or give k_support > 0")
+        raise InputError(
+            "k_support",
+            "is 0: under pure load control the contact's "
+            "stiffness is singular (a rigid shift of the body), "
+            "so it is no ContactSystem; solve the model itself "
+            "(lcpfric.steady_state(model)), or give k_support > 0",
+        )
     Cs, w, cdiag = model.springs()
     d = model.dims
     m = np.asarray(cdiag).size
@@ -73,9 +76,18 @@ def contact_system(model) -> ContactSystem:
     loads = []
     for c in coef:
         if isinstance(Q, Harmonic):
-            loads.append(Harmonic(c * Q.mean, abs(c) * Q.amplitude,
-                                  Q.phase + (math.pi if c < 0 else 0.0), Q.omega))
+            loads.append(
+                Harmonic(
+                    c * Q.mean, abs(c) * Q.amplitude, Q.phase + (math.pi if c < 0 else 0.0), Q.omega
+                )
+            )
         else:
             loads.append(Periodic(lambda t, c=c: c * Q(t), model.period, c * Q.mean))
-    return ContactSystem(None, np.full(n, model.mu), tuple(loads), model.normal_model(),
-                         dims=d, compliance=SupportedCompliance(Cs, cdiag, ks, d))
+    return ContactSystem(
+        None,
+        np.full(n, model.mu),
+        tuple(loads),
+        model.normal_model(),
+        dims=d,
+        compliance=SupportedCompliance(Cs, cdiag, ks, d),
+    )

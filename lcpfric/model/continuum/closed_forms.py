@@ -28,8 +28,15 @@ from typing import Callable
 from ..._checks import positive
 from ...errors import InputError
 
-__all__ = ["moduli", "hertz_contact", "cylinder_contact", "cattaneo_stick_ratio",
-           "mindlin_deresiewicz_W", "cylinder_W", "ciavarella_jager_W"]
+__all__ = [
+    "moduli",
+    "hertz_contact",
+    "cylinder_contact",
+    "cattaneo_stick_ratio",
+    "mindlin_deresiewicz_W",
+    "cylinder_W",
+    "ciavarella_jager_W",
+]
 
 
 def _binomial(a: float, k: int) -> float:
@@ -45,9 +52,10 @@ _SERIES = 0.25
 _TERMS = 48  # 0.25^45 < 1e-27: far below round-off
 #: the Mindlin-Deresiewicz bracket 1 - (1-x)^(5/3) - (5x/6)(1 + (1-x)^(2/3)) as Σ c_k x^k
 #: (the terms in 1, x and x² cancel exactly)
-_MD_SERIES = [0.0, 0.0, 0.0] + [-(-1) ** k * _binomial(5 / 3, k)
-                                - (5 / 6) * (-1) ** (k - 1) * _binomial(2 / 3, k - 1)
-                                for k in range(3, _TERMS)]
+_MD_SERIES = [0.0, 0.0, 0.0] + [
+    -((-1) ** k) * _binomial(5 / 3, k) - (5 / 6) * (-1) ** (k - 1) * _binomial(2 / 3, k - 1)
+    for k in range(3, _TERMS)
+]
 
 
 def _poisson(nu: float) -> float:
@@ -119,8 +127,12 @@ def hertz_contact(P: float, R: float, E: float, nu: float) -> dict:
     P, R = positive("P", P), positive("R", R)
     m = moduli(E, nu)
     a = (3.0 * P * R / (4.0 * m["E*"])) ** (1.0 / 3.0)
-    return {"a": a, "p0": 3.0 * P / (2.0 * math.pi * a * a), "d": a * a / R,
-            "k_t0": 2.0 * a * m["G*"]}
+    return {
+        "a": a,
+        "p0": 3.0 * P / (2.0 * math.pi * a * a),
+        "d": a * a / R,
+        "k_t0": 2.0 * a * m["G*"],
+    }
 
 
 def cylinder_contact(P: float, R: float, E: float, nu: float) -> dict:
@@ -210,10 +222,11 @@ def mindlin_deresiewicz_W(P: float, Q_amp: float, mu: float, k_t0: float) -> flo
     P, mu, k_t0 = positive("P", P), positive("mu", mu), positive("k_t0", k_t0)
     x = _ratio(Q_amp / (mu * P))
     if x < _SERIES:  # the bracket is (5/162) x³ (1 + 2x/3 + ...): summed, not cancelled
-        bracket = sum(c * x ** k for k, c in enumerate(_MD_SERIES))
+        bracket = sum(c * x**k for k, c in enumerate(_MD_SERIES))
     else:
-        bracket = (1.0 - (1.0 - x) ** (5.0 / 3.0)
-                   - (5.0 * x / 6.0) * (1.0 + (1.0 - x) ** (2.0 / 3.0)))
+        bracket = (
+            1.0 - (1.0 - x) ** (5.0 / 3.0) - (5.0 * x / 6.0) * (1.0 + (1.0 - x) ** (2.0 / 3.0))
+        )
     return 36.0 / 5.0 * (mu * P) ** 2 / k_t0 * bracket
 
 
@@ -252,14 +265,15 @@ def cylinder_W(P: float, Q_amp: float, mu: float, E: float, nu: float) -> float:
     if x == 1.0:
         bracket = 0.5
     elif x < _SERIES:  # Σ_{k>=3} x^k / (k (k - 1)): summed, not cancelled
-        bracket = sum(x ** k / (k * (k - 1)) for k in range(3, _TERMS))
+        bracket = sum(x**k / (k * (k - 1)) for k in range(3, _TERMS))
     else:
         bracket = (1.0 - x) * math.log1p(-x) + x - 0.5 * x * x
     return 4.0 * mu * mu * P * P / (math.pi * Es) * bracket
 
 
-def ciavarella_jager_W(approach: Callable[[float], float], P: float, Q_amp: float, mu: float,
-                       eta: float) -> float:
+def ciavarella_jager_W(
+    approach: Callable[[float], float], P: float, Q_amp: float, mu: float, eta: float
+) -> float:
     """Any uncoupled profile at constant P, Q between ±Q_amp: the dissipation per cycle.
 
     ``(8μ²/η)`` times the area between the approach curve ``C(p)`` and its chord over

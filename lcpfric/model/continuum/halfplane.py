@@ -68,8 +68,11 @@ def log_kernel(offsets: np.ndarray, width: float, Estar: float, datum: float) ->
             return np.where(y == 0.0, 0.0, y * np.log(np.abs(y)) - y)
 
     w = np.asarray(offsets, dtype=float) * width
-    return -(2.0 / (math.pi * Estar)) * datum * (L((w + width / 2) / datum)
-                                                 - L((w - width / 2) / datum))
+    return (
+        -(2.0 / (math.pi * Estar))
+        * datum
+        * (L((w + width / 2) / datum) - L((w - width / 2) / datum))
+    )
 
 
 class HalfPlaneCylinder(ContactModel):
@@ -125,9 +128,19 @@ class HalfPlaneCylinder(ContactModel):
     max_nodes = MAX_NODES
     default_method = "halfplane-pdas"
 
-    def __init__(self, R: float, E: float, nu: float, mu: float, P: Load | float,
-                 Q: Load | float, *, k_support: float = 0.0, nodes: int = 400,
-                 profile: Callable | None = None) -> None:
+    def __init__(
+        self,
+        R: float,
+        E: float,
+        nu: float,
+        mu: float,
+        P: Load | float,
+        Q: Load | float,
+        *,
+        k_support: float = 0.0,
+        nodes: int = 400,
+        profile: Callable | None = None,
+    ) -> None:
         super().__init__(E, nu, mu, P, Q, k_support, nodes)
         self.R = _checks.positive("R", R)
         self.a_max = cylinder_contact(self.P_max, self.R, self.E, self.nu)["a"]
@@ -136,8 +149,11 @@ class HalfPlaneCylinder(ContactModel):
         extra = max(2, math.ceil(0.03 * self.nodes))
         self.total = self.nodes + 2 * extra
         if self.total > MAX_NODES:
-            raise InputError("nodes", f"{self.nodes} elements (+{2 * extra} beyond the contact) "
-                                      f"exceed {MAX_NODES}: the influence matrix is dense")
+            raise InputError(
+                "nodes",
+                f"{self.nodes} elements (+{2 * extra} beyond the contact) "
+                f"exceed {MAX_NODES}: the influence matrix is dense",
+            )
         N = self.total
         self.x = (np.arange(N) - (N - 1) / 2.0) * self.dx
         h = (profile or (lambda x: x * x / (2.0 * self.R)))(self.x)
@@ -146,13 +162,13 @@ class HalfPlaneCylinder(ContactModel):
         col = log_kernel(np.arange(N), self.dx, self.moduli["E*"], datum)
         from scipy.linalg import toeplitz
 
-        self.A = toeplitz(col)                         # displacement per unit pressure
-        self.C = self.A / self.dx                      # per unit force on an element
+        self.A = toeplitz(col)  # displacement per unit pressure
+        self.C = self.A / self.dx  # per unit force on an element
         self.cdiag = np.diag(self.C).copy()
         self.nodes_across = self.nodes
         #: an element's force scale (the increments' tolerances are relative to it)
         self.force_scale = self.mu * self.P_max * self.dx / (2 * self.a_max)
-        self.nodes = N                                 # the unknowns of the grid
+        self.nodes = N  # the unknowns of the grid
 
     # -- the normal problem ---------------------------------------------------------------------
     def normal_problem(self) -> NormalProblem:
@@ -312,13 +328,19 @@ class NormalProblem:
             if np.array_equal(new, S):
                 break
             if key in seen:
-                raise SolverError("half-plane normal problem: the contact set cycles",
-                                  backend="halfplane", status="cycling")
+                raise SolverError(
+                    "half-plane normal problem: the contact set cycles",
+                    backend="halfplane",
+                    status="cycling",
+                )
             seen.add(key)
             S = new
         else:
-            raise SolverError(f"half-plane normal problem: no contact set in {_MAX_ITER} "
-                              f"iterations", backend="halfplane", status="max_iter")
+            raise SolverError(
+                f"half-plane normal problem: no contact set in {_MAX_ITER} iterations",
+                backend="halfplane",
+                status="max_iter",
+            )
         self.set = S
         p = np.maximum(p, 0.0)
         if len(self.cache) < 100_000:

@@ -43,8 +43,7 @@ if TYPE_CHECKING:
 
     from ..loads import Load
 
-__all__ = ["HalfSpace", "NormalProblem", "MAX_GRID", "MIN_ACROSS", "MEMORY_PER_POINT",
-           "compliance"]
+__all__ = ["HalfSpace", "NormalProblem", "MAX_GRID", "MIN_ACROSS", "MEMORY_PER_POINT", "compliance"]
 
 #: largest grid side (the FFT works on a grid about twice as large)
 MAX_GRID = 2048
@@ -118,13 +117,26 @@ class HalfSpace(ContactModel):
     #: what to do where no element slips (``steady_state``'s ResolutionWarning)
     refine_hint = "refine the grid or use the MDR model for a sphere"
 
-    def __init__(self, E: float, nu: float, mu: float, P: Load | float, Q: Load | float, *,
-                 heights: ArrayLike, spacing: float, dims: int = 1, k_support: float = 0.0,
-                 _a0: float | None = None, geometry: str = "heightmap") -> None:
+    def __init__(
+        self,
+        E: float,
+        nu: float,
+        mu: float,
+        P: Load | float,
+        Q: Load | float,
+        *,
+        heights: ArrayLike,
+        spacing: float,
+        dims: int = 1,
+        k_support: float = 0.0,
+        _a0: float | None = None,
+        geometry: str = "heightmap",
+    ) -> None:
         g0 = _checks.finite_array("heights", heights)
         if g0.ndim != 2 or g0.shape[0] != g0.shape[1] or g0.shape[0] < 4:
-            raise InputError("heights", f"must be a square 2-D array (N x N, N >= 4), got "
-                                        f"shape {g0.shape}")
+            raise InputError(
+                "heights", f"must be a square 2-D array (N x N, N >= 4), got shape {g0.shape}"
+            )
         N = g0.shape[0]
         if N > MAX_GRID:
             raise InputError("heights", f"grid {N} x {N} exceeds {MAX_GRID} x {MAX_GRID}")
@@ -136,42 +148,57 @@ class HalfSpace(ContactModel):
         self.g0 = g0 - g0.min()
         self._check_memory()
         self.op = Convolution(N, self.h, self.E, self.nu, self.dims)
-        self.c = self.op.diagonal("xx") / self.h ** 2
+        self.c = self.op.diagonal("xx") / self.h**2
         M = self.op.M
         # each node's first component in the FFT's padded layout (Convolution.view, flat)
         self.pos = self.dims * (np.arange(N)[:, None] * M + np.arange(N)[None, :]).ravel()
-        self.cpos = self.pos // self.dims            # d = 2: each node's complex entry
+        self.cpos = self.pos // self.dims  # d = 2: each node's complex entry
         coords = (np.arange(N) - (N - 1) / 2.0) * self.h
         X, Y = np.meshgrid(coords, coords, indexing="ij")
         self.xy = np.stack([X.ravel(), Y.ravel()], axis=1)
-        self.x = np.hypot(X, Y).ravel()            # distance from the grid's centre
+        self.x = np.hypot(X, Y).ravel()  # distance from the grid's centre
         self.normal_seed = ({}, None)
         normal = NormalProblem(self)
         top = normal.pressure(self.P_max)
         self.contact_max = int(np.count_nonzero(top))
-        self.force_scale = self.mu * float(top.max()) * self.h ** 2
+        self.force_scale = self.mu * float(top.max()) * self.h**2
         p0 = normal.pressure(self.P0)
         self.normal_seed = (dict(normal.cache), normal.last)
-        self.a_eq0 = math.sqrt(np.count_nonzero(p0) * self.h ** 2 / math.pi)
+        self.a_eq0 = math.sqrt(np.count_nonzero(p0) * self.h**2 / math.pi)
         across = 2.0 * self.a_eq0 / self.h
         if across < MIN_ACROSS:
-            raise InputError("grid" if geometry in ("sphere", "punch") else "spacing",
-                             f"the contact at the mean load spans about {across:.1f} "
-                             f"elements across, fewer than {MIN_ACROSS}: the grid is too "
-                             f"coarse to resolve it; refine the grid")
+            raise InputError(
+                "grid" if geometry in ("sphere", "punch") else "spacing",
+                f"the contact at the mean load spans about {across:.1f} "
+                f"elements across, fewer than {MIN_ACROSS}: the grid is too "
+                f"coarse to resolve it; refine the grid",
+            )
         edge = top.reshape(N, N)
         if np.any(edge[0]) or np.any(edge[-1]) or np.any(edge[:, 0]) or np.any(edge[:, -1]):
-            raise InputError("heights", "the contact at the largest load reaches the grid's "
-                                        "edge: the grid does not hold the contact; a larger "
-                                        "grid (or surface) is needed")
+            raise InputError(
+                "heights",
+                "the contact at the largest load reaches the grid's "
+                "edge: the grid does not hold the contact; a larger "
+                "grid (or surface) is needed",
+            )
         self.a0 = float(_a0) if _a0 is not None else self.a_eq0
         self.k_t0 = 2.0 * self.a0 * self.moduli["G*"]
 
     # -- constructors ---------------------------------------------------------------------------
     @classmethod
-    def sphere(cls, R: float, E: float, nu: float, mu: float, P: Load | float,
-               Q: Load | float, *, grid: int = 40, dims: int = 1,
-               k_support: float = 0.0) -> HalfSpace:
+    def sphere(
+        cls,
+        R: float,
+        E: float,
+        nu: float,
+        mu: float,
+        P: Load | float,
+        Q: Load | float,
+        *,
+        grid: int = 40,
+        dims: int = 1,
+        k_support: float = 0.0,
+    ) -> HalfSpace:
         """Two spheres (effective radius R): ``g0 = r²/(2R)``.
 
         On a grid of ``grid`` elements across the largest Hertz contact diameter, plus 3 % (at
@@ -207,15 +234,37 @@ class HalfSpace(ContactModel):
         a0 = hertz_contact(probe.P0, R, E, nu)["a"]
         g, N, h = cls._grid(grid, a_max)
         r2 = g[:, None] ** 2 + g[None, :] ** 2
-        model = cls(E, nu, mu, P, Q, heights=r2 / (2.0 * R), spacing=h, dims=dims,
-                    k_support=k_support, _a0=a0, geometry="sphere")
+        model = cls(
+            E,
+            nu,
+            mu,
+            P,
+            Q,
+            heights=r2 / (2.0 * R),
+            spacing=h,
+            dims=dims,
+            k_support=k_support,
+            _a0=a0,
+            geometry="sphere",
+        )
         model.R, model.a_max, model.grid_across = R, a_max, grid
         return model
 
     @classmethod
-    def punch(cls, R: float, radius: float, E: float, nu: float, mu: float, P: Load | float,
-              Q: Load | float, *, grid: int = 40, dims: int = 1,
-              k_support: float = 0.0) -> HalfSpace:
+    def punch(
+        cls,
+        R: float,
+        radius: float,
+        E: float,
+        nu: float,
+        mu: float,
+        P: Load | float,
+        Q: Load | float,
+        *,
+        grid: int = 40,
+        dims: int = 1,
+        k_support: float = 0.0,
+    ) -> HalfSpace:
         """A flat punch of radius ``radius`` with edges rounded to the radius R.
 
         ``g0 = max(0, r − radius)²/(2R)``; the grid spans the largest contact (its radius by
@@ -249,8 +298,18 @@ class HalfSpace(ContactModel):
         a_max = float(np.max(shape.radius(probe.P_max, moduli(E, nu)["E*"])))
         g, N, h = cls._grid(grid, a_max)
         r = np.hypot(g[:, None], g[None, :])
-        model = cls(E, nu, mu, P, Q, heights=np.maximum(r - b, 0.0) ** 2 / (2.0 * R),
-                    spacing=h, dims=dims, k_support=k_support, geometry="punch")
+        model = cls(
+            E,
+            nu,
+            mu,
+            P,
+            Q,
+            heights=np.maximum(r - b, 0.0) ** 2 / (2.0 * R),
+            spacing=h,
+            dims=dims,
+            k_support=k_support,
+            geometry="punch",
+        )
         model.R, model.flat_radius, model.a_max, model.grid_across = R, b, a_max, grid
         return model
 
@@ -283,9 +342,11 @@ class HalfSpace(ContactModel):
     def _check_memory(self):
         """Refuse a grid whose arrays (:meth:`memory_estimate`) exceed the memory limit
         (:mod:`lcpfric.memory`)."""
-        memory.check(self.memory_estimate(), "heights",
-                     f"a {self.N} x {self.N} grid with d = {self.dims} (its arrays)")
-
+        memory.check(
+            self.memory_estimate(),
+            "heights",
+            f"a {self.N} x {self.N} grid with d = {self.dims} (its arrays)",
+        )
 
     # -- the normal problem ---------------------------------------------------------------------
     def normal_problem(self) -> NormalProblem:
@@ -340,15 +401,21 @@ class HalfSpace(ContactModel):
             return compliance(self, self.op, x).reshape(-1)
 
         op = LinearOperator((m, m), matvec=product, rmatvec=product, dtype=float)
-        h2 = self.h ** 2
+        h2 = self.h**2
         stats = {"cg": 0}
         W = np.empty((m, d))
         for j in range(d):
             e = np.zeros((n, d))
             e[:, j] = 1.0
-            x, _ = cg(op.matvec, e.ravel(), np.zeros(m), None,
-                      lambda r: apply(self, self.op, "precondition", r, h2).reshape(-1),
-                      1e-13 * float(np.max(np.abs(e))) * self.c, stats)
+            x, _ = cg(
+                op.matvec,
+                e.ravel(),
+                np.zeros(m),
+                None,
+                lambda r: apply(self, self.op, "precondition", r, h2).reshape(-1),
+                1e-13 * float(np.max(np.abs(e))) * self.c,
+                stats,
+            )
             W[:, j] = x
         return op, (W[:, 0] if d == 1 else W), np.full(m, self.c)
 
@@ -371,9 +438,12 @@ class HalfSpace(ContactModel):
         from .halfplane import entry_loads
 
         if self.nodes > DENSE_MAX:
-            raise InputError("grid", f"exact entry loads need the dense influence matrix of "
-                                     f"{self.nodes} elements (at most {DENSE_MAX})")
-        return entry_loads(self.op.dense("n"), self.g0, self.h ** 2, self.P_max)
+            raise InputError(
+                "grid",
+                f"exact entry loads need the dense influence matrix of "
+                f"{self.nodes} elements (at most {DENSE_MAX})",
+            )
+        return entry_loads(self.op.dense("n"), self.g0, self.h**2, self.P_max)
 
 
 class NormalProblem:
@@ -417,9 +487,10 @@ class NormalProblem:
         out = np.empty((P.size, model.nodes))
         for j, x in enumerate(P):
             out[j] = self.pressure(x)
-        out *= model.mu * model.h ** 2
-        sizes = np.array([math.sqrt(np.count_nonzero(self.pressure(x)) * model.h ** 2 / math.pi)
-                          for x in P])
+        out *= model.mu * model.h**2
+        sizes = np.array(
+            [math.sqrt(np.count_nonzero(self.pressure(x)) * model.h**2 / math.pi) for x in P]
+        )
         return out, sizes, dict(self.stats)
 
 
@@ -447,4 +518,4 @@ def apply(model, op, kind, F, factor):
 
 def compliance(model, op, F) -> np.ndarray:
     """``C F``: relative tangential displacements ``(n, d)`` from forces ``(n, d)`` or flat."""
-    return apply(model, op, "tangential", F, 1.0 / model.h ** 2)
+    return apply(model, op, "tangential", F, 1.0 / model.h**2)

@@ -97,7 +97,7 @@ class Convolution:
     def _spectrum(self, k):
         N, M = self.N, self.M
         pad = np.zeros((M, M))
-        idx = np.r_[np.arange(0, N), np.arange(M - N + 1, M)]   # offsets 0..N-1, -(N-1)..-1
+        idx = np.r_[np.arange(0, N), np.arange(M - N + 1, M)]  # offsets 0..N-1, -(N-1)..-1
         src = np.r_[np.arange(N - 1, 2 * N - 1), np.arange(0, N - 1)]
         pad[np.ix_(idx, idx)] = k[np.ix_(src, src)]
         return sfft.rfft2(pad)
@@ -127,8 +127,11 @@ class Convolution:
 
     def view(self, buf):
         """The components of a padded array, ``(M, M, d)`` (a view: writable)."""
-        return buf.reshape(self.M, self.M, 1) if self.dims == 1 else buf.view(float).reshape(
-            self.M, self.M, 2)
+        return (
+            buf.reshape(self.M, self.M, 1)
+            if self.dims == 1
+            else buf.view(float).reshape(self.M, self.M, 2)
+        )
 
     def pad(self, q):
         """Fields ``(N, N)`` (d = 1) or ``(2, N, N)`` (d = 2) in the padded layout."""
@@ -156,7 +159,7 @@ class Convolution:
             X *= K["xx"]
             return sfft.irfft2(X, s=(self.M, self.M), overwrite_x=True)
         Z = sfft.fft2(buf)
-        if "B" in K:        # w = A z + B z̄: the transform of z̄ at k is conj(Z(−k))
+        if "B" in K:  # w = A z + B z̄: the transform of z̄ at k is conj(Z(−k))
             Zc = Z.reshape(-1).take(self._flip).reshape(Z.shape)
             np.conjugate(Zc, out=Zc)
             Zc *= K["B"]
@@ -173,8 +176,12 @@ class Convolution:
         cache = self.__dict__.setdefault("_scaled_cache", {})
         K = cache.get((kind, factor))
         if K is None:
-            src = (self.spectra if kind == "tangential" else        # ixx, ixy, iyy
-                   {name[1:]: v for name, v in self._inverse.items() if name != "n"})
+            src = (
+                self.spectra
+                if kind == "tangential"
+                # ixx, ixy, iyy
+                else {name[1:]: v for name, v in self._inverse.items() if name != "n"}
+            )
             xx = src["xx"].real * factor
             # stored complex: a complex array times a real one is slower (a cast per entry)
             if self.dims == 1:
@@ -184,7 +191,7 @@ class Convolution:
                 xy = src["xy"].real * factor if "xy" in src else 0.0 * xx
                 K = {"A": self._whole(0.5 * (xx + yy)).astype(complex)}
                 B = self._whole(0.5 * (xx - yy) + 1j * xy)
-                if np.max(np.abs(B)) > 1e-14 * np.max(np.abs(K["A"])):   # else round-off
+                if np.max(np.abs(B)) > 1e-14 * np.max(np.abs(K["A"])):  # else round-off
                     K["B"] = B
             cache[(kind, factor)] = K
         return K
@@ -227,15 +234,18 @@ class Convolution:
                 l1, l2 = m + r, m - r
                 i1, i2 = 1.0 / np.maximum(l1, floor), 1.0 / np.maximum(l2, floor)
                 with np.errstate(divide="ignore", invalid="ignore"):
-                    w = np.where(r > 0, 0.5 / r, 0.0)        # P1 = (A - l2 I) / (l1 - l2)
+                    w = np.where(r > 0, 0.5 / r, 0.0)  # P1 = (A - l2 I) / (l1 - l2)
                 p_xx = np.where(r > 0, (a - l2) * w, 0.5)
                 p_yy = np.where(r > 0, (c - l2) * w, 0.5)
                 p_xy = b * w
-                inv.update(ixx=i2 + (i1 - i2) * p_xx, iyy=i2 + (i1 - i2) * p_yy,
-                           ixy=(i1 - i2) * p_xy)
+                inv.update(
+                    ixx=i2 + (i1 - i2) * p_xx, iyy=i2 + (i1 - i2) * p_yy, ixy=(i1 - i2) * p_xy
+                )
             else:
-                inv.update(ixx=1.0 / np.maximum(K["xx"], floor),
-                           iyy=1.0 / np.maximum(K.get("yy", K["xx"]), floor))
+                inv.update(
+                    ixx=1.0 / np.maximum(K["xx"], floor),
+                    iyy=1.0 / np.maximum(K.get("yy", K["xx"]), floor),
+                )
             self.__dict__["_inv"] = inv
         return inv
 
@@ -257,8 +267,9 @@ class Convolution:
         """The ``N² x N²`` influence matrix ``name`` (row-major nodes: ``i N + j``)."""
         N = self.N
         i, j = np.divmod(np.arange(N * N), N)
-        return self.kernel[name][(i[:, None] - i[None, :]) + N - 1,
-                                 (j[:, None] - j[None, :]) + N - 1]
+        return self.kernel[name][
+            (i[:, None] - i[None, :]) + N - 1, (j[:, None] - j[None, :]) + N - 1
+        ]
 
 
 class Counted:

@@ -122,9 +122,19 @@ class MDRSphere(ContactModel):
     max_nodes = MAX_NODES
     default_method = "mdr-bar"
 
-    def __init__(self, R: float | None, E: float, nu: float, mu: float, P: Load | float,
-                 Q: Load | float, *, k_support: float = 0.0, nodes: int = 2000,
-                 profile: Sphere | PowerLaw | Axisymmetric | None = None) -> None:
+    def __init__(
+        self,
+        R: float | None,
+        E: float,
+        nu: float,
+        mu: float,
+        P: Load | float,
+        Q: Load | float,
+        *,
+        k_support: float = 0.0,
+        nodes: int = 2000,
+        profile: Sphere | PowerLaw | Axisymmetric | None = None,
+    ) -> None:
         super().__init__(E, nu, mu, P, Q, k_support, nodes)
         self.R = None if R is None else _checks.positive("R", R)
         if profile is None:
@@ -133,8 +143,9 @@ class MDRSphere(ContactModel):
             profile = Sphere(self.R)
         for name in ("g", "G", "radius"):
             if not callable(getattr(profile, name, None)):
-                raise InputError("profile", f"needs a method {name}() (see Sphere, PowerLaw, "
-                                            f"Axisymmetric)")
+                raise InputError(
+                    "profile", f"needs a method {name}() (see Sphere, PowerLaw, Axisymmetric)"
+                )
         self.profile = profile
         Es = self.moduli["E*"]
         self.a_max = float(np.max(profile.radius(self.P_max, Es)))
@@ -197,7 +208,7 @@ class MDRSphere(ContactModel):
         lo = self.x[None, :] - 0.5 * self.dx
         hi = np.minimum(self.x[None, :] + 0.5 * self.dx, a)
         d, G = self.profile.g(a), self.profile.G
-        share = d * (hi - lo) - (G(np.maximum(hi, lo)) - G(lo))   # ∫_cell (d - g) dx
+        share = d * (hi - lo) - (G(np.maximum(hi, lo)) - G(lo))  # ∫_cell (d - g) dx
         return np.where(hi > lo, 2.0 * self.moduli["E*"] * share, 0.0)
 
     def tractions(self, F: ArrayLike) -> np.ndarray:
@@ -221,7 +232,7 @@ class MDRSphere(ContactModel):
         """
         q = np.append(np.asarray(F, dtype=float) / (2.0 * self.dx), 0.0)
         X = np.append(self.x, self.x[-1] + 0.5 * self.dx)
-        slope = np.diff(q) / np.diff(X)                          # on [X_k, X_k+1]
+        slope = np.diff(q) / np.diff(X)  # on [X_k, X_k+1]
         r = self.x[:, None]
 
         def L(x):

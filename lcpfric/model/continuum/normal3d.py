@@ -42,8 +42,16 @@ class NormalSolution:
         self.p, self.d, self.iterations = p, d, iterations
 
 
-def normal_contact(op, g0: np.ndarray, P: float, *, p0=None, tol: float = 1e-12,
-                   max_iter: int = 2000, precondition: bool = True) -> NormalSolution:
+def normal_contact(
+    op,
+    g0: np.ndarray,
+    P: float,
+    *,
+    p0=None,
+    tol: float = 1e-12,
+    max_iter: int = 2000,
+    precondition: bool = True,
+) -> NormalSolution:
     """Polonsky-Keer's constrained conjugate gradients (module docstring). ``op`` is a
     :class:`~.influence.Convolution`; ``p0`` an initial pressure field (scaled to the load)."""
     area = op.h * op.h
@@ -108,9 +116,12 @@ def normal_contact(op, g0: np.ndarray, P: float, *, p0=None, tol: float = 1e-12,
         if change < tol:
             break
     else:
-        raise SolverError(f"half-space normal problem (constrained CG): pressures changing by "
-                          f"{change:.3g} of the load after {max_iter} iterations (tol {tol:g})",
-                          backend="halfspace", status="max_iter")
+        raise SolverError(
+            f"half-space normal problem (constrained CG): pressures changing by "
+            f"{change:.3g} of the load after {max_iter} iterations (tol {tol:g})",
+            backend="halfspace",
+            status="max_iter",
+        )
     u = op.normal(p)
     g = g0 + u
     S = p > 0.0
@@ -118,7 +129,10 @@ def normal_contact(op, g0: np.ndarray, P: float, *, p0=None, tol: float = 1e-12,
     gap = g - d
     worst = max(float(np.max(np.abs(gap[S]))), float(-min(0.0, gap[~S].min(initial=0.0))))
     if worst > 1e-8 * max(scale, abs(d)):
-        raise SolverError(f"half-space normal problem: gaps off by {worst:.3g} (surface scale "
-                          f"{scale:.3g}) after {it} iterations", backend="halfspace",
-                          status="inaccurate")
+        raise SolverError(
+            f"half-space normal problem: gaps off by {worst:.3g} (surface scale "
+            f"{scale:.3g}) after {it} iterations",
+            backend="halfspace",
+            status="inaccurate",
+        )
     return NormalSolution(p, d, it)

@@ -122,8 +122,7 @@ class PowerLaw:
     def __init__(self, c: float, n: float) -> None:
         self.c = _checks.positive("c", c)
         self.n = _checks.positive("n", n)
-        self.kappa = math.sqrt(math.pi) * math.gamma(self.n / 2 + 1) / math.gamma(self.n / 2
-                                                                                  + 0.5)
+        self.kappa = math.sqrt(math.pi) * math.gamma(self.n / 2 + 1) / math.gamma(self.n / 2 + 0.5)
 
     def g(self, x: ArrayLike) -> np.ndarray:
         """The 1-D profile ``g(x) = κ_n c |x|^n``.
@@ -222,7 +221,7 @@ class Axisymmetric:
             ``g(x)``, the shape of ``x``.
         """
         x = np.abs(np.asarray(x, dtype=float))
-        theta = 0.25 * math.pi * (self._t + 1.0)                # [0, π/2]
+        theta = 0.25 * math.pi * (self._t + 1.0)  # [0, π/2]
         vals = np.asarray(self.slope(x[..., None] * np.sin(theta)), dtype=float)
         return x * (vals @ self._w) * 0.25 * math.pi
 
