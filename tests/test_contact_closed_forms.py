@@ -1,6 +1,6 @@
-"""The classical closed forms of lcpfric.model.continuum.closed_forms: consistent with each other (Mindlin-Deresiewicz
-is the Ciavarella-Jäger chord area of the Hertz approach), with their small-amplitude limits, and
-with the loads they carry (the Hertz pressures integrate to P)."""
+"""The classical closed forms of lcpfric.model.continuum.closed_forms: consistent with each other
+(Mindlin-Deresiewicz is the Ciavarella-Jäger chord area of the Hertz approach), with their
+small-amplitude limits, and with the loads they carry (the Hertz pressures integrate to P)."""
 
 import math
 

@@ -1,6 +1,7 @@
-"""The plane contact by half-plane boundary elements (lcpfric.model.continuum.halfplane and the halfplane-pdas stepper): the Hertz
-pressure, Cattaneo's stick half-width, the plane Mindlin-Deresiewicz dissipation, the in-phase
-condition, W(φ + π) = W(φ), and separation held by a support."""
+"""The plane contact by half-plane boundary elements (lcpfric.model.continuum.halfplane and the
+halfplane-pdas stepper): the Hertz pressure, Cattaneo's stick half-width, the plane
+Mindlin-Deresiewicz dissipation, the in-phase condition, W(φ + π) = W(φ), and separation held by a
+support."""
 
 import numpy as np
 import lcpfric

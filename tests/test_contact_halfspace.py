@@ -1,6 +1,7 @@
-"""The 3-D half-space contact (lcpfric.model.continuum.halfspace and the newton-cg stepper): influence coefficients, the normal
-problem against ContactMechanics and Hertz, the tangential increments against the convex
-backends, Mindlin-Deresiewicz, the MDR model, and the properties of the steady state."""
+"""The 3-D half-space contact (lcpfric.model.continuum.halfspace and the newton-cg stepper):
+influence coefficients, the normal problem against ContactMechanics and Hertz, the tangential
+increments against the convex backends, Mindlin-Deresiewicz, the MDR model, and the properties of
+the steady state."""
 
 import math
 from pathlib import Path
@@ -280,7 +281,7 @@ def test_d1_large_increments_on_a_fine_grid(monkeypatch):
     (not one). Either old rule made the line search crawl at steps of 2^-12, with the same W
     in the end: 4153 Newton steps on grid 120 at constant P, 2962 on grid 96 with varying P
     (171 and 172 now)."""
-    from lcpfric.steppers import newton_cg
+    from lcpfric.steppers import newton_increment
 
     r = lcpfric.steady_state(_md(64), steps_per_cycle=8)
     assert r.converged and r.W > 0
@@ -289,7 +290,7 @@ def test_d1_large_increments_on_a_fine_grid(monkeypatch):
         st = r.solver_stats
         assert r.converged and st["stalled"] > 0 and st["newton"] < 400
     w = lcpfric.steady_state(_md(40), steps_per_cycle=8).W
-    monkeypatch.setattr(newton_cg, "_SINGLE_MAX", -1)
+    monkeypatch.setattr(newton_increment, "_SINGLE_MAX", -1)
     assert lcpfric.steady_state(_md(40), steps_per_cycle=8).W == pytest.approx(w, rel=1e-12)
 
 
@@ -507,7 +508,7 @@ def test_loose_steps_for_new_patterns_keep_the_answer(monkeypatch):
     Newton steps whose pattern is new are solved loosely, a repeated pattern to full accuracy;
     the same W (1e-10) for fewer conjugate-gradient iterations than with every step solved
     to full accuracy."""
-    import lcpfric.steppers.newton_cg as hs
+    import lcpfric.steppers.newton_increment as hs
 
     g = (np.arange(64) - 31.5) / 64 * 2.4
     X, Y = np.meshgrid(g, g, indexing="ij")

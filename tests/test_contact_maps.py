@@ -1,5 +1,5 @@
-"""Hertz maps (lcpfric.analysis.contact_maps): the batched MDR equals MDRSphere point by point; NaN where
-pure load control has no equilibrium; the small-amplitude law W ∝ Q1³; sweeps with resume."""
+"""Hertz maps (lcpfric.analysis.contact_maps): the batched MDR equals MDRSphere point by point; NaN
+where pure load control has no equilibrium; the small-amplitude law W ∝ Q1³; sweeps with resume."""
 
 import numpy as np
 import lcpfric

@@ -1,6 +1,7 @@
-"""The Hertz contact by dimensionality reduction (lcpfric.model.continuum.mdr and the mdr-bar stepper) against the classical
-closed forms: Mindlin-Deresiewicz at constant P, Cattaneo's stick radius, Mindlin and
-Deresiewicz's in-phase condition, W(φ + π) = W(φ), and the single node (one spring)."""
+"""The Hertz contact by dimensionality reduction (lcpfric.model.continuum.mdr and the mdr-bar
+stepper) against the classical closed forms: Mindlin-Deresiewicz at constant P, Cattaneo's stick
+radius, Mindlin and Deresiewicz's in-phase condition, W(φ + π) = W(φ), and the single node (one
+spring)."""
 
 import numpy as np
 import pytest

@@ -7,8 +7,8 @@ system whose exact dissipation is the sum of its nodes' exact answers. Wall time
 of repeats, measured in the same run for all methods. Writes ``compare.csv``, ``compare.md`` and
 ``compare.png`` (log-log error against time, one panel per case, one line per method).
 
-The coupled cases (:data:`COUPLED_CASES`, ``compare_backends.py --coupled``) are d = 1 systems with a
-coupled stiffness (chains with k_coupling = 10, a dense random SPD K), judged against
+The coupled cases (:data:`COUPLED_CASES`, ``compare_backends.py --coupled``) are d = 1 systems with
+a coupled stiffness (chains with k_coupling = 10, a dense random SPD K), judged against
 ``steady_state(model, method="exact").W`` computed once per case; that reference is checked
 independently by Richardson extrapolation of the explicit stepper (:func:`richardson`). They
 write ``compare-coupled.csv``, ``.md`` and ``.png`` (:func:`write_coupled_outputs`).

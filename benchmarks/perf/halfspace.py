@@ -1,6 +1,7 @@
 """The 3-D half-space contact: every validation and goal of issue 13, measured in one run.
 
-``OPENBLAS_NUM_THREADS=1 python benchmarks/perf/halfspace.py [--quick] [--no-heightmap] [--out DIR]``
+``OPENBLAS_NUM_THREADS=1 python benchmarks/perf/halfspace.py [--quick] [--no-heightmap]
+[--out DIR]``
 
 writes ``DIR/halfspace.md`` (default ``benchmarks/results``). Each validation gives the value,
 the closed form (or the MDR model) it is judged against, their relative difference, and the

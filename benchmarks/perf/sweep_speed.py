@@ -1,7 +1,7 @@
 """Speed and accuracy of the Fig. 3 + Fig. 4 map set, against a per-point loop and on Dask.
 
-The set: 11 phases φ = kπ/10 (k = 0..10) on a 101 x 101 grid of P̂1, Q̂1 in [0, 10]
-(112 211 points), computed by ``lcpfric.analysis.sweep.sweep`` with the exact method. Measured in one run:
+The set: 11 phases φ = kπ/10 (k = 0..10) on a 101 x 101 grid of P̂1, Q̂1 in [0, 10] (112 211
+points), computed by ``lcpfric.analysis.sweep.sweep`` with the exact method. Measured in one run:
 
 * the sweep's wall time, serial and on a local process pool (best of ``--repeat``);
 * its accuracy: against Eqs. (11)-(12) at φ = 0 on every grid point, the symmetry
@@ -244,8 +244,9 @@ def main(argv=None):
         )
         print(
             f"per-point explicit loop (2000 steps/cycle), {loop['sample_points']} random points: "
-            f"{1e3 * loop['seconds_per_point']:.2f} ms/point -> {loop['extrapolated_seconds']:.0f} s "
-            f"for the set; the sweep is {loop['ratio_to_sweep']:.0f}x faster "
+            f"{1e3 * loop['seconds_per_point']:.2f} ms/point -> "
+            f"{loop['extrapolated_seconds']:.0f} s for the set; "
+            f"the sweep is {loop['ratio_to_sweep']:.0f}x faster "
             f"(explicit's own max rel error there: {loop['explicit_2000_max_rel_error']:.1e})"
         )
         d = result.get("dask")

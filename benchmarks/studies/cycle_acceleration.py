@@ -17,8 +17,8 @@ tolerance 1e-8), Mindlin-Deresiewicz on grids 40 and 56, and varying P with a ph
 (200 steps). A run that does not repeat within 200 cycles is marked "no".
 
 ``--discrete`` runs the discrete driver's d = 2 systems instead (the chains of
-``benchmarks/validation/order_d2.py`` and the grid-10 contact as a ContactSystem) with the memory and with
-Aitken's jumps alone, into ``DIR/cycle_acceleration_discrete.md`` (about 1 minute);
+``benchmarks/validation/order_d2.py`` and the grid-10 contact as a ContactSystem) with the memory
+and with Aitken's jumps alone, into ``DIR/cycle_acceleration_discrete.md`` (about 1 minute);
 ``--figure`` draws each cycle's change on grids 40 and 56 by strategy,
 ``DIR/cycle_acceleration.png`` and ``.pdf`` (about 5 minutes).
 """

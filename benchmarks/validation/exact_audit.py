@@ -1,6 +1,7 @@
 """Randomized accuracy audit of ``lcpfric.exact_W_hat`` against the mpmath reference.
 
-    python benchmarks/validation/exact_audit.py [--n 4000] [--seed 0] [--processes 8] [--out FILE.md]
+    python benchmarks/validation/exact_audit.py [--n 4000] [--seed 0] [--processes 8]
+        [--out FILE.md]
 
 Points are drawn from a mixture (each family ``n / 9`` points, φ uniform on [0, 2π) unless
 stated): P̂1 and Q̂1 log-uniform on [1e-20, 1e20]; P̂1 log-uniform and Q̂1/P̂1 log-uniform on

@@ -1,7 +1,8 @@
 """Seeded audit of ``steady_state(system, method="exact")`` for discrete systems (d = 1).
 
-    OPENBLAS_NUM_THREADS=1 python benchmarks/validation/exact_discrete_audit.py [--n-cases 30] [--seed 0]
-        [--steps 1600] [--jobs 2] [--timeout 120] [--only random,identity,degenerate] [-v]
+    OPENBLAS_NUM_THREADS=1 python benchmarks/validation/exact_discrete_audit.py [--n-cases 30]
+        [--seed 0] [--steps 1600] [--jobs 2] [--timeout 120]
+        [--only random,identity,degenerate] [-v]
 
 Three categories (every case runs in its own forked process with a wall-time limit; an
 exception, a timeout, a NaN or a W < 0 is a failure):

@@ -1,6 +1,7 @@
 """Independent reference: frictionless, non-periodic Hertz-like contact on an elastic half-space.
 
-    python benchmarks/validation/halfspace_reference.py          # writes tests/data/halfspace_reference.npz
+    # writes tests/data/halfspace_reference.npz
+    python benchmarks/validation/halfspace_reference.py
 
 Produced with **ContactMechanics 1.8.3** (Pastewka group, github pastewka/ContactMechanics;
 with SurfaceTopography 1.27.1, NuMPI 0.18.1, muGrid 1.6.1), *not* with lcpfric. It needs

@@ -2,9 +2,11 @@
 """Pinned results of lcpfric, to check that a restructuring changes no public number: 471 values
 (W, Ŵ, W_normalized, cycles, counts) of every model and every method, compared as float.hex.
 
-    OPENBLAS_NUM_THREADS=1 python benchmarks/validation/pinned.py --check benchmarks/results/pinned.json
-    OPENBLAS_NUM_THREADS=1 python benchmarks/validation/pinned.py --out FILE.json   # write {name: hex}
-    ... --only SUBSTRING                                                 # some cases only
+    python benchmarks/validation/pinned.py --check benchmarks/results/pinned.json
+    python benchmarks/validation/pinned.py --out FILE.json   # write {name: hex}
+    ... --only SUBSTRING                                     # some cases only
+
+(with ``OPENBLAS_NUM_THREADS=1``, as every benchmark)
 
 ``benchmarks/results/pinned.json`` holds the values lcpfric 0.1 gave (written by this script's
 0.1 twin, the same cases through 0.1's API). The three cases that compare a contact's own

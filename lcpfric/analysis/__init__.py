@@ -4,6 +4,7 @@
 ``shakedown``     the exact shakedown test of the single node
 ``loop``          the hysteresis loop of a steady state (its area is W)
 ``sweep``         dissipation maps over (P̂1, Q̂1, φ): chunked, resumable, parallel, on Dask
+``sweep_plan``    what a sweep's chunks run, their cost, boundaries and fingerprint
 ``sweep_io``      a map's dataset and its NetCDF file
 ``chunkstore``    the on-disk store that makes a sweep resumable
 ``runners``       where a sweep's chunks run: serially, on local processes, on Dask

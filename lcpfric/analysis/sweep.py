@@ -11,7 +11,8 @@ How the work is done
   point by point through :func:`lcpfric.steady_state` (slow; for checking).
 * **Chunks.** The grid is cut into chunks of ``chunk_size`` points (flat, C order over
   ``(phi, P1, Q1)``). A chunk is the unit of parallel work, of progress and of saving. The
-  default size depends only on the grid and the method, so a sweep resumes on any machine.
+  default size depends only on the grid and the method, so a sweep resumes on any machine
+  (:mod:`.sweep_plan`: what the chunks run and how the grid is cut).
 * **Where.** Serially for small jobs; on a local process pool using all cores when the estimated
   work pays for it (or ``processes=N``); on Dask when ``scheduler`` is a ``dask.distributed.Client``
   or a scheduler address (``tcp://host:8786``: dask-jobqueue's SLURM/PBS clusters included).
@@ -29,9 +30,6 @@ a contact map (whose NaN also marks loads without equilibrium: ``no_equilibrium_
 
 from __future__ import annotations
 
-import hashlib
-import json
-import math
 import sys
 import time
 from typing import Callable
@@ -41,48 +39,26 @@ import numpy as np
 from .. import _checks, memory
 from .._optional import require
 from ..errors import InputError, LcpfricError
-from ..methods import CLOSED_FORM, get_stepper, grid_function
-from .chunkstore import ChunkStore, fingerprint
+from .chunkstore import ChunkStore
 from .runners import default_workers, run_dask, run_processes, run_serial
 from .sweep_io import (
-    DIMS,
     check_output,
     dataset,
     netcdf_engine,
     read_dataset,
-    version,
     write_dataset,
     xarray_module,
 )
+from .sweep_plan import (
+    PARALLEL_SECONDS,
+    chunk_bounds,
+    describe_sweep,
+    per_point_W_hat,
+    plan_sweep,
+    sweep_bytes,
+)
 
 __all__ = ["sweep", "per_point_W_hat", "write_dataset", "netcdf_engine"]
-
-# Sizing of the chunks (the methods' own cost estimates are in the registry, lcpfric.methods)
-_DEFAULT_STEPS = 2000  # steady_state's default
-_CHUNK_SECONDS = 2.0  # a chunk this long is worth saving on its own, and short enough to lose
-_PARALLEL_SECONDS = 3.0  # starting worker processes costs ~0.1-0.3 s; below this, stay serial
-_MIN_CHUNKS = 64  # when parallel work pays: enough chunks to balance many workers
-_MIN_BATCH = 4096  # points per chunk of a batched stepper (its per-step overhead is fixed)
-
-
-def _cost(entry, batched: bool, steps: int) -> float:
-    """Estimated seconds per grid point of ``entry`` (a registry :class:`Method`)."""
-    if entry.seconds_per_point is not None:
-        return entry.seconds_per_point
-    per_step = entry.seconds_per_point_step or 3e-6
-    return per_step * steps
-
-
-def per_point_W_hat(P1, Q1, phi, *, method: str, **options):
-    """Ŵ point by point through :func:`lcpfric.steady_state` (the fallback for any method)."""
-    from ..periodic import steady_state
-    from ..model import SingleNode
-
-    out = np.zeros(np.shape(P1))
-    for n in np.flatnonzero(np.asarray(Q1) > 0):  # Q̂1 = 0: the limit Ŵ = 0, nothing to run
-        node = SingleNode.normalized(P1=float(P1[n]), Q1=float(Q1[n]), phi=float(phi[n]))
-        out[n] = steady_state(node, method=method, **options).W_hat
-    return out
 
 
 def _picklable(exc: BaseException) -> bool:
@@ -116,49 +92,6 @@ def _axis(name: str, values, nonneg: bool) -> np.ndarray:
     return arr.astype(float)
 
 
-def _options(entry, steps_per_cycle) -> dict:
-    if entry.kind == CLOSED_FORM:
-        if steps_per_cycle is not None:
-            raise InputError(
-                "steps_per_cycle",
-                f"is not used by method {entry.name!r} (it has "
-                f"no time steps); leave it unset or choose "
-                f"another method",
-            )
-        return {}
-    if steps_per_cycle is None:
-        return {}
-    return {"steps_per_cycle": _checks.positive_int("steps_per_cycle", steps_per_cycle, minimum=4)}
-
-
-def _check_method(method):
-    """``(name, function, entry)``: the method's grid function (None: point by point) and its
-    registry entry; an unknown name or a missing extra fails here, not in a worker."""
-    if not isinstance(method, str) or not method.strip():
-        raise InputError(
-            "method", f"must be a method name such as 'exact' or 'projection', got {method!r}"
-        )
-    method = method.strip()
-    func, entry = grid_function(method)
-    if func is None:
-        get_stepper(method)
-    return method, func, entry
-
-
-def _chunking(n: int, chunk_size, cost: float, batched: bool) -> list[tuple[int, int]]:
-    """Chunk boundaries. They depend only on the grid and the method (not on where the chunks
-    run), so that a sweep interrupted on one machine resumes on another."""
-    if chunk_size is None:
-        size = max(1, int(_CHUNK_SECONDS / cost))
-        if n * cost > _PARALLEL_SECONDS:  # work enough to share: chunks for many workers
-            size = min(size, math.ceil(n / _MIN_CHUNKS))
-        if batched:  # a batched stepper pays a fixed cost per step of a chunk, however small
-            size = max(size, _MIN_BATCH)
-    else:
-        size = _checks.positive_int("chunk_size", chunk_size)
-    return [(a, min(a + size, n)) for a in range(0, n, size)]
-
-
 def _progress_bar(enabled: bool, total: int, initial: int, method: str):
     enabled = bool(enabled) and sys.stderr.isatty()
     if not enabled:
@@ -180,7 +113,7 @@ def _run(tasks: dict, on_result, scheduler, processes, workers: int, seconds: fl
         return "none"
     if scheduler is not None:
         return run_dask(tasks, _compute_chunk, on_result, scheduler)
-    pays = seconds > _PARALLEL_SECONDS if processes is None else processes > 1
+    pays = seconds > PARALLEL_SECONDS if processes is None else processes > 1
     if workers > 1 and len(tasks) > 1 and pays:
         return run_processes(tasks, _compute_chunk, on_result, workers)
     return run_serial(tasks, _compute_chunk, on_result)
@@ -274,7 +207,7 @@ def sweep(
     P1 = _axis("P1", P1, nonneg=True)
     Q1 = _axis("Q1", Q1, nonneg=True)
     phi = _axis("phi", phi, nonneg=False)
-    plan = _plan(P1, Q1, phi, method, steps_per_cycle, contact)
+    plan = plan_sweep(P1, Q1, phi, method, steps_per_cycle, contact)
     if processes is not None:
         processes = _checks.positive_int("processes", processes)
     out = None if out is None else check_output(out)
@@ -282,13 +215,13 @@ def sweep(
     t0 = time.perf_counter()
     n = phi.size * P1.size * Q1.size
     workers = processes or default_workers()
-    chunks = _chunking(n, chunk_size, plan["cost"], plan["batched"])
+    chunks = chunk_bounds(n, chunk_size, plan["cost"], plan["batched"])
     memory.check(
-        _bytes(plan, n, chunks, phi, P1, Q1, scheduler, workers),
+        sweep_bytes(plan, n, chunks, phi, P1, Q1, scheduler, workers),
         "P1",
         f"a map of {n} points ({phi.size} x {P1.size} x {Q1.size})",
     )
-    description, key, attrs = _describe(plan, phi, P1, Q1, chunks)
+    description, key, attrs = describe_sweep(plan, phi, P1, Q1, chunks)
     if out is not None and resume and out.exists():
         try:
             old = read_dataset(out)
@@ -356,86 +289,6 @@ def sweep(
         if chunk_store is not None and store == out.with_name(out.name + ".parts"):
             chunk_store.remove()  # everything is in ``out`` now
     return ds
-
-
-def _plan(P1, Q1, phi, method, steps_per_cycle, contact) -> dict:
-    """What the sweep runs: the chunk function and its options, the cost per point, whether it
-    is batched, the method's name and the map's geometry (None: the single node)."""
-    if contact is not None:
-        from .contact_maps import map_spec
-
-        func, options, cost, own = map_spec(contact, steps_per_cycle, method)
-        return dict(
-            func=func,
-            options=options,
-            cost=cost,
-            batched=False,
-            geometry="sphere",
-            method=own if method is None else str(method).strip(),
-            model=contact.get("model", "mdr"),
-        )
-    method, func, entry = _check_method("exact" if method is None else method)
-    options = _options(entry, steps_per_cycle)
-    steps = options.get("steps_per_cycle", _DEFAULT_STEPS)
-    batched = func is not None and entry.kind != CLOSED_FORM
-    if func is None:
-        func, options = per_point_W_hat, {"method": method, **options}
-    return dict(
-        func=func,
-        options=options,
-        cost=_cost(entry, batched, steps),
-        batched=batched,
-        geometry=None,
-        method=method,
-        steps=steps,
-    )
-
-
-def _bytes(plan, n, chunks, phi, P1, Q1, scheduler, workers) -> float:
-    largest = max(b - a for a, b in chunks)
-    axes = P1.size + Q1.size + phi.size
-    if plan["geometry"] is None:
-        return memory.map_bytes(
-            n, axes, plan["method"], plan["steps"], largest, 1 if scheduler is not None else workers
-        )
-    from .contact_maps import map_bytes
-
-    return map_bytes(
-        plan["options"], n, largest * (1 if scheduler is not None else workers), workers, axes
-    )
-
-
-def _describe(plan, phi, P1, Q1, chunks):
-    """The sweep's description (what its chunks store keys on), fingerprint and attributes."""
-    options = {k: v for k, v in plan["options"].items() if k not in ("method",)}
-    digest = hashlib.sha256(b"".join(a.tobytes() for a in (phi, P1, Q1))).hexdigest()[:16]
-    description = {
-        "dims": list(DIMS),
-        "shape": [phi.size, P1.size, Q1.size],
-        "coords_sha256": digest,
-        "method": plan["method"],
-        "options": json.loads(json.dumps(options, default=repr)),
-    }
-    if plan["geometry"] is not None:
-        description["contact"] = plan["geometry"]
-    key = fingerprint({**description, "chunks": chunks})
-    attrs = {
-        "title": "lcpfric dissipation map",
-        "method": plan["method"],
-        "steps_per_cycle": options.get("steps_per_cycle", -1),
-        "lcpfric_version": version(),
-        "fingerprint": key,
-        "chunks": len(chunks),
-    }
-    if plan["geometry"] is not None:
-        attrs.update(
-            geometry=plan["geometry"],
-            model=plan["model"],
-            k_support_over_k_t0=options["k_support"],
-            tol=options["tol"],
-        )
-        attrs.update({k: options[k] for k in ("nodes", "grid", "dims", "nu") if k in options})
-    return description, key, attrs
 
 
 def _missing(values, phi, P1, Q1, options) -> dict:

@@ -387,9 +387,9 @@ def case_from_args(args):
         raise InputError(
             options,
             (
-                f"required with dimensional input (--{next(iter(given))} was given): --k11, --f and "
-                "--P0 set P̂1 = P1/P0, Q̂1 = Q1/(f P0) and W = f P0 Q1 Ŵ / k11; give them, or "
-                "leave out every dimensional option to give P̂1 and Q̂1 directly"
+                f"required with dimensional input (--{next(iter(given))} was given): "
+                "--k11, --f and --P0 set P̂1 = P1/P0, Q̂1 = Q1/(f P0) and W = f P0 Q1 Ŵ / k11; "
+                "give them, or leave out every dimensional option to give P̂1 and Q̂1 directly"
             ),
         )
     return node, {k: v for k, v in ASSUMED.items() if k not in given}

@@ -1,4 +1,5 @@
-"""The command line's grids of values: ``START:STOP:NUM`` or ``a,b,c`` (angles as multiples of pi)."""
+"""The command line's grids of values: ``START:STOP:NUM`` or ``a,b,c`` (angles as multiples of
+pi)."""
 
 from __future__ import annotations
 

@@ -9,7 +9,8 @@ Why it is exact
 Write ``w = F̂ - Q̂ = Q̂1 v̂`` (the tangential displacement in units of f P0 / k11) and
 ``L(θ) = max(P̂(θ), 0)`` with ``θ = ωt``. Coulomb's law (Eq. 8) keeps w inside the moving interval
 ``[lo(θ), hi(θ)] = [-L - Q̂, L - Q̂]`` and w moves only when an end of the interval pushes it: a
-one-dimensional sweeping process (``docs/paper-notes.md``). The dissipation is ``Ŵ = ∮ L |dv̂| = (1/Q̂1) ∮ L |dw|``.
+one-dimensional sweeping process (``docs/paper-notes.md``). The dissipation is
+``Ŵ = ∮ L |dv̂| = (1/Q̂1) ∮ L |dw|``.
 
 While in contact both ends are pure sinusoids (Eqs. 9-10 with Q0 = 0)::
 

@@ -199,8 +199,8 @@ class ExactCycle:
         Returns
         -------
         ndarray
-            The values of w, in the shape of ``theta`` (a 0-d array for a scalar): constant while the node
-            sticks, ``∓L - Q̂`` while it slips forward / backward, ``-Q̂`` while separated.
+            The values of w, in the shape of ``theta`` (a 0-d array for a scalar): constant while
+            the node sticks, ``∓L - Q̂`` while it slips forward / backward, ``-Q̂`` while separated.
         """
         x, idx = self._locate(theta)
         st = self._states[idx]

@@ -214,8 +214,9 @@ def exact_system_cycle(
 ) -> DiscreteCycle:
     """The exact periodic steady state of a :class:`~lcpfric.model.ContactSystem`.
 
-    For d = 1, harmonic loads of one frequency and independent normal springs. Event by event within a cycle, Newton's method on the cycle map between cycles (see the
-    module docstring). ``steady_state(system, method="exact")`` calls it.
+    For d = 1, harmonic loads of one frequency and independent normal springs. Event by event within
+    a cycle, Newton's method on the cycle map between cycles (see the module docstring).
+    ``steady_state(system, method="exact")`` calls it.
 
     Parameters
     ----------

@@ -53,8 +53,8 @@ def run_scalar(
     cphi: float | None = None,
     record: bool = True,
 ):
-    """The same event loop as :func:`run_vectorized` for one point, in scalar arithmetic (about 10x faster
-    than numpy on one-element arrays). Needs Q̂1 > 0. Returns (Ŵ, segments); segments are
+    """The same event loop as :func:`run_vectorized` for one point, in scalar arithmetic (about 10x
+    faster than numpy on one-element arrays). Needs Q̂1 > 0. Returns (Ŵ, segments); segments are
     collected only if ``record``."""
     if sphi is None:
         sphi, cphi = math.sin(phi), math.cos(phi)

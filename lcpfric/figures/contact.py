@@ -1,4 +1,5 @@
-"""Figures of the continuum contacts, sized and styled like the paper's (:mod:`lcpfric.figures.style`).
+"""Figures of the continuum contacts, sized and styled like the paper's
+(:mod:`lcpfric.figures.style`).
 
 * :func:`figure_hertz_maps`: ``W k_t0/(μ² P0²)`` of the Hertz contact (MDR) over (P1/P0,
   Q1/(μ P0)) for several phases (the continuum Fig. 4), one colour scale (logarithmic: the
@@ -290,9 +291,9 @@ def figure_zones(result, title: str = ""):
 def figure_tractions(result, model, fractions=(0.3, 0.6, 0.9)):
     """Shear tractions at the instants of the first loading where Q = x μ P, beside Cattaneo's
     ``q/(μ p0) = √(1 - ξ²) - (c/a) √(1 - ξ² a²/c²)`` with ``c/a = √(1 - x)`` (cylinder, the
-    element tractions) or ``(1 - x)^(1/3)`` (sphere, the inverse MDR transform of the spring
-    forces, :meth:`~lcpfric.model.continuum.mdr.MDRSphere.tractions`); ``result`` is the first cycle of
-    a constant-P, sinusoidal-Q run with ``record=True``."""
+    element tractions) or ``(1 - x)^(1/3)`` (sphere, the inverse MDR transform of the spring forces,
+    :meth:`~lcpfric.model.continuum.mdr.MDRSphere.tractions`); ``result`` is the first cycle of a
+    constant-P, sinusoidal-Q run with ``record=True``."""
     from ..model.continuum.closed_forms import cattaneo_stick_ratio, cylinder_contact, hertz_contact
 
     plane = hasattr(model, "pressure")

@@ -2,9 +2,12 @@
 node, and builders of common systems.
 
 ``loads``        periodic loads: :class:`Harmonic` (Eq. 1), :class:`Fourier`, :class:`Periodic`
+                 (``load_base``: the base class :class:`Load` and :class:`Periodic`)
 ``normal``       the normal-model protocol and :class:`IndependentSprings` (Eq. 2)
 ``system``       :class:`ContactSystem`: ``F = Q + K u``, ``|F_i| <= f_i N_i`` (Eqs. 2-3)
+                 (``system_checks``: the checks of its K and C)
 ``single_node``  :class:`SingleNode` (Fig. 2) and the normalization of Eq. (6)
+                 (``normalization``: W ↔ Ŵ and the check of the units)
 ``builders``     :func:`chain`, :func:`block_diagonal`
 ``continuum``    continuum contacts: :class:`MDRSphere`, :class:`HalfPlaneCylinder`,
                  :class:`HalfSpace` (imported on first use)

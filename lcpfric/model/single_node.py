@@ -4,7 +4,8 @@ Normalization (Eq. 6): ``P̂ = P/P0``, ``Q̂ = Q/(f P0)``, ``v̂ = k11 v / Q1``,
 ``Ŵ = k11 W / (f P0 Q1)``, so Ŵ depends only on (P̂1, Q̂1, φ). Internally lcpfric advances the
 single node in the units of force ``f P0`` and displacement ``f P0 / k11``: that is the general
 system with ``K = [[1]]``, ``f = [1]``, ``N = max(P̂, 0)`` and ``Q = Q̂``, whose dissipation J
-gives ``Ŵ = J / Q̂1`` (and the limit Ŵ = 0 at Q̂1 = 0).
+gives ``Ŵ = J / Q̂1`` (and the limit Ŵ = 0 at Q̂1 = 0). The conversions between W and Ŵ and the
+check of the units are :mod:`.normalization`'s.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from .. import _checks
 from ..errors import InputError
 from .loads import Fourier, Harmonic, Load, Periodic
 from .normal import IndependentSprings
+from .normalization import W_from_W_hat, W_hat_from_W, check_units
 from .system import ContactSystem
 
 if TYPE_CHECKING:
@@ -26,66 +28,6 @@ if TYPE_CHECKING:
     from ..results import Normalization
 
 __all__ = ["SingleNode", "W_hat_from_W", "W_from_W_hat"]
-
-_TINY = float(np.finfo(float).tiny)  # the smallest normal double, 2.2e-308
-_HUGE = float(np.finfo(float).max)
-
-
-def W_hat_from_W(
-    W: ArrayLike, k11: float, f: float, P0: float, Q1: ArrayLike
-) -> float | np.ndarray:
-    """Ŵ = k11 W / (f P0 Q1) (Eq. 6); zero where Q1 = 0 (the limit, since W = O(Q1²)).
-
-    Parameters
-    ----------
-    W : float or array_like
-        Dissipation per cycle, in the units of force x displacement.
-    k11 : float
-        Tangential spring stiffness.
-    f : float
-        Coefficient of friction.
-    P0 : float
-        Mean normal load.
-    Q1 : float or array_like
-        Tangential load amplitude (broadcast against ``W``).
-
-    Returns
-    -------
-    float or ndarray
-        Ŵ (0 where ``f P0 Q1 <= 0``); a float for scalar input.
-    """
-    W = np.asarray(W, dtype=float)
-    denom = f * P0 * np.asarray(Q1, dtype=float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        out = np.where(denom > 0, k11 * W / np.where(denom > 0, denom, 1.0), 0.0)
-    return out if out.ndim else float(out)
-
-
-def W_from_W_hat(
-    W_hat: ArrayLike, k11: float, f: float, P0: float, Q1: ArrayLike
-) -> float | np.ndarray:
-    """W = f P0 Q1 Ŵ / k11, the inverse of :func:`W_hat_from_W`.
-
-    Parameters
-    ----------
-    W_hat : float or array_like
-        Normalized dissipation per cycle Ŵ.
-    k11 : float
-        Tangential spring stiffness.
-    f : float
-        Coefficient of friction.
-    P0 : float
-        Mean normal load.
-    Q1 : float or array_like
-        Tangential load amplitude (broadcast against ``W_hat``).
-
-    Returns
-    -------
-    float or ndarray
-        W, in the units of force x displacement; a float for scalar input.
-    """
-    out = f * P0 * np.asarray(Q1, dtype=float) * np.asarray(W_hat, dtype=float) / k11
-    return out if out.ndim else float(out)
 
 
 class SingleNode:
@@ -199,7 +141,7 @@ class SingleNode:
             )
         self.normal_load = normal_load
         self.tangential_load = tangential_load
-        self._check_units(harmonic_inputs)
+        check_units(self, harmonic_inputs)
         periods = [ld.period for ld in (normal_load, tangential_load) if not ld.is_constant]
         if len(periods) == 2 and not math.isclose(periods[0], periods[1], rel_tol=1e-12):
             raise InputError(
@@ -207,54 +149,6 @@ class SingleNode:
                 f"must have the normal load's period {periods[0]}, got {periods[1]}",
             )
         self._system = None
-
-    def _check_units(self, harmonic_inputs: bool) -> None:
-        """P0, f P0 and the normalized amplitudes P̂1 = P1/P0, Q̂1 = Q1/(f P0) must be finite
-        normal doubles (no overflow to inf, no underflow to 0 or to subnormals)."""
-        P0, f = self.normal_load.mean, self.f
-        p_name = "P1" if harmonic_inputs else "normal_load"
-        q_name = "Q1" if harmonic_inputs else "tangential_load"
-        if not _TINY <= P0 <= _HUGE:
-            raise InputError(
-                "P0",
-                f"must be in [{_TINY:.4g}, {_HUGE:.4g}] (the loads are divided by P0), got {P0!r}",
-            )
-        fp0 = f * P0
-        if not _TINY <= fp0 <= _HUGE:
-            raise InputError(
-                "f",
-                f"the force unit f·P0 = {fp0:.4g} must be in [{_TINY:.4g}, "
-                f"{_HUGE:.4g}] (f = {f!r}, P0 = {P0!r})",
-            )
-        for name, k in (("k11", self.k11), ("k22", self.k22)):
-            if k < _TINY:
-                raise InputError(name, f"must be >= {_TINY:.4g} (a normal double), got {k!r}")
-        unit = fp0 / self.k11
-        if not _TINY <= unit <= _HUGE:
-            raise InputError(
-                "k11",
-                f"the displacement unit f·P0/k11 = {unit:.4g} must be in "
-                f"[{_TINY:.4g}, {_HUGE:.4g}] (f·P0 = {fp0!r}, "
-                f"k11 = {self.k11!r})",
-            )
-        omega = 2 * math.pi / self.period
-        if not (_TINY <= omega and math.isfinite(self.period)):
-            raise InputError(
-                "omega", f"must be >= {_TINY:.4g} (the period 2π/ω must be finite), got {omega!r}"
-            )
-        for name, amp, unit, what in (
-            (p_name, self.normal_load.amplitude, P0, "P1/P0"),
-            (q_name, self.tangential_load.amplitude, fp0, "Q1/(f·P0)"),
-        ):
-            ratio = amp / unit
-            if not math.isfinite(ratio) or (amp > 0 and ratio < _TINY):
-                raise InputError(
-                    name,
-                    f"the normalized amplitude {what} = {ratio:.4g} is not "
-                    f"representable (allowed {what} = 0 or in "
-                    f"[{_TINY:.4g}, {_HUGE:.4g}]); got amplitude {amp!r} "
-                    f"for the unit {unit!r}",
-                )
 
     @classmethod
     def normalized(cls, P1: float, Q1: float, phi: float = 0.0) -> SingleNode:

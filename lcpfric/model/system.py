@@ -9,8 +9,8 @@ Tangential stiffness or compliance
 ----------------------------------
 The steppers work with K (``explicit``, ``projection``) or with C = K⁻¹ (the convex backends,
 whose unknowns are the friction forces). A model that knows C directly passes it as
-``compliance=`` and it is used as given, after a check that it is K⁻¹; otherwise C is computed
-from K once, on first use.
+``compliance=`` and it is used as given, after a check that it is K⁻¹ (the checks of K and C:
+:mod:`.system_checks`); otherwise C is computed from K once, on first use.
 
 Matrix-free systems
 -------------------
@@ -36,6 +36,7 @@ from .. import _checks
 from ..errors import InputError
 from .loads import Load, LoadSet
 from .normal import NormalModel, check_normal_model
+from .system_checks import check_compliance_operator, check_inverse, check_stiffness
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -123,8 +124,6 @@ class ContactSystem:
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self):
-        import scipy.sparse as sp
-
         if self.dims not in (1, 2):
             raise InputError("dims", f"must be 1 or 2 tangential directions, got {self.dims!r}")
         f = _checks.finite_array("friction", self.friction, nonneg=True).ravel()
@@ -140,25 +139,9 @@ class ContactSystem:
         m = n * self.dims
         K = self.stiffness
         if K is None:
-            self._check_operator(m)
-        elif sp.issparse(K):
-            K = sp.csc_matrix(K, dtype=float)
-            dense = K.toarray() if m <= 2000 else None
+            object.__setattr__(self, "compliance", check_compliance_operator(self.compliance, m))
         else:
-            K = _checks.finite_array("stiffness", K)
-            K = np.atleast_2d(K)
-            dense = K
-        if K is not None and K.shape != (m, m):
-            raise InputError("stiffness", f"must be {m} x {m} (n·d), got {K.shape}")
-        if K is not None and dense is not None:
-            if not np.all(np.isfinite(dense)):
-                raise InputError("stiffness", "every entry must be finite")
-            if not np.allclose(dense, dense.T, rtol=1e-12, atol=0.0):
-                raise InputError("stiffness", "must be symmetric")
-            try:
-                np.linalg.cholesky(dense)
-            except np.linalg.LinAlgError:
-                raise InputError("stiffness", "must be positive definite") from None
+            K = check_stiffness(K, m)
         object.__setattr__(self, "stiffness", K)
         loads = tuple(self.tangential_loads)
         if len(loads) != m or not all(isinstance(q, Load) for q in loads):
@@ -174,43 +157,7 @@ class ContactSystem:
             )
         object.__setattr__(self, "_cache", {"period": period})
         if self.compliance is not None and K is not None:
-            self._check_compliance()
-
-    def _check_operator(self, m: int) -> None:
-        """A matrix-free system: C a finite, symmetric, positive m x m operator (probed with two
-        random vectors: ``|xᵀCy - yᵀCx| <= 1e-8 |x| |Cy|`` and ``xᵀCx > 0``)."""
-        from scipy.sparse.linalg import aslinearoperator
-
-        if self.compliance is None:
-            raise InputError(
-                "stiffness",
-                "is None: a matrix-free system needs compliance= "
-                "(a LinearOperator with C x); give one of the two",
-            )
-        try:
-            op = aslinearoperator(self.compliance)
-        except (TypeError, ValueError) as exc:
-            raise InputError(
-                "compliance", f"must be a matrix or a LinearOperator ({exc})"
-            ) from None
-        if op.shape != (m, m):
-            raise InputError("compliance", f"must be {m} x {m} (n·d), got {op.shape}")
-        rng = np.random.default_rng(12345)
-        x, y = rng.standard_normal(m), rng.standard_normal(m)
-        Cx = np.asarray(op.matvec(x), dtype=float).ravel()
-        Cy = np.asarray(op.matvec(y), dtype=float).ravel()
-        if Cx.shape != (m,) or not (np.all(np.isfinite(Cx)) and np.all(np.isfinite(Cy))):
-            raise InputError("compliance", f"products C x must be finite vectors of {m}")
-        scale = float(np.linalg.norm(x) * max(np.linalg.norm(Cx), np.linalg.norm(Cy)))
-        if not abs(x @ Cy - y @ Cx) <= 1e-8 * scale:
-            raise InputError(
-                "compliance",
-                "must be symmetric: xᵀCy differs from yᵀCx by "
-                f"{abs(x @ Cy - y @ Cx):.3g} (relative > 1e-8)",
-            )
-        if not (x @ Cx > 0 and y @ Cy > 0):
-            raise InputError("compliance", "must be positive definite: xᵀCx <= 0 for a random x")
-        object.__setattr__(self, "compliance", op)
+            object.__setattr__(self, "compliance", check_inverse(K, self.compliance, m))
 
     @property
     def matrix_free(self) -> bool:
@@ -231,25 +178,6 @@ class ContactSystem:
             C = np.asarray(self.compliance.matmat(np.eye(self.m)), dtype=float)
             self._cache["C"] = 0.5 * (C + C.T)
         return self._cache["C"]
-
-    def _check_compliance(self) -> None:
-        """A supplied C must be K⁻¹: ``max |K C x - x| <= 1e-8 max |x|``."""
-        C = self.compliance
-        C = np.asarray(C.toarray() if hasattr(C, "toarray") else C, dtype=float)
-        m = self.m
-        if C.shape != (m, m) or not np.all(np.isfinite(C)):
-            raise InputError(
-                "compliance", f"must be a finite {m} x {m} matrix, got shape {C.shape}"
-            )
-        X = np.eye(m) if m <= 2000 else np.random.default_rng(0).standard_normal((m, 8))
-        err = float(np.max(np.abs(self.stiffness @ (C @ X) - X)))
-        if not err <= 1e-8:
-            raise InputError(
-                "compliance",
-                f"must be the inverse of the stiffness: "
-                f"max |K C x - x| = {err:.3g} > 1e-8 on unit vectors",
-            )
-        object.__setattr__(self, "compliance", C)
 
     @property
     def n(self) -> int:

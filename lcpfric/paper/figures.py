@@ -10,9 +10,9 @@
   (logarithmic axes, so that the onset of slip and of separation show).
 
 Every map carries the exact shakedown boundary (the zero contour of
-:func:`~lcpfric.analysis.shakedown.shakedown_margin`, computed on a finer grid than the map). Figures are
-built as :class:`matplotlib.figure.Figure` objects without pyplot, so nothing here touches the
-user's matplotlib backend or global settings; files are written with the Agg renderer.
+:func:`~lcpfric.analysis.shakedown.shakedown_margin`, computed on a finer grid than the map).
+Figures are built as :class:`matplotlib.figure.Figure` objects without pyplot, so nothing here
+touches the user's matplotlib backend or global settings; files are written with the Agg renderer.
 
 Print rules (checked by the tests): every figure is at most :data:`PAGE_WIDTH` (7.2 in) wide, or
 :data:`COLUMN_WIDTH` (3.5 in) for the one-column Figs. 3, 5-7 and 9; no text is smaller than
@@ -80,7 +80,8 @@ def write_figures(
         Called with a one-line message when the maps are computed and as each figure is written
         (e.g. ``lambda m: print(m, file=sys.stderr)``); default: silent.
     **sweep_options
-        Passed to :func:`lcpfric.analysis.sweep.sweep` for the maps (``scheduler``, ``processes``...).
+        Passed to :func:`lcpfric.analysis.sweep.sweep` for the maps (``scheduler``,
+        ``processes``...).
 
     Returns
     -------

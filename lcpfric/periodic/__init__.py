@@ -6,6 +6,8 @@
                   the exact solver's cycle Newton uses it too)
 ``acceleration``  where a cycle's start is moved: Aitken's jumps, the slip memory, Anderson's
                   acceleration
+``assemble``      the driver's result from its last cycle (a single node's normalization, a
+                  contact's geometry), the shakedown test, the unresolved slip zone's warning
 ``batched``       the one cycle loop of many points advanced together (single-node grids, the
                   MDR sphere's maps)
 """

@@ -6,8 +6,9 @@ model's scene (:mod:`lcpfric.scene`) until a cycle repeats the previous one with
 (:mod:`.measure`: the one convergence measure), or until ``max_cycles``; between cycles the
 start may be moved towards the fixed point of the cycle map (:mod:`.acceleration`). A stepper
 that settles over many cycles (the half-space with d = 2) has its early cycles' increments
-solved loosely (:func:`loose_tolerance`). Non-convergence is reported (``converged=False``, and
-an error or a warning by ``on_nonconvergence``), never returned as converged.
+solved loosely (:func:`loose_tolerance`). The last cycle becomes the result in the model's
+units (:mod:`.assemble`). Non-convergence is reported (``converged=False``, and an error or a
+warning by ``on_nonconvergence``), never returned as converged.
 """
 
 from __future__ import annotations
@@ -23,12 +24,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .. import _checks, memory
-from ..errors import ConvergenceError, ConvergenceWarning, InputError, ResolutionWarning
+from ..errors import ConvergenceError, ConvergenceWarning, InputError
 from ..methods import CLOSED_FORM, get_stepper
 from ..model import ContactSystem, SingleNode
-from ..results import ContactExtras, CycleResult, State, SteadyState
+from ..results import SteadyState
 from ..scene import Scene, make_scene
 from .acceleration import FrictionLimits, choose
+from .assemble import assemble, is_shakedown, warn_unresolved
 from .measure import cycle_change, displacement_change, largest_limit, load_scales
 
 if TYPE_CHECKING:
@@ -298,7 +300,7 @@ def steady_state(
             span=None if cyc.span is None else cyc.span * scale,
         )
     converged = bool(change <= tol and accurate)
-    result = _assemble(
+    result = assemble(
         scene,
         solver,
         cyc,
@@ -310,7 +312,7 @@ def steady_state(
         np.asarray(changes),
         extrapolations,
     )
-    if converged and _shakedown(cyc):
+    if converged and is_shakedown(cyc):
         result = replace(
             result, message="converged: shakedown (no node slips over the steady cycle)"
         )
@@ -331,7 +333,7 @@ def steady_state(
         if on_nonconvergence == "warn":
             warnings.warn(msg, ConvergenceWarning, stacklevel=2)
     if scene.system is None:
-        _unresolved(scene, result.W)
+        warn_unresolved(scene, result.W)
     return result
 
 
@@ -360,34 +362,12 @@ def _name(scene) -> str:
     return type(scene.model if scene.model is not None else scene.system).__name__
 
 
-def _unresolved(scene, W: float) -> None:
-    """A continuum contact's steady cycle in which no element slips while the loads change:
-    a smooth contact slips at its edge (where p -> 0) under almost any change of the loads, in
-    a zone the grid may not resolve: warn."""
-    P, Q = scene.loads
-    if W == 0.0 and not (P.is_constant and Q.is_constant) and np.any(scene.Q != 0.0):
-        model = scene.model
-        warnings.warn(
-            f"{type(model).__name__}: no element slipped over the steady cycle "
-            f"(W = 0 on {model.nodes} nodes): a slip zone thinner than an element is "
-            f"not resolved (unless the loads change in proportion, |dQ/dP| < mu, "
-            f"where W = 0 is exact); {model.refine_hint}",
-            ResolutionWarning,
-            stacklevel=3,
-        )
-
-
 def _compliance_scale(scene) -> float:
     """The largest diagonal compliance, max C_ii (C = K⁻¹; 1/k for a diagonal K). Beyond
     :data:`~lcpfric.model.system.COMPLIANCE_DENSE` unknowns C is not formed and the estimate
     from below 1/min K_ii is used (a scale for the convergence test only; see
     :meth:`~lcpfric.model.ContactSystem.compliance_diagonal`)."""
     return float(np.max(scene.system.compliance_diagonal()))
-
-
-def _shakedown(cyc: CycleResult) -> bool:
-    """A shakedown: no node recorded slipping over the cycle and no dissipation at all."""
-    return cyc.W == 0.0 and not np.any((cyc.state == State.FORWARD) | (cyc.state == State.BACKWARD))
 
 
 def _method(method, options: dict):
@@ -433,84 +413,3 @@ def _unit_scaled(scene: Scene) -> tuple[Scene, float]:
     return replace(
         scene, Q=scene.Q / scale, N=scene.N / scale, _cache={"contact": scene.contact}
     ), scale  # contact is scale-free
-
-
-def _assemble(
-    scene, solver, cyc, W_cycles, converged, change, requested, seconds, changes, extrapolations
-) -> SteadyState:
-    model = scene.model
-    stats = dict(cyc.stats)
-    if extrapolations:
-        stats["extrapolations"] = extrapolations
-    common = dict(
-        cycles=len(W_cycles),
-        converged=converged,
-        method=solver.label,
-        steps_requested=requested,
-        steps_used=scene.steps,
-        t=cyc.t,
-        seconds=seconds,
-        change=change,
-        message="converged" if converged else "",
-        changes=changes,
-    )
-    rows = [0, -1] if cyc.t.size != scene.t.size else slice(None)
-    if scene.system is None:
-        return _continuum(scene, cyc, W_cycles, rows, {**scene.stats, **stats}, common)
-    if model is None:
-        N = scene.N if cyc.t.size == scene.t.size else scene.N[[0, -1]]
-        return SteadyState(
-            W=float(W_cycles[-1]),
-            W_cycles=W_cycles,
-            v=cyc.u,
-            F=cyc.F,
-            N=np.asarray(N),
-            state=cyc.state,
-            solver_stats=stats,
-            **common,
-        )
-    # a single node is advanced in the units f P0 (force), f P0/k11 (displacement): J = Q̂1 Ŵ
-    q1 = model.Q1_hat
-    W_hat_cycles = W_cycles / q1 if q1 > 0 else np.zeros_like(W_cycles)
-    v, F, N = model.series(cyc.u[:, 0], cyc.F[:, 0], scene.N[:, 0])
-    return SteadyState(
-        W=float(model.W(W_hat_cycles[-1])),
-        W_cycles=np.atleast_1d(model.W(W_hat_cycles)),
-        v=v,
-        F=F,
-        N=N,
-        state=cyc.state[:, 0],
-        normalization=model.normalization(),
-        W_hat_cycles=W_hat_cycles,
-        solver_stats=stats,
-        **common,
-    )
-
-
-def _continuum(scene, cyc, W_cycles, rows, stats, common) -> SteadyState:
-    """A continuum contact's steady state, with its geometry (:class:`ContactExtras`)."""
-    model = scene.model
-    name, factor = model.normalization()
-    W = W_cycles[-1]
-    size = scene.sizes
-    extras = ContactExtras(
-        W_normalized=W * factor,
-        normalization=name,
-        contact_size_max=float(size.max()),
-        k_t0=model.k_t0,
-        nodes=model.nodes,
-        nodes_in_contact_max=int(np.max(np.count_nonzero(scene.limits > 0, axis=1))),
-        x=model.x,
-        size=size,
-    )
-    return SteadyState(
-        W=W,
-        W_cycles=W_cycles,
-        v=cyc.u,
-        F=cyc.F,
-        N=scene.N[rows],
-        state=cyc.state,
-        solver_stats=stats,
-        contact=extras,
-        **common,
-    )

@@ -9,7 +9,8 @@
 ``continuum``       what the continuum contacts' steppers share
 ``mdr_bar``         the MDR sphere's bar equation, exact per increment
 ``halfplane_pdas``  the half-plane cylinder's primal-dual active set
-``newton_cg``       the half-space's semismooth Newton on FFT products (``newton_step``)
+``newton_cg``       the half-space's semismooth Newton on FFT products: the stepper; its
+                    increments (``newton_increment``) and their steps (``newton_step``)
 ``slip_memory``     what a cycle remembers of its starting slips (d = 2)
 
 The convex-solver backends live in :mod:`lcpfric.backends` and follow the same contract.

@@ -20,12 +20,12 @@ free nodes F (slipping and separated) carry the forces ``r_F`` (``±b``, 0), so
     K_FF δ_F = r_F - F^tr_F,   δ_S = 0,   F = F^tr + K δ,   F^tr = Q_{k+1} + K u_k.
 
 The pattern is then updated node by node from the natural map ``z_i = F_i - Δu_i / k_ii``
-(``z > b``: slip at +b; ``z < -b``: slip at -b; else stick): the semismooth Newton method for
-the box-constrained problem, which is the primal-dual active-set method of Hintermüller, Ito and
-Kunisch. It is warm-started from the previous increment's pattern (the nodes on their limits
-at the start of the increment keep slipping, and those whose trial force is out of its limits
-start to), ends when the pattern repeats, and converges in a few iterations when few nodes
-change state, which is the case between two increments. Should it revisit a pattern (possible for a K that is not an
+(``z > b``: slip at +b; ``z < -b``: slip at -b; else stick): the semismooth Newton method for the
+box-constrained problem, which is the primal-dual active-set method of Hintermüller, Ito and
+Kunisch. It is warm-started from the previous increment's pattern (the nodes on their limits at the
+start of the increment keep slipping, and those whose trial force is out of its limits start to),
+ends when the pattern repeats, and converges in a few iterations when few nodes change state, which
+is the case between two increments. Should it revisit a pattern (possible for a K that is not an
 M-matrix), it continues with single changes, the lowest-numbered violated node first (Murty's
 least-index rule), which terminates for any symmetric positive definite K.
 
@@ -108,9 +108,9 @@ class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
     Parameters
     ----------
     block : {"auto", "dense", "banded", "sparse"}
-        How ``K_FF`` is kept (:mod:`~lcpfric.linalg.blocks`): by default an inverse with a
-        low-rank correction for a dense K; LAPACK's banded Cholesky for a sparse K of small bandwidth; SuperLU
-        otherwise.
+        How ``K_FF`` is kept (:mod:`~lcpfric.linalg.blocks`): by default an inverse with a low-rank
+        correction for a dense K; LAPACK's banded Cholesky for a sparse K of small bandwidth;
+        SuperLU otherwise.
     check_tol : float
         Largest residual accepted (relative to the problem scale), as for the other backends.
     max_iter : int

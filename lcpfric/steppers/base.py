@@ -146,9 +146,9 @@ class Stepper:
     def restart(self, scene: Scene, state: StepState, u: np.ndarray) -> StepState:
         """The state with the displacements u at the cycle's start, its forces in the cone.
 
-        The forces are put back inside the friction cone (:func:`inside`). Called where the driver's acceleration moves a cycle's start
-        (:mod:`lcpfric.periodic.acceleration`); a stepper whose state holds more than ``u``
-        and ``F`` overrides it.
+        The forces are put back inside the friction cone (:func:`inside`). Called where the driver's
+        acceleration moves a cycle's start (:mod:`lcpfric.periodic.acceleration`); a stepper whose
+        state holds more than ``u`` and ``F`` overrides it.
 
         Parameters
         ----------

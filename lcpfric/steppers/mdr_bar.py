@@ -3,11 +3,11 @@ r"""The MDR sphere's increment (``method="mdr-bar"``): the bar's equation, solve
 The increment to ``t_{j+1}`` is problem (P) of the other backends, the maximum-dissipation
 projection of the trial state, for this system: given the bar's displacement u the springs are
 independent, and each one's answer is its return mapping ``F_i(u) = clip(k_i (v_i - u), -b_i,
-b_i)``, ``b_i = μ N_i(t_{j+1})`` (lcpfric's sign: ``F_i = k_i (v_i - u)`` is the friction
-force, and the slip opposes it). The bar's equilibrium ``h(u) = Σ F_i(u) - k_support u + Q = 0``
-is one monotone piecewise-linear equation in u, solved exactly (:func:`bar_root`: a safeguarded
-Newton iteration from the previous u, exact once a step keeps every spring on its side of its
-breakpoints ``v_i ∓ b_i/k_i``; usually two or three O(n) passes); the rank-one coupling of the springs through
+b_i)``, ``b_i = μ N_i(t_{j+1})`` (lcpfric's sign: ``F_i = k_i (v_i - u)`` is the friction force, and
+the slip opposes it). The bar's equilibrium ``h(u) = Σ F_i(u) - k_support u + Q = 0`` is one
+monotone piecewise-linear equation in u, solved exactly (:func:`bar_root`: a safeguarded Newton
+iteration from the previous u, exact once a step keeps every spring on its side of its breakpoints
+``v_i ∓ b_i/k_i``; usually two or three O(n) passes); the rank-one coupling of the springs through
 the bar is never formed as a matrix. With ``k_support = 0`` the equation has a root only when
 ``|Q| <= μ P`` (else the whole contact slides): such loads are refused before any work, naming
 the instants and the fix (a support stiffness).

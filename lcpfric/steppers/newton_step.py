@@ -1,9 +1,9 @@
-r"""The semismooth Newton steps of the half-space's increments (:mod:`.newton_cg`): with the
-pattern of an iterate fixed, one symmetric positive definite linear system on the sticking
-components and, for d = 2, the components of the slipping nodes' forces tangent to their circle
-(with the diagonal term ``|Δs_i| / b_i``), under the equilibrium as a linear constraint, solved
-by conjugate gradients (:func:`lcpfric.linalg.cg.cg`) on FFT products, preconditioned by the
-inverse of the padded circulant operator.
+r"""The semismooth Newton steps of the half-space's increments (:mod:`.newton_increment`):
+with the pattern of an iterate fixed, one symmetric positive definite linear system on the
+sticking components and, for d = 2, the components of the slipping nodes' forces tangent to
+their circle (with the diagonal term ``|Δs_i| / b_i``), under the equilibrium as a linear
+constraint, solved by conjugate gradients (:func:`lcpfric.linalg.cg.cg`) on FFT products,
+preconditioned by the inverse of the padded circulant operator.
 """
 
 from __future__ import annotations
@@ -39,7 +39,7 @@ CG_TOL, _CG_TOL1 = 0.9, 0.1
 
 
 class NewtonSteps:
-    """The Newton steps of :class:`~lcpfric.steppers.newton_cg.HalfSpaceIncrements` (which
+    """The Newton steps of :class:`~lcpfric.steppers.newton_increment.HalfSpaceIncrements` (which
     holds the grid: ``nodes``, ``k_support``, ``c``, ``N``, ``h``, ``pos``, ``cpos``, the
     counted operator ``op``, ``stats``, and ``compliance`` and ``pad``)."""
 

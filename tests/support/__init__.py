@@ -47,6 +47,7 @@ EXTRAS = {
     "dask.distributed": "dist",
     "tqdm": "dist",
     "mpmath": "test",
+    "numpydoc": "docs",
     "clarabel": "clarabel",
     "osqp": "osqp",
     "qpsolvers": "qpsolvers",

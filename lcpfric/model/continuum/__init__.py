@@ -7,8 +7,9 @@
 ``halfplane``     :class:`HalfPlaneCylinder`: the plane contact by half-plane boundary elements
 ``halfspace``     :class:`HalfSpace`: any surface on the 3-D half-space by boundary elements on
                   a grid, tractions along the load (d = 1) or in the plane (d = 2); products by
-                  FFT (``influence``), the normal problem by constrained conjugate gradients
-                  (``normal3d``)
+                  FFT (``influence``; the tangential compliance's on the grid:
+                  ``halfspace_compliance``), the normal problem by constrained conjugate
+                  gradients (``normal3d``)
 ``bridge``        a contact as a matrix-free :class:`~lcpfric.model.ContactSystem`
 ``closed_forms``  the classical closed forms they are validated against
 

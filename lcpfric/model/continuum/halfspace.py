@@ -9,7 +9,7 @@ uniform tractions; the nodes are the elements' centres. The surface is the gap a
 total normal force P(t) and the tangential force Q(t) along x.
 
 Influence coefficients and products: :mod:`.influence` (Love's rectangle solutions, products by
-zero-padded FFT; no matrix is formed).
+zero-padded FFT; no matrix is formed); the compliance's on the grid: :mod:`.halfspace_compliance`.
 
 The normal problem
 ------------------
@@ -24,18 +24,17 @@ The tangential problem, each increment's problem (P), is the ``newton-cg`` stepp
 from __future__ import annotations
 
 import math
-import time
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ... import _checks, memory
 from ...errors import InputError
-from ...linalg.cg import cg
 from .base import ContactModel
 from .closed_forms import hertz_contact, moduli
-from .influence import Convolution, Counted
-from .normal3d import normal_contact
+from .halfspace_compliance import apply, compliance, compliance_springs, nodes, pad  # noqa: F401
+from .influence import Convolution
+from .normal3d import NormalProblem
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -392,32 +391,7 @@ class HalfSpace(ContactModel):
         tuple of (LinearOperator, ndarray, ndarray)
             C ``(m, m)``, m = N² d; ``C⁻¹ B`` ``(m,)`` (d = 1) or ``(m, 2)``; diag C ``(m,)``.
         """
-        from scipy.sparse.linalg import LinearOperator
-
-        n, d = self.nodes, self.dims
-        m = n * d
-
-        def product(x):
-            return compliance(self, self.op, x).reshape(-1)
-
-        op = LinearOperator((m, m), matvec=product, rmatvec=product, dtype=float)
-        h2 = self.h**2
-        stats = {"cg": 0}
-        W = np.empty((m, d))
-        for j in range(d):
-            e = np.zeros((n, d))
-            e[:, j] = 1.0
-            x, _ = cg(
-                op.matvec,
-                e.ravel(),
-                np.zeros(m),
-                None,
-                lambda r: apply(self, self.op, "precondition", r, h2).reshape(-1),
-                1e-13 * float(np.max(np.abs(e))) * self.c,
-                stats,
-            )
-            W[:, j] = x
-        return op, (W[:, 0] if d == 1 else W), np.full(m, self.c)
+        return compliance_springs(self)
 
     def entry_loads(self) -> np.ndarray:
         """Per element, the normal load at which it enters the contact (dense: small grids).
@@ -444,78 +418,3 @@ class HalfSpace(ContactModel):
                 f"{self.nodes} elements (at most {DENSE_MAX})",
             )
         return entry_loads(self.op.dense("n"), self.g0, self.h**2, self.P_max)
-
-
-class NormalProblem:
-    """The frictionless normal problem of a :class:`HalfSpace` under a sequence of loads, by
-    constrained conjugate gradients (:func:`~.normal3d.normal_contact`), each load started from
-    the previous one's pressures; loads equal to 12 digits share one solve (a harmonic P repeats
-    its values twice a cycle, up to round-off: their pressures differ by less than that).
-    ``stats``: the solves' time, FFT products and count."""
-
-    def __init__(self, model, seed=({}, None)):
-        self.model = model
-        self.op = Counted(model.op)
-        self.cache: dict[float, np.ndarray] = dict(seed[0])
-        self.last = seed[1]
-        self.stats = {"normal_seconds": 0.0, "normal_products": 0, "normal_solves": 0}
-
-    def pressure(self, P: float) -> np.ndarray:
-        """The pressures ``(N²,)`` under the load P."""
-        P = float(P)
-        if P <= 0.0:
-            return np.zeros(self.model.nodes)
-        key = float(f"{P:.11e}")
-        got = self.cache.get(key)
-        if got is not None:
-            return got
-        start, count = time.perf_counter(), self.op.products
-        sol = normal_contact(self.op, self.model.g0, P, p0=self.last)
-        self.stats["normal_seconds"] += time.perf_counter() - start
-        self.stats["normal_products"] += self.op.products - count
-        self.stats["normal_solves"] += 1
-        self.last = sol.p
-        p = sol.p.ravel()
-        if len(self.cache) < 20_000:
-            self.cache[key] = p
-        return p
-
-    def solution(self, t):
-        """``(limits, sizes, stats)`` at the instants t (:meth:`HalfSpace.normal_solution`)."""
-        model = self.model
-        P = np.atleast_1d(np.asarray(model.P(np.asarray(t, dtype=float)), dtype=float))
-        out = np.empty((P.size, model.nodes))
-        for j, x in enumerate(P):
-            out[j] = self.pressure(x)
-        out *= model.mu * model.h**2
-        sizes = np.array(
-            [math.sqrt(np.count_nonzero(self.pressure(x)) * model.h**2 / math.pi) for x in P]
-        )
-        return out, sizes, dict(self.stats)
-
-
-def pad(model, F):
-    """Node-major forces ``(n, d)`` or flat in the FFT's padded layout
-    (:meth:`~.influence.Convolution.view`)."""
-    N, d = model.N, model.dims
-    buf = model.op.empty()
-    model.op.view(buf)[:N, :N] = np.asarray(F, dtype=float).reshape(N, N, d)
-    return buf
-
-
-def nodes(model, buf):
-    """A padded array's nodes, node-major ``(n, d)`` (a view)."""
-    N, d = model.N, model.dims
-    return model.op.view(buf)[:N, :N].reshape(N * N, d)
-
-
-def apply(model, op, kind, F, factor):
-    """The product ``kind`` (:meth:`~.influence.Convolution.padded`) of node-major forces
-    ``(n, d)`` or flat, times ``factor``, by ``op`` (the model's operator, or a
-    :class:`~.influence.Counted` one): ``(n, d)``."""
-    return nodes(model, op.padded(kind, pad(model, F), factor))
-
-
-def compliance(model, op, F) -> np.ndarray:
-    """``C F``: relative tangential displacements ``(n, d)`` from forces ``(n, d)`` or flat."""
-    return apply(model, op, "tangential", F, 1.0 / model.h**2)

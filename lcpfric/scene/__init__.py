@@ -25,6 +25,9 @@ keeps the friction limits of every node (``limits``), the contact size at each i
 displacement and force scales (``scales``). Its stepper (``mdr-bar``, ``halfplane-pdas``,
 ``newton-cg``) advances the model on it; :func:`with_tangential_load` gives the same scene under
 another tangential load (a map's points of one normal load share their normal problem).
+
+A scene too large to hold its loads as arrays keeps them as :class:`Rows`, computed when asked
+for (:mod:`lcpfric.scene.rows`, with the reductions that go chunk by chunk of rows).
 """
 
 from __future__ import annotations
@@ -35,15 +38,17 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import _checks, memory
-from .errors import InputError
-from .model import ContactSystem, SingleNode
+from .. import _checks, memory
+from ..errors import InputError
+from ..model import ContactSystem, SingleNode
+from .rows import Rows, column_max, column_reduce
+from .rows import chunks as chunks  # re-exported: lcpfric.scene.chunks
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
-    from .model.continuum.base import ContactModel
-    from .model.loads import Load
+    from ..model.continuum.base import ContactModel
+    from ..model.loads import Load
 
 __all__ = ["Scene", "Rows", "make_scene", "with_tangential_load", "increments", "column_reduce"]
 
@@ -229,7 +234,7 @@ def make_scene(
     SolverError
         A continuum contact's normal problem failed.
     """
-    from .model.continuum.base import ContactModel
+    from ..model.continuum.base import ContactModel
 
     if isinstance(system_or_model, ContactModel):
         if t0 is not None:
@@ -275,7 +280,7 @@ def make_scene(
     # roots are machine-precise, and the cycle's end (start + period) may be a root whose
     # evaluation leaves ~1e-13; treated as contact, that would turn a separated increment into a
     # contact one. The threshold is a few ulps of each node's load scale.
-    zero = 64 * np.finfo(float).eps * _column_max(system.normal.scale, grid, system.n)
+    zero = 64 * np.finfo(float).eps * column_max(system.normal.scale, grid, system.n)
 
     def reactions(t):
         N = system.normal.reactions(t)
@@ -292,7 +297,7 @@ def make_scene(
 def _continuum_scene(model, steps, placement, grid, history) -> Scene:
     """A continuum contact's scene (module docstring): its normal problem solved on the grid,
     after the checks (loads, memory) that need no work."""
-    from .model.continuum.base import gross_sliding
+    from ..model.continuum.base import gross_sliding
 
     if placement not in (None, "uniform"):
         raise InputError(
@@ -359,7 +364,7 @@ def with_tangential_load(scene: Scene, Q: Load | float) -> Scene:
         ``scene`` is not a continuum contact's; Q is neither a Load nor a number, or has
         another period; ``k_support = 0`` and ``|Q| > μ P`` at some instant.
     """
-    from .model.continuum.base import gross_sliding, load
+    from ..model.continuum.base import gross_sliding, load
 
     if scene.system is not None:
         raise InputError("scene", "with_tangential_load is for a continuum contact's scene")
@@ -378,72 +383,6 @@ def _tangential(scene: Scene, Q) -> Scene:
 
 #: a scene whose Q and N would take more bytes than this keeps them as :class:`Rows`
 LAZY_BYTES = 256 * 2**20
-_CHUNK_BYTES = 32 * 2**20
-
-
-class Rows:
-    """The rows of Q or N on the grid, computed when asked for: a large scene (1e5 nodes, 2000
-    steps: 1.6 GB each as arrays) keeps its loads as functions of time.
-
-    ``rows[k]`` is the row at ``t[k]`` (1-D), ``rows[ks]`` (a slice or an index array) the rows
-    at those instants (2-D); ``rows / s`` scales the values; ``np.asarray(rows)`` builds the
-    whole array (what a method that needs it does; its memory is then checked like any
-    other). A method written for large systems asks for rows one instant at a time.
-    """
-
-    ndim = 2
-
-    def __init__(self, fn, t: np.ndarray, width: int, divisor: float = 1.0):
-        self.fn, self.t, self.width, self.divisor = fn, t, int(width), float(divisor)
-
-    @property
-    def shape(self) -> tuple[int, int]:
-        return (self.t.size, self.width)
-
-    def __len__(self) -> int:
-        return self.t.size
-
-    def __getitem__(self, key):
-        rest = ()
-        if isinstance(key, tuple):
-            key, rest = key[0], key[1:]
-        x = self.fn(self.t[key])
-        if self.divisor != 1.0:
-            x = x / self.divisor
-        return x[(slice(None),) * (x.ndim - 1) + rest] if rest else x
-
-    def __truediv__(self, divisor):
-        return Rows(self.fn, self.t, self.width, self.divisor * float(divisor))
-
-    def __array__(self, dtype=None, copy=None):
-        from . import memory
-
-        memory.check(
-            8.0 * self.t.size * self.width,
-            "steps_per_cycle",
-            f"the loads of the whole cycle ({self.t.size} instants x {self.width})",
-        )
-        out = np.concatenate([self[a:b] for a, b in chunks(self.t.size, self.width)])
-        return out if dtype is None else out.astype(dtype)
-
-
-def chunks(rows: int, width: int):
-    """``(start, stop)`` row ranges of about :data:`_CHUNK_BYTES` each."""
-    step = max(1, int(_CHUNK_BYTES // (8 * max(1, width))))
-    for a in range(0, rows, step):
-        yield a, min(rows, a + step)
-
-
-def column_reduce(x, fn) -> list:
-    """``fn`` of each chunk of rows of an array or of :class:`Rows` (for reductions over the
-    cycle that must not build the whole array)."""
-    return [fn(x[a:b]) for a, b in chunks(x.shape[0], x.shape[1])]
-
-
-def _column_max(fn, grid, width):
-    """Per column, the largest value of ``fn(t)`` over the grid, chunk by chunk."""
-    parts = [np.max(fn(grid[a:b]), axis=0) for a, b in chunks(grid.size, width)]
-    return np.max(parts, axis=0)
 
 
 def increments(x):
