@@ -126,7 +126,7 @@ def main(argv=None):
         [
             "# The spectrum of the d = 2 half-space's cycle map",
             "",
-            f"{stamp('cycle_spectrum.py' + (' --quick' if args.quick else ''))}. "
+            f"{stamp('studies/cycle_spectrum.py' + (' --quick' if args.quick else ''))}. "
             f"Mindlin-Deresiewicz, "
             f"Q1/(μP0) = 0.5, ν = 0.3, d = 2, model tol 1e-13; {KRYLOV} Arnoldi steps, each a "
             f"finite difference of two whole cycles at the steady state.",

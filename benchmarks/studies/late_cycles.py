@@ -171,7 +171,7 @@ def main(argv=None):
         [
             "# The d = 2 half-space's cycles, one by one",
             "",
-            f"{stamp('late_cycles.py')}. Mindlin-Deresiewicz, Q1/(μP0) = 0.5, ν = 0.3, "
+            f"{stamp('studies/late_cycles.py')}. Mindlin-Deresiewicz, Q1/(μP0) = 0.5, ν = 0.3, "
             f"d = 2, grid 40, {STEPS} steps per cycle, cycle tolerance 1e-10 (the "
             f"issue's d = 2 goal case).",
             "",

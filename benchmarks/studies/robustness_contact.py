@@ -109,7 +109,7 @@ def main(argv=None):
         [
             "# The continuum contact models across hard cases",
             "",
-            f"{stamp('robustness_contact.py')}. E = {E:g}, R = {R:g}, "
+            f"{stamp('studies/robustness_contact.py')}. E = {E:g}, R = {R:g}, "
             f"μ = {MU}, P0 = {P0:g}; the half-space's support, where there is one, is k_t0; "
             f"the half-plane's 1e4 per unit length. At most 100 cycles.",
             "",
