@@ -200,7 +200,8 @@ def block_diagonal(nodes: Sequence[SingleNode | ContactSystem]) -> ContactSystem
         raise InputError("nodes", f"all systems must have the same d, got {sorted(dims)}")
     blocks = [s.stiffness for s in systems]
     m = sum(s.m for s in systems)
-    K = sp.block_diag(blocks, format="csc")
+    # a sparse-matrix first block keeps block_diag's sparse-matrix result on every SciPy
+    K = sp.block_diag([sp.coo_matrix(blocks[0]), *blocks[1:]], format="csc")
     if m <= 2000:
         K = K.toarray()
     return ContactSystem(

@@ -95,7 +95,12 @@ class DiscPatterns:
             # the curvature of b ||δ_i|| across the slip direction
             blocks = w[:, None, None] * (np.eye(2)[None] - nu[:, :, None] * nu[:, None, :])
             fn = np.flatnonzero(free)
-            Dff = sp.block_diag(list(blocks[fn]), format="csc") if sparse else None
+            # a sparse-matrix first block keeps a sparse matrix on every SciPy
+            Dff = (
+                sp.block_diag([sp.coo_matrix(blocks[fn[0]]), *blocks[fn[1:]]], format="csc")
+                if sparse and fn.size
+                else (sp.csc_matrix((0, 0)) if sparse else None)
+            )
             if sparse:
                 H = K[dofs][:, dofs] + Dff
                 step = -splu(H.tocsc()).solve(gf)
