@@ -34,7 +34,7 @@ def test_hertz_pressure_and_half_width():
     assert np.max(np.abs(p - exact)) < 0.01 * ref["p0"]  # the edge element: 0.6 %
 
 
-@pytest.mark.parametrize("x", [0.2, 0.5, 0.9])
+@pytest.mark.parametrize("x", [0.2, 0.5, pytest.param(0.9, marks=pytest.mark.slow)])
 def test_plane_mindlin_deresiewicz(x):
     r = lcpfric.steady_state(cylinder(Q1=x, nodes=400), steps_per_cycle=400)
     ref = cylinder_W(P0, x * MU * P0, MU, E, NU)
@@ -53,6 +53,7 @@ def test_cattaneo_stick_half_width():
         )
 
 
+@pytest.mark.slow
 def test_in_phase_and_half_period():
     W0 = lcpfric.steady_state(cylinder(P1=0.5, Q1=0.4, nodes=200), steps_per_cycle=200).W_normalized
     Wa = lcpfric.steady_state(
@@ -99,7 +100,12 @@ def test_as_an_lcpfric_system():
 
 
 @pytest.mark.parametrize(
-    "P1, Q1, phi, steps", [(0.3, 1.5, 0.7, 100), (0.9, 0.8, 0.2, 8), (0.5, 0.9, 1.0, 8)]
+    "P1, Q1, phi, steps",
+    [
+        pytest.param(0.3, 1.5, 0.7, 100, marks=pytest.mark.slow),
+        pytest.param(0.9, 0.8, 0.2, 8, marks=pytest.mark.slow),
+        (0.5, 0.9, 1.0, 8),
+    ],
 )
 def test_gross_sliding_held_by_a_support(P1, Q1, phi, steps):
     """Phases of gross sliding (|Q| > μP) with a support: the stick/slip patterns could cycle

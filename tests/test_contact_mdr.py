@@ -53,6 +53,7 @@ def test_cattaneo_stick_radius_on_first_loading():
         )
 
 
+@pytest.mark.slow
 def test_in_phase_dissipates_nothing_and_half_period_symmetry():
     """φ = 0, Q1 <= μ P1, P1 < P0: no dissipation in the steady state (to the discretization:
     it falls with the steps), while φ = 0.5 dissipates; W(φ + π) = W(φ)."""

@@ -68,6 +68,7 @@ def test_hertz_sphere(tmp_path):
     assert len(re.findall(r"largest at φ ≈ 0\.[4-6]\dπ", out)) == 3
 
 
+@pytest.mark.slow  # also run by the documentation build (the gallery)
 def test_halfspace_contact(tmp_path):
     need_modules("matplotlib")
     env_grid = {"LCPFRIC_EXAMPLE_GRID": "12"}

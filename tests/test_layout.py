@@ -5,6 +5,7 @@ functions), no module is longer than 450 lines, and no module reaches into anoth
 private names."""
 
 import ast
+import re
 from pathlib import Path
 
 import pytest
@@ -206,3 +207,36 @@ def test_the_early_rooms_import_no_figures_or_cli(room):
                 if t.startswith(("lcpfric.figures", "lcpfric.cli", "lcpfric.paper"))
             ]
             assert not bad, f"{name} imports {bad}"
+
+
+TESTS = Path(__file__).resolve().parent
+BENCHMARKS = TESTS.parent / "benchmarks"
+
+
+def test_no_test_imports_a_benchmark_or_another_test():
+    """Shared cases and references live in ``tests/support`` (a package of the tests), not in a
+    benchmark script or a test file: a test imports neither, nor puts benchmarks/ on its path."""
+    scripts = {p.stem for p in BENCHMARKS.rglob("*.py")}
+    test_files = {p.stem for p in TESTS.glob("*.py")} - {"conftest"}
+    bad = []
+    for path in sorted(TESTS.rglob("*.py")):
+        text = path.read_text(encoding="utf-8")
+        for line in text.splitlines():
+            if re.search(r"sys\.path(\.insert|\.append|\[)\S*.*benchmarks", line):
+                bad.append(f"{path.name}: {line.strip()}")
+        for node in ast.walk(ast.parse(text)):
+            if isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+                names = [node.module]
+            else:
+                continue
+            for name in names:
+                top = name.split(".")[0]
+                if (
+                    top == "benchmarks"
+                    or top in test_files
+                    or (top in scripts and top not in ("lcpfric", "support"))
+                ):
+                    bad.append(f"{path.relative_to(TESTS)}: imports {name}")
+    assert not bad, bad
