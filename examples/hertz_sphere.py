@@ -36,7 +36,7 @@ def main(argv=None):
     )
     args = parser.parse_args(argv)
 
-    k_t0 = lcpfric.MDRSphere(R, E, NU, MU, P0, 0.0, nodes=1).k_t0
+    k_t0 = lcpfric.MDRSphere(R, E, NU, MU, P0, 0.0, nodes=10).k_t0
     Q1 = 0.4 * MU * P0
     still = lcpfric.MDRSphere(R, E, NU, MU, P0, Harmonic(0.0, Q1), nodes=2000)
     W = lcpfric.steady_state(still, steps_per_cycle=400).W

@@ -136,22 +136,37 @@ def boolean(name: str, value) -> bool:
 
 
 def positive_int(name: str, value, minimum: int = 1) -> int:
-    """An integer >= ``minimum``; integer strings are accepted (the CLI passes its text), floats
-    only when integral; booleans are refused."""
+    """An integer >= ``minimum``. The CLI passes its text: integer strings and integral numbers
+    written as floats (``"4000"``, ``"4e3"``, ``"4000.0"``) are accepted; floats only when
+    integral; booleans are refused. One message for every count: "must be a whole number >=
+    minimum"."""
+    bad = f"must be a whole number >= {minimum}, got {value!r}"
     if isinstance(value, (bool, np.bool_)):
-        raise InputError(name, f"expected an integer >= {minimum}, got {value!r}")
-    try:
-        ivalue = int(value)
-    except (TypeError, ValueError, OverflowError):
-        raise InputError(name, f"expected an integer >= {minimum}, got {value!r}") from None
-    if ivalue != value and not (isinstance(value, str) and str(ivalue) == value.strip()):
+        raise InputError(name, bad)
+    if isinstance(value, str):
+        text = value.strip()
+        try:
+            ivalue = int(text)
+        except ValueError:
+            try:
+                x = float(text)
+            except ValueError:
+                raise InputError(name, bad) from None
+            if not (math.isfinite(x) and x == int(x)):
+                raise InputError(name, bad) from None
+            ivalue = int(x)
+    else:
+        try:
+            ivalue = int(value)
+        except (TypeError, ValueError, OverflowError):
+            raise InputError(name, bad) from None
         try:
             if float(value) != ivalue:
-                raise InputError(name, f"expected an integer >= {minimum}, got {value!r}")
-        except (TypeError, ValueError):
-            raise InputError(name, f"expected an integer >= {minimum}, got {value!r}") from None
+                raise InputError(name, bad)
+        except (TypeError, ValueError, OverflowError):
+            raise InputError(name, bad) from None
     if ivalue < minimum:
-        raise InputError(name, f"must be an integer >= {minimum}, got {ivalue}")
+        raise InputError(name, f"must be a whole number >= {minimum}, got {ivalue}")
     return ivalue
 
 
@@ -206,11 +221,13 @@ def finite_array(
     except (TypeError, ValueError):
         raise InputError(name, f"expected real numbers, got {values!r}") from None
     if not np.all(np.isfinite(arr)):
-        bad = arr[~np.isfinite(arr)].flat[0]
+        where = np.argwhere(~np.isfinite(arr))
+        at = f" at index {tuple(int(i) for i in where[0])}" if arr.ndim else ""
+        bounds = f" in {_range(nonneg, upper)}" if nonneg or upper is not None else ""
         raise InputError(
             name,
-            f"every value must be a finite number (allowed range "
-            f"{_range(nonneg, upper)}); found {bad}",
+            f"every value must be a finite number{bounds}; found "
+            f"{arr[tuple(where[0])] if arr.ndim else arr}{at} ({len(where)} not finite)",
         )
     if nonneg and np.any(arr < 0):
         raise InputError(

@@ -163,16 +163,22 @@ def map_bytes(
 
 
 _OVERRIDE: list = []
+_OPTION: list = []
 
 
 @contextmanager
-def limit(bytes_: float, source: str):
-    """Use ``bytes_`` as the limit inside the ``with`` block (the CLI's ``--max-memory``)."""
-    _OVERRIDE.append((float(bytes_), source))
+def limit(bytes_: float | None, source: str):
+    """Use ``bytes_`` as the limit inside the ``with`` block (the CLI's ``--max-memory``); with
+    ``bytes_=None`` keep the limit and only name ``source`` as the way to raise it."""
+    _OPTION.append(source)
+    if bytes_ is not None:
+        _OVERRIDE.append((float(bytes_), source))
     try:
         yield
     finally:
-        _OVERRIDE.pop()
+        _OPTION.pop()
+        if bytes_ is not None:
+            _OVERRIDE.pop()
 
 
 def default_limit() -> tuple[float, str]:
@@ -207,6 +213,8 @@ def check(
     if need <= limit_bytes:
         return
     size = format_bytes(need * 1.25).replace(" ", "")
+    if how is None and _OPTION:
+        how = f"{_OPTION[-1]} {size} (or ${MEMORY_ENV})"
     how = how or f"set the environment variable {MEMORY_ENV}={size}"
     raise InputError(
         parameter,

@@ -32,7 +32,7 @@ def built():
         axis,
         axis,
         list(cf.MAP_PHASES),
-        contact={"k_support": 1.0, "nodes": 30},
+        contact={"k_support_ratio": 1.0, "nodes": 30},
         steps_per_cycle=40,
         progress=False,
     )

@@ -18,8 +18,10 @@ POINTS = [(0.5, 0.4, 0.5), (0.0, 0.5, 0.0), (1.5, 0.6, 0.3), (0.9, 0.8, 2.0), (0
 @pytest.mark.parametrize("ks", [0.0, 0.5])
 def test_batch_equals_the_model_point_by_point(ks):
     P1, Q1, phi = (np.array(c) for c in zip(*POINTS))
-    got = mdr_W_normalized(P1, Q1, phi, nodes=120, steps_per_cycle=120, k_support=ks, tol=1e-10)
-    k_t0 = MDRSphere(10.0, 200e3, 0.3, 0.5, 100.0, 0.0, nodes=1).k_t0
+    got = mdr_W_normalized(
+        P1, Q1, phi, nodes=120, steps_per_cycle=120, k_support_ratio=ks, tol=1e-10
+    )
+    k_t0 = MDRSphere(10.0, 200e3, 0.3, 0.5, 100.0, 0.0, nodes=10).k_t0
     for (p1, q1, ph), w in zip(POINTS, got):
         m = MDRSphere(
             10.0,
@@ -54,7 +56,7 @@ def test_sweep_of_a_contact_map_resumes(tmp_path):
     from lcpfric.analysis.sweep import sweep
 
     P1, Q1, phi = np.linspace(0, 2, 4), np.linspace(0, 1, 3), [0.0, 0.3 * np.pi]
-    spec = {"k_support": 1.0, "nodes": 60}
+    spec = {"k_support_ratio": 1.0, "nodes": 60}
     ds = sweep(P1, Q1, phi, contact=spec, steps_per_cycle=60, progress=False)
     pp, qq = np.meshgrid(P1, Q1, indexing="ij")
     direct = mdr_W_normalized(
@@ -63,7 +65,7 @@ def test_sweep_of_a_contact_map_resumes(tmp_path):
         np.full(pp.size, 0.3 * np.pi),
         nodes=60,
         steps_per_cycle=60,
-        k_support=1.0,
+        k_support_ratio=1.0,
     )
     np.testing.assert_array_equal(ds.W_normalized.sel(phi=0.3 * np.pi).values.ravel(), direct)
     out = tmp_path / "m.nc"

@@ -27,7 +27,6 @@ import importlib.util
 import json
 import sys
 import time
-from pathlib import Path
 
 
 OUTPUTS = ("compare.csv", "compare.md", "compare.png")
@@ -71,6 +70,11 @@ def configure(p) -> None:
     )
     p.add_argument("--placement", default="contact", choices=("contact", "uniform"))
     p.add_argument("--json", action="store_true", help="print the headline numbers as JSON last")
+    p.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace the results of an earlier run in --out (refused otherwise)",
+    )
 
 
 def _list(text, option: str) -> list[str]:
@@ -88,11 +92,17 @@ def run(args) -> int:
     from lcpfric import memory
     from lcpfric.errors import InputError
 
-    out = Path(args.out)
-    if not out.parent.is_dir() or (out.exists() and not out.is_dir()):
-        raise InputError("--out", f"{args.out!r} must be a directory in an existing one")
-    out.mkdir(exist_ok=True)
+    from lcpfric.cli._paths import output_dir
+
+    out = output_dir(args.out, "--out")  # checked (and probed) before any work
     coupled = bool(getattr(args, "coupled", False))
+    earlier = [n for n in (COUPLED_OUTPUTS if coupled else OUTPUTS) if (out / n).exists()]
+    if earlier and not args.overwrite:
+        raise InputError(
+            "--out",
+            f"{args.out!r} holds the results of an earlier run ({', '.join(earlier)}); give "
+            "another directory, or --overwrite to replace them",
+        )
     all_cases = bench.COUPLED_CASES if coupled else bench.CASES
     cases = all_cases
     if coupled and args.quick:  # the 100-node chain is left to the full run
@@ -173,6 +183,7 @@ def run(args) -> int:
         + (f" --placement {args.placement}" if args.placement != "contact" else "")
     )
     write = bench.write_coupled_outputs if coupled else bench.write_outputs
+    out.mkdir(exist_ok=True)
     headline = write(rows, str(out), cases, cmd)
     headline["seconds"] = time.perf_counter() - t0
     outputs = COUPLED_OUTPUTS if coupled else OUTPUTS

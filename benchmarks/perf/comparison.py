@@ -48,6 +48,7 @@ __all__ = [
     "convergence_order",
     "richardson",
     "write_coupled_outputs",
+    "figure_compare",
 ]
 
 
@@ -529,47 +530,134 @@ def write_outputs(rows, out_dir: str, cases=CASES, command: str = "") -> dict:
     return headline
 
 
-def _plot(rows, cases, methods, closed, path) -> bool:
-    """Draw compare.png; False (and nothing written) without matplotlib."""
-    try:
-        import matplotlib
+#: relative errors of exactly 0 (exact to round-off) are drawn at this floor of the log axis
+ZERO_FLOOR = 1e-17
+#: the accuracy the tables time (``time_to_reach``), drawn as a labelled line
+TARGET = 1e-6
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+
+def _panel_title(case) -> str:
+    """Two lines: the case's name, then its loads (or its nodes)."""
+    if case.multi:
+        return f"{case.name}\n{len(case.nodes)} uncoupled nodes, with and without separation"
+    from lcpfric.figures.style import phi_label
+
+    return (
+        f"{case.name}\n$\\hat P_1$ = {case.P1:g}, $\\hat Q_1$ = {case.Q1:g}, {phi_label(case.phi)}"
+    )
+
+
+def figure_compare(rows, cases, methods, closed):
+    """compare.png's figure in the house print style (:mod:`lcpfric.figures.style`): page wide,
+    panels of equal width (three a row), titles and labels at 7-8 pt, one panel per case with
+    log-log error against wall time, a line per method (its colour, marker and line style), the
+    closed forms as stars; the target error :data:`TARGET` and the errors of exactly 0 (drawn
+    at :data:`ZERO_FLOOR`) labelled in the legend, which fills the last row's empty panels (or
+    sits just below the panels)."""
+    from matplotlib import colormaps
+    from matplotlib.lines import Line2D
+
+    from lcpfric.figures import style as pl
+
+    n = len(cases)
+    ncol = 1 if n == 1 else (2 if n in (2, 4) else 3)
+    nrow = math.ceil(n / ncol)
+    spare = nrow * ncol - n
+    tab = colormaps["tab20"]
+    colors = [tab(i) for i in (0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 1, 3, 5, 7, 9)]
+    with pl.style():
+        width = pl.COLUMN_WIDTH if ncol == 1 else pl.PAGE_WIDTH
+        fig = pl.figure(
+            figsize=(width, 2.15 * nrow + (0.0 if spare else 1.0)), layout="constrained"
+        )
+        grid = fig.add_gridspec(nrow, ncol)
+        axes = [fig.add_subplot(grid[k // ncol, k % ncol]) for k in range(n)]
+        handles = {}
+        zero_seen = False
+        for ax, c in zip(axes, cases):
+            steppers = [m for m in methods if m not in closed]
+            for i, m in enumerate(methods):
+                pts = sorted(
+                    (r["steps_per_cycle"], r["seconds"], r["rel_error"])
+                    for r in rows
+                    if r["case"] == c.name and r["method"] == m and r["rel_error"] != ""
+                )
+                if not pts:
+                    continue
+                _, x, y = (np.asarray(v, dtype=float) for v in zip(*pts))
+                color = colors[i % len(colors)]
+                if m in closed:
+                    kw = dict(marker="*", ms=8, ls="none", mec="black", mew=0.4)
+                else:
+                    j = steppers.index(m)
+                    kw = pl.curve_style(j, len(steppers), len(pts))
+                    kw.update(lw=0.9, ms=3.0, markevery=None)
+                zero = y <= 0.0
+                zero_seen |= bool(zero.any())
+                # the line joins the non-zero errors; the zeros sit on the floor, unjoined
+                (line,) = ax.loglog(
+                    np.where(zero, np.nan, x), np.where(zero, np.nan, y), color=color, **kw
+                )
+                if zero.any():
+                    ax.loglog(
+                        x[zero],
+                        np.full(int(zero.sum()), ZERO_FLOOR),
+                        color=color,
+                        **{**kw, "ls": "none"},
+                        zorder=3,
+                    )
+                handles.setdefault(m, Line2D([], [], color=color, **kw))
+            ax.axhline(TARGET, color="0.45", lw=0.8, ls=(0, (4, 2)), zorder=1)
+            ax.axhline(ZERO_FLOOR, color="0.45", lw=0.6, ls=(0, (1, 1.5)), zorder=1)
+            ax.set_ylim(ZERO_FLOOR / 5, None)
+            ax.set_title(_panel_title(c), fontsize=pl.SMALL, pad=3, linespacing=1.25)
+            ax.set_xlabel("wall time per steady state (s)", labelpad=1)
+            ax.set_ylabel("relative error", labelpad=1)
+            ax.grid(True, which="major", alpha=0.3, lw=0.4)
+        handles[f"relative error {TARGET:.0e} (the tables' target)".replace("e-0", "e-")] = Line2D(
+            [], [], color="0.45", lw=0.8, ls=(0, (4, 2))
+        )
+        if zero_seen:
+            handles[f"error 0 (exact to round-off), drawn at {ZERO_FLOOR:.0e}"] = Line2D(
+                [], [], color="0.45", lw=0.6, ls=(0, (1, 1.5))
+            )
+        labels = list(handles)
+        if spare:
+            box = fig.add_subplot(grid[nrow - 1, ncol - spare :])
+            box.axis("off")
+            box.legend(
+                list(handles.values()),
+                labels,
+                loc="center",
+                ncols=2 if spare > 1 else 1,
+                frameon=False,
+                fontsize=pl.SMALL,
+                title="method (star: closed form)",
+            )
+        else:
+            fig.legend(
+                list(handles.values()),
+                labels,
+                loc="outside lower center",
+                ncols=min(3, len(labels)),
+                frameon=False,
+                fontsize=pl.SMALL,
+                title="method (star: closed form)",
+            )
+        return pl.finish(fig)
+
+
+def _plot(rows, cases, methods, closed, path) -> bool:
+    """Draw compare.png (:func:`figure_compare`); False (and nothing written) without
+    matplotlib."""
+    try:
+        import matplotlib  # noqa: F401
     except ImportError:
         return False
-    ncol = 4
-    nrow = math.ceil(len(cases) / ncol)
-    fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.6 * nrow), squeeze=False)
-    colors = [plt.cm.tab20(i) for i in (0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 1, 3, 5, 7, 9)]
-    for ax, c in zip(axes.flat, cases):
-        for i, m in enumerate(methods):
-            pts = sorted(
-                (r["seconds"], max(r["rel_error"], 1e-17))
-                for r in rows
-                if r["case"] == c.name and r["method"] == m and r["rel_error"] != ""
-            )
-            if not pts:
-                continue
-            x, y = zip(*pts)
-            style = (
-                dict(marker="*", ms=12, ls="none")
-                if m in closed
-                else dict(marker=".", ls="--" if ":" in m else "-")
-            )
-            ax.loglog(x, y, label=m, color=colors[i % len(colors)], **style)
-        ax.axhline(1e-6, color="0.6", lw=0.8, ls="--")
-        ax.set_title(c.label(), fontsize=8)
-        ax.set_xlabel("wall time per steady state (s)")
-        ax.set_ylabel("relative error")
-        ax.grid(True, which="major", alpha=0.3)
-    for ax in list(axes.flat)[len(cases) :]:
-        ax.axis("off")
-    handles, labels = axes.flat[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower right", fontsize=8, ncol=2)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    from lcpfric.figures import style as pl
+
+    fig = figure_compare(rows, cases, methods, closed)
+    fig.savefig(path, dpi=pl.DPI)
     return True
 
 

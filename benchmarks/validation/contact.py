@@ -353,7 +353,7 @@ def hertz_map(lines, quick):
             "map",
             "--contact",
             "sphere",
-            "--k-support",
+            "--k-support-ratio",
             "1",
             "--P1",
             f"0:2:{grid}",

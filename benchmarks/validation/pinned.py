@@ -167,7 +167,10 @@ def exact_grid(P1, Q1, phi):
 def mdr_sphere(R, E, nu, mu, P, Q, **kw):
     from lcpfric.model.continuum import MDRSphere
 
-    return MDRSphere(R, E, nu, mu, P, Q, **kw)
+    cls = MDRSphere
+    if kw.get("nodes", 2000) < getattr(MDRSphere, "min_nodes", 1):  # one spring, on purpose
+        cls = type("FewSprings", (MDRSphere,), {"min_nodes": 1})
+    return cls(R, E, nu, mu, P, Q, **kw)
 
 
 def mdr_power_law(c, n):
@@ -253,8 +256,15 @@ def halfspace_map(P1, Q1, phi, **kw):
 
 def sweep_map(P1, Q1, phi, **kw):
     """A sweep as a dict {(phi, P1, Q1): value} (W_hat, or W_normalized for a contact)."""
+    from lcpfric.analysis import contact_maps
     from lcpfric.analysis.sweep import sweep
 
+    contact = kw.get("contact")
+    if contact and "k_support" in contact and "k_support_ratio" in contact_maps.CONTACT_DEFAULTS:
+        # 0.2 names the map's support ratio k_support_ratio (0.1: k_support)
+        kw["contact"] = {
+            ("k_support_ratio" if k == "k_support" else k): v for k, v in contact.items()
+        }
     ds = sweep(P1, Q1, phi, progress=False, processes=1, **kw)
     var = "W_normalized" if kw.get("contact") is not None else "W_hat"
     arr = ds[var].values

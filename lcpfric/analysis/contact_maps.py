@@ -8,13 +8,13 @@ Q1/(μ P0), φ)`` at once, for :func:`lcpfric.analysis.sweep.sweep` (local proce
 resumable). In these units the answer depends on nothing else: with ``P0 = μ = k_t0 = 1`` and
 lengths in units of a0 = a(P0), the spring normal forces are ``N_i = (3/2) ∫_cell (a² - x²) dx``
 with ``a = P^(1/3)``, the spring stiffnesses ``k_i = Δx`` (so ``Σ k_i = 1`` at a0), and the
-support stiffness is given as ``k_support / k_t0``.
+support stiffness is given as ``k_support_ratio`` = k_support / k_t0.
 
 Each increment is the MDR increment (:func:`~lcpfric.steppers.mdr_bar.bar_increment`, the one
 the ``mdr-bar`` stepper uses), here for all points together, and the cycles are the batched
 cycle loop's (:func:`lcpfric.periodic.batched.run`). The result equals
 ``steady_state(MDRSphere(...))`` on the same grid to round-off (``tests/test_contact_maps.py``).
-Under pure load control (``k_support = 0``) a point whose loads have ``|Q| > μ P`` at some
+Under pure load control (``k_support_ratio = 0``) a point whose loads have ``|Q| > μ P`` at some
 instant has no equilibrium: its value is NaN. A point that reaches no steady state in
 ``max_cycles`` is NaN too, and counted in a :class:`~lcpfric.errors.ConvergenceWarning`
 (``on_nonconvergence="warn"``, the default here) or raised as an error (``"raise"``).
@@ -61,12 +61,12 @@ def gross_sliding_points(P1, Q1, phi, reach: bool = False) -> np.ndarray:
     return out
 
 
-def _points(P1, Q1, phi, steps_per_cycle, k_support, reach=False):
+def _points(P1, Q1, phi, steps_per_cycle, k_support_ratio, reach=False):
     """The points as flat arrays, the checked steps and support, the output (NaN where pure
     load control has no equilibrium, 0 where Q̂1 = 0) and the points left to compute."""
     P1, Q1, phi = (np.atleast_1d(np.asarray(x, dtype=float)).ravel() for x in (P1, Q1, phi))
     steps = _checks.positive_int("steps_per_cycle", steps_per_cycle, 4)
-    ks = _checks.nonnegative("k_support", k_support)
+    ks = _checks.nonnegative("k_support_ratio", k_support_ratio)
     if not (P1.size == Q1.size == phi.size):
         raise InputError("P1", "P1, Q1 and phi must have one value per point")
     out = np.zeros(P1.size)
@@ -85,18 +85,18 @@ def mdr_W_normalized(
     *,
     nodes: int = 200,
     steps_per_cycle: int = 200,
-    k_support: float = 0.0,
+    k_support_ratio: float = 0.0,
     tol: float = 1e-8,
     max_cycles: int = 200,
     on_nonconvergence: str = "warn",
 ):
     """``W k_t0 / (μ² P0²)`` of the MDR sphere at the points ``(P1, Q1, phi)`` (flat arrays of
-    P̂1, Q̂1 and φ); ``k_support`` in units of k_t0. NaN where pure load control has no
+    P̂1, Q̂1 and φ); ``k_support_ratio`` in units of k_t0. NaN where pure load control has no
     equilibrium, and where a point reaches no steady state in ``max_cycles`` (module
     docstring); 0 where Q̂1 = 0."""
     nodes = _checks.positive_int("nodes", nodes)
     tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles, on_nonconvergence)
-    P1, Q1, phi, steps, ks, out, run = _points(P1, Q1, phi, steps_per_cycle, k_support)
+    P1, Q1, phi, steps, ks, out, run = _points(P1, Q1, phi, steps_per_cycle, k_support_ratio)
     idx = np.flatnonzero(run)
     if idx.size:
         points = _MDRPoints(P1[idx], Q1[idx], phi[idx], nodes, steps, ks)
@@ -192,14 +192,14 @@ def halfspace_W_normalized(
     dims: int = 1,
     nu: float = 0.0,
     steps_per_cycle: int = 100,
-    k_support: float = 0.0,
+    k_support_ratio: float = 0.0,
     tol: float = 1e-8,
     max_cycles: int = 200,
     on_nonconvergence: str = "warn",
 ):
     """``W k_t0 / (μ² P0²)`` of the sphere on the half-space
     (:class:`~lcpfric.model.continuum.halfspace.HalfSpace`) at the points ``(P1, Q1, phi)``
-    (flat arrays of P̂1, Q̂1, φ), ``grid`` elements across the largest contact, ``k_support``
+    (flat arrays of P̂1, Q̂1, φ), ``grid`` elements across the largest contact, ``k_support_ratio``
     in units of k_t0. The points of one P̂1 share one scene, so the normal problem of each
     instant is solved once (:func:`lcpfric.scene.with_tangential_load`). NaN where pure load
     control has no equilibrium (with d = 2, also where |Q| reaches μP: the body drifts across
@@ -213,7 +213,7 @@ def halfspace_W_normalized(
 
     tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles, on_nonconvergence)
     P1, Q1, phi, steps, ks, out, run = _points(
-        P1, Q1, phi, steps_per_cycle, k_support, reach=dims == 2
+        P1, Q1, phi, steps_per_cycle, k_support_ratio, reach=dims == 2
     )
     two_pi = 2.0 * math.pi
     failed, worst = 0, 0.0
@@ -251,7 +251,7 @@ CONTACT_DEFAULTS = {
     "geometry": "sphere",
     "model": "mdr",
     "nodes": 200,
-    "k_support": 0.0,
+    "k_support_ratio": 0.0,
     "tol": 1e-8,
     "max_cycles": 200,
 }
@@ -261,7 +261,7 @@ HALFSPACE_DEFAULTS = {
     "grid": 20,
     "dims": 1,
     "nu": 0.0,
-    "k_support": 0.0,
+    "k_support_ratio": 0.0,
     "tol": 1e-8,
     "max_cycles": 200,
 }
@@ -285,6 +285,12 @@ def map_spec(contact, steps_per_cycle, method=None):
     if model not in MODEL_CLASSES:
         raise InputError("contact", f"model must be 'mdr' or 'halfspace', got {model!r}")
     defaults = CONTACT_DEFAULTS if model == "mdr" else HALFSPACE_DEFAULTS
+    if "k_support" in contact:
+        raise InputError(
+            "contact",
+            "the key 'k_support' is 'k_support_ratio' in a map: the support stiffness as a "
+            "multiple of k_t0 (the models' k_support is absolute)",
+        )
     unknown = sorted(set(contact) - set(defaults))
     if unknown:
         raise InputError(
@@ -313,7 +319,7 @@ def map_spec(contact, steps_per_cycle, method=None):
             "grid": grid,
             "dims": int(spec["dims"]),
             "nu": _checks.nonnegative("nu", spec["nu"]),
-            "k_support": _checks.nonnegative("k_support", spec["k_support"]),
+            "k_support_ratio": _checks.nonnegative("k_support_ratio", spec["k_support_ratio"]),
             "tol": _checks.positive("tol", spec["tol"]),
             "steps_per_cycle": steps,
             "max_cycles": _checks.positive_int("max_cycles", spec["max_cycles"]),
@@ -329,7 +335,7 @@ def map_spec(contact, steps_per_cycle, method=None):
     steps = _checks.positive_int("steps_per_cycle", steps_per_cycle or _CONTACT_STEPS, 4)
     options = {
         "nodes": _checks.positive_int("nodes", spec["nodes"]),
-        "k_support": _checks.nonnegative("k_support", spec["k_support"]),
+        "k_support_ratio": _checks.nonnegative("k_support_ratio", spec["k_support_ratio"]),
         "tol": _checks.positive("tol", spec["tol"]),
         "steps_per_cycle": steps,
         "max_cycles": _checks.positive_int("max_cycles", spec["max_cycles"]),
@@ -341,21 +347,33 @@ def map_spec(contact, steps_per_cycle, method=None):
 
 def map_bytes(options, points: int, in_flight: int, workers: int, axes: int) -> float:
     """Estimated peak bytes of a contact map: its values, and the MDR batch of the points in
-    flight or one half-space model per worker."""
+    flight (the springs' states and the loads at every instant) or one half-space model per
+    worker."""
     work = (
-        8.0 * 24 * options["nodes"] * in_flight
+        8.0 * (24 * options["nodes"] + 3 * (options["steps_per_cycle"] + 1)) * in_flight
         if "nodes" in options
         else 8.0 * 40 * 1.2 * options["grid"] ** 2 * options["steps_per_cycle"] * workers
     )
     return 8.0 * (4 * points + axes) + work
 
 
-def unconverged_points(values, P1, Q1, phi, k_support: float, dims: int = 1) -> int:
+def memory_parameter(options) -> str:
+    """The parameter to name when a contact map's work does not fit in memory: the steps per
+    cycle when they weigh more than the model's size, else the model's size (``nodes`` or
+    ``grid``)."""
+    if "nodes" in options:
+        heavier = 3 * options["steps_per_cycle"] > 24 * options["nodes"]
+        return "steps_per_cycle" if heavier else "nodes"
+    heavier = options["steps_per_cycle"] > _HALFSPACE_STEPS
+    return "steps_per_cycle" if heavier else "grid"
+
+
+def unconverged_points(values, P1, Q1, phi, k_support_ratio: float, dims: int = 1) -> int:
     """How many NaN values of a contact map are points that reached no steady state, not loads
     without equilibrium (flat arrays of the points' values and coordinates)."""
     values, P1, Q1, phi = (np.asarray(x, dtype=float).ravel() for x in (values, P1, Q1, phi))
     nan = np.isnan(values) & (Q1 > 0)
-    if k_support == 0.0 and nan.any():
+    if k_support_ratio == 0.0 and nan.any():
         idx = np.flatnonzero(nan)
         nan[idx[gross_sliding_points(P1[idx], Q1[idx], phi[idx], dims == 2)]] = False
     return int(np.count_nonzero(nan))

@@ -3,8 +3,14 @@
 Each runner takes the tasks ``{index: args}`` and a module-level function ``compute(*args)``, and
 calls ``on_result(index, values)`` in *this* process as each chunk finishes, in whatever order they
 finish. The caller stores the chunk there, so the workers need no shared file system and a chunk
-counts as done only once it is on disk. If ``on_result`` raises, or the user presses Ctrl-C, the
-chunks not yet started are cancelled and the exception propagates: the finished ones are kept.
+counts as done only once it is on disk. If ``on_result`` raises, or the user interrupts, the
+chunks not yet started are cancelled, the local workers are stopped (those still computing a
+chunk too) and the exception propagates: the finished ones are kept.
+
+Interrupting the local pool: its workers ignore SIGINT, so a Ctrl-C (which the terminal sends to
+the whole process group) and a ``kill -INT`` of the main process alone (what ``timeout -s INT``
+and batch schedulers send) act the same way: the main process gets ``KeyboardInterrupt``,
+terminates its workers and re-raises at once, without waiting for the chunks being computed.
 """
 
 from __future__ import annotations
@@ -43,6 +49,28 @@ def _ignore_sigint() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
+def _stop_workers(pool) -> None:
+    """Cancel what has not started and terminate ``pool``'s workers now.
+
+    ``shutdown(wait=False, cancel_futures=True)`` alone leaves the chunks already handed to a
+    worker running (and those in the executor's call queue), and the interpreter joins the
+    pool's threads at exit: a ``kill -INT`` of the main process would then wait for them, since
+    the workers ignore SIGINT. This is ``ProcessPoolExecutor.terminate_workers`` of Python 3.14.
+    """
+    terminate = getattr(pool, "terminate_workers", None)
+    if terminate is not None:  # pragma: no cover - Python >= 3.14
+        terminate()
+        return
+    processes = dict(getattr(pool, "_processes", None) or {})  # shutdown() clears it
+    pool.shutdown(wait=False, cancel_futures=True)
+    for proc in processes.values():
+        try:
+            if proc.is_alive():
+                proc.terminate()
+        except (ValueError, ProcessLookupError):  # already ended, or closed
+            pass
+
+
 def _run_pool(remaining: dict, compute: Callable, on_result: Callable, workers: int) -> None:
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
@@ -58,12 +86,11 @@ def _run_pool(remaining: dict, compute: Callable, on_result: Callable, workers: 
                 on_result(index, fut.result())
                 del remaining[index]
     except BaseException:
-        # Cancel each future ourselves: shutdown(cancel_futures=True) alone does not stop the
-        # queued work once the executor object is garbage collected, and the interpreter would
-        # then wait at exit for every remaining chunk.
+        # Cancel each future ourselves (a cancelled future is never started even if the pool
+        # object lingers), then stop the workers: nothing computed from here on would be saved.
         for fut in pending:
             fut.cancel()
-        pool.shutdown(wait=False, cancel_futures=True)
+        _stop_workers(pool)
         raise
     pool.shutdown(wait=True)
 

@@ -56,6 +56,7 @@ from .sweep_plan import (
     per_point_W_hat,
     plan_sweep,
     sweep_bytes,
+    sweep_parameter,
 )
 
 __all__ = ["sweep", "per_point_W_hat", "write_dataset", "netcdf_engine"]
@@ -89,6 +90,11 @@ def _axis(name: str, values, nonneg: bool) -> np.ndarray:
     arr = np.atleast_1d(_checks.finite_array(name, values, nonneg=nonneg))
     if arr.ndim != 1 or arr.size == 0:
         raise InputError(name, f"must be a non-empty 1-D sequence of values, got shape {arr.shape}")
+    unique, counts = np.unique(arr, return_counts=True)
+    if unique.size < arr.size:  # a coordinate twice: xarray could not select it
+        raise InputError(
+            name, f"the value {unique[counts > 1][0]:g} is given more than once; give each once"
+        )
     return arr.astype(float)
 
 
@@ -163,8 +169,9 @@ def sweep(
     store : str or Path, optional
         Directory where every finished chunk is saved, so that an interrupted sweep resumes.
     resume : bool
-        Reuse finished chunks in ``store`` (and an existing ``out`` of the same sweep). False
-        discards them and computes everything.
+        Reuse finished chunks in ``store`` (and an existing ``out`` of the same sweep; an
+        existing ``out`` that holds anything else is refused, not overwritten). False discards
+        them and computes everything, overwriting ``out``.
     scheduler : dask.distributed.Client or str, optional
         Run the chunks on Dask: a ``Client`` or a scheduler address. Default: local.
     processes : int, optional
@@ -177,15 +184,15 @@ def sweep(
         the saved chunks are kept).
     contact : dict, optional
         Map a continuum contact instead of the single node: ``{"geometry": "sphere", "nodes":
-        200, "k_support": 0.0, "tol": 1e-8}`` (the defaults) gives ``W_normalized = W k_t0 /
+        200, "k_support_ratio": 0.0, "tol": 1e-8}`` (the defaults) gives ``W_normalized = W k_t0 /
         (μ² P0²)`` of the Hertz contact by dimensionality reduction
         (:func:`lcpfric.analysis.contact_maps.mdr_W_normalized`) over ``P1 = P1/P0``,
-        ``Q1 = Q1/(μ P0)`` and φ, with ``k_support`` in units of k_t0 and ``steps_per_cycle``
+        ``Q1 = Q1/(μ P0)`` and φ, with ``k_support_ratio`` in units of k_t0 and ``steps_per_cycle``
         200 by default. ``{"model": "halfspace", "grid": 20, "dims": 1, "nu": 0.0,
-        "k_support": 0.0, "tol": 1e-8}`` (its defaults; ``steps_per_cycle`` 100) maps the same
+        "k_support_ratio": 0.0, "tol": 1e-8}`` (its defaults; ``steps_per_cycle`` 100) maps the same
         quantity on the half-space boundary elements
         (:func:`lcpfric.analysis.contact_maps.halfspace_W_normalized`). NaN marks loads that
-        have no equilibrium under pure load control (``k_support = 0`` and ``|Q| > μ P`` at
+        have no equilibrium under pure load control (``k_support_ratio = 0`` and ``|Q| > μ P`` at
         some instant), and points that reach no steady state (counted apart).
 
     Returns
@@ -218,7 +225,7 @@ def sweep(
     chunks = chunk_bounds(n, chunk_size, plan["cost"], plan["batched"])
     memory.check(
         sweep_bytes(plan, n, chunks, phi, P1, Q1, scheduler, workers),
-        "P1",
+        sweep_parameter(plan, n, phi, P1, Q1),
         f"a map of {n} points ({phi.size} x {P1.size} x {Q1.size})",
     )
     description, key, attrs = describe_sweep(plan, phi, P1, Q1, chunks)
@@ -235,6 +242,16 @@ def sweep(
                 seconds=time.perf_counter() - t0,
             )
             return old
+        held = (
+            "a map computed with other parameters"
+            if old is not None and "fingerprint" in old.attrs
+            else "no lcpfric map"
+        )
+        raise InputError(
+            "out",
+            f"{str(out)!r} exists and holds {held}; it is not overwritten: choose another "
+            "file, or compute it again with resume=False (lcpfric map --restart)",
+        )
     if store is None and out is not None:
         store = out.with_name(out.name + ".parts")
     chunk_store = (
@@ -303,7 +320,7 @@ def _missing(values, phi, P1, Q1, options) -> dict:
         grid[1].ravel(),
         grid[2].ravel(),
         grid[0].ravel(),
-        options["k_support"],
+        options["k_support_ratio"],
         options.get("dims", 1),
     )
     return {"unconverged_points": bad, "no_equilibrium_points": nan - bad}

@@ -149,6 +149,17 @@ def sweep_bytes(plan, n, chunks, phi, P1, Q1, scheduler, workers) -> float:
     )
 
 
+def sweep_parameter(plan, n, phi, P1, Q1) -> str:
+    """The parameter a memory error names: the grid of points when its values alone take half
+    the limit (or for the single node), else what sets the contact map's work per point."""
+    values = 8.0 * (4 * n + P1.size + Q1.size + phi.size)
+    if plan["geometry"] is None or values > 0.5 * memory.default_limit()[0]:
+        return "P1"
+    from .contact_maps import memory_parameter
+
+    return memory_parameter(plan["options"])
+
+
 def describe_sweep(plan, phi, P1, Q1, chunks):
     """The sweep's description (what its chunks store keys on), fingerprint and attributes."""
     options = {k: v for k, v in plan["options"].items() if k not in ("method",)}
@@ -175,7 +186,7 @@ def describe_sweep(plan, phi, P1, Q1, chunks):
         attrs.update(
             geometry=plan["geometry"],
             model=plan["model"],
-            k_support_over_k_t0=options["k_support"],
+            k_support_over_k_t0=options["k_support_ratio"],
             tol=options["tol"],
         )
         attrs.update({k: options[k] for k in ("nodes", "grid", "dims", "nu") if k in options})

@@ -68,7 +68,8 @@ class _Version(argparse.Action):
             from importlib.metadata import version as _version
 
             version = _version("lcpfric")
-        parser.exit(0, f"lcpfric {version}\n")
+        print(f"lcpfric {version}")  # on stdout, as the GNU standards ask
+        parser.exit(0)
 
 
 def build_parser() -> argparse.ArgumentParser:

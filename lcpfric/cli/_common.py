@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import importlib.util
 import os
 import sys
 
@@ -56,6 +55,7 @@ from ..memory import (
     parse_size,
     steady_state_bytes,
 )
+from ._extras import EXTRA_OF, MissingExtras, installed, require_extras
 from ._paths import (
     OUTPUT_RULE,
     output_dir,
@@ -212,12 +212,13 @@ def execute(args) -> int:
     prog = parser.prog
     try:
         with _one_line_warnings(prog):
-            given = getattr(args, "max_memory", None)
-            if given is None:
+            if "--max-memory" not in parser._option_string_actions:
                 return int(module.run(args) or 0)
             from .. import memory  # --max-memory holds for the library's own checks too
 
-            with memory.limit(parse_size(given, "--max-memory"), "--max-memory"):
+            given = getattr(args, "max_memory", None)
+            size = None if given is None else parse_size(given, "--max-memory")
+            with memory.limit(size, "--max-memory"):
                 return int(module.run(args) or 0)
     except InputError as exc:
         option = option_for(exc.parameter, option_names(parser, getattr(module, "OPTIONS", {})))
@@ -234,19 +235,19 @@ def execute(args) -> int:
         return _fail(prog, "failed", _message(exc), 1)
     except ModuleNotFoundError as exc:  # an optional package imported deep inside a method
         name = (exc.name or "").split(".")[0]
-        extra = _EXTRA_OF.get(name)
+        extra = EXTRA_OF.get(name)
         hint = f': pip install "lcpfric[{extra}]"' if extra else ""
         return _fail(
             prog, "error", f"this needs the package {name!r}, which is not installed{hint}", 2
         )
     except MemoryError:
+        lower = (
+            ", or lower --max-memory so that lcpfric refuses such runs before it starts them"
+            if "--max-memory" in parser._option_string_actions
+            else ""
+        )
         return _fail(
-            prog,
-            "failed",
-            "ran out of memory; ask for less (fewer steps or points), "
-            "or lower --max-memory so that lcpfric refuses such runs "
-            "before it starts them",
-            1,
+            prog, "failed", f"ran out of memory; ask for less (fewer steps or points){lower}", 1
         )
     except KeyboardInterrupt:
         print(f"{prog}: interrupted", file=sys.stderr)
@@ -257,62 +258,34 @@ def execute(args) -> int:
         except (OSError, ValueError, AttributeError):
             pass
         return 1
+    except OSError as exc:  # a file the checks let through that the system refused
+        option = _option_of_path(args, parser, exc.filename)
+        what = f"cannot write {str(exc.filename)!r}" if exc.filename else "input/output failed"
+        reason = exc.strerror or type(exc).__name__
+        if option is None:
+            return _fail(prog, "failed", f"{what}: {reason}", 1)
+        return _fail(prog, "error", f"{option}: {what}: {reason}", 2)
+
+
+def _option_of_path(args, parser, filename) -> str | None:
+    """The output option whose path holds ``filename`` (None if no option does)."""
+    if not filename:
+        return None
+    filename = os.path.abspath(os.fsdecode(filename))
+    for action in parser._actions:
+        value = getattr(args, action.dest, None)
+        longs = [o for o in action.option_strings if o.startswith("--")]
+        if not longs or not isinstance(value, str) or not value.strip():
+            continue
+        path = os.path.abspath(value)
+        if filename == path or filename.startswith(path.rstrip(os.sep) + os.sep):
+            return longs[0]
+    return None
 
 
 def _fail(prog: str, kind: str, message: str, code: int) -> int:
     print(f"{prog}: {kind}: {one_line(message)}", file=sys.stderr)
     return code
-
-
-# -- extras ----------------------------------------------------------------------------------------
-#: importable module -> the extra that installs it
-_EXTRA_OF = {
-    "matplotlib": "plot",
-    "xarray": "dist",
-    "h5netcdf": "dist",
-    "h5py": "dist",
-    "distributed": "dist",
-    "dask": "dist",
-    "tqdm": "dist",
-    "clarabel": "clarabel",
-    "osqp": "osqp",
-    "qpsolvers": "qpsolvers",
-    "cvxpy": "cvxpy",
-}
-
-
-class MissingExtras(LcpfricError):
-    """Optional packages a subcommand needs are missing (all of them named at once)."""
-
-    def __init__(self, what: str, missing: list[tuple[str, str]]):
-        self.what = what
-        self.missing = missing
-        extras = ",".join(dict.fromkeys(extra for _, extra in missing))
-        listed = " and ".join(f"{module} ({extra})" for module, extra in missing)
-        super().__init__(f'{what} need {listed}: pip install "lcpfric[{extras}]"')
-
-
-def installed(module: str) -> bool:
-    """Whether ``module`` can be imported (found without importing it)."""
-    try:
-        return importlib.util.find_spec(module) is not None
-    except (ImportError, ValueError):
-        return False
-
-
-def require_extras(what: str, modules) -> None:
-    """Raise :class:`MissingExtras` naming every one of ``modules`` that is not installed.
-
-    ``modules``: module names, or tuples of alternatives (the first one is named if none is
-    installed).
-    """
-    missing = []
-    for entry in modules:
-        choices = (entry,) if isinstance(entry, str) else tuple(entry)
-        if not any(installed(m) for m in choices):
-            missing.append((choices[0], _EXTRA_OF.get(choices[0], choices[0])))
-    if missing:
-        raise MissingExtras(what, missing)
 
 
 # -- the load case ---------------------------------------------------------------------------------

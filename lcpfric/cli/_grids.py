@@ -28,11 +28,19 @@ def parse_grid(text: str, name: str, angle: bool = False) -> np.ndarray:
             raise InputError(name, f"expected START:STOP:NUM, got {text!r}")
         start, stop = parse(parts[0]), parse(parts[1])
         num = _checks.positive_int(f"{name} (NUM)", parts[2].strip())
+        if num > 1 and start == stop:
+            raise InputError(name, f"START = STOP gives {num} equal values; give NUM = 1")
         return np.linspace(start, stop, num)
     items = [s for s in text.split(",") if s.strip()]
     if not items:
         raise InputError(name, "expected START:STOP:NUM or a comma-separated list of values")
-    return np.array([parse(s) for s in items])
+    values = np.array([parse(s) for s in items])
+    unique, counts = np.unique(values, return_counts=True)
+    if unique.size < values.size:
+        raise InputError(
+            name, f"the value {unique[counts > 1][0]:g} is given more than once; give each once"
+        )
+    return values
 
 
 def parse_phi_list(text: str) -> np.ndarray:

@@ -40,6 +40,43 @@ def _parent_writable(path: Path, option: str) -> None:
         )
 
 
+def _cannot(option: str, text: str, exc: OSError) -> InputError:
+    reason = exc.strerror or type(exc).__name__
+    return InputError(option, f"cannot create {text!r}: {reason}")
+
+
+def _probe_file(path: Path, text: str, option: str) -> None:
+    """Open the output for writing once (without changing it), so that a path the checks let
+    through but the system refuses (``/proc/x``, a full or read-only file system) fails here,
+    before any work, and not after it."""
+    try:
+        if path.exists():
+            with open(path, "ab"):
+                pass
+        else:
+            with open(path, "xb"):
+                pass
+            path.unlink()
+    except OSError as exc:
+        raise _cannot(option, text, exc) from None
+
+
+def _probe_dir(path: Path, text: str, option: str) -> None:
+    """Create a file in the output directory (or the directory itself) once, and remove it."""
+    import tempfile
+
+    try:
+        if path.is_dir():
+            fd, name = tempfile.mkstemp(dir=path, prefix=".lcpfric-probe-")
+            os.close(fd)
+            os.unlink(name)
+        else:
+            path.mkdir()
+            path.rmdir()
+    except OSError as exc:
+        raise _cannot(option, text, exc) from None
+
+
 def output_file(text, option: str, suffix) -> Path:
     """Check an output file path before any work: not empty, ending in ``suffix`` (one, or a
     tuple of allowed ones), not a directory, in an existing writable directory."""
@@ -71,6 +108,7 @@ def output_file(text, option: str, suffix) -> Path:
     _parent_writable(path, option)
     if path.exists() and not os.access(path, os.R_OK):
         raise InputError(option, f"{text!r} exists and cannot be read (permission denied)")
+    _probe_file(path, text, option)
     return path
 
 
@@ -90,8 +128,10 @@ def output_dir(text, option: str) -> Path:
     if path.is_dir():
         if not os.access(path, os.W_OK | os.X_OK):
             raise InputError(option, f"cannot write in {text!r} (permission denied)")
+        _probe_dir(path, text, option)
         return path
     _parent_writable(path, option)
+    _probe_dir(path, text, option)
     return path
 
 

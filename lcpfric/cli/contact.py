@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import json
 
+from . import _common
+
 HELP = "W per cycle of a continuum contact (sphere, cylinder, punch, height map)"
 DESCRIPTION = (
     "The periodic steady state of two identical elastic bodies (effective radius R, "
@@ -36,9 +38,15 @@ OPTIONS = {
     "k_support": "--k-support",
     "P": "--P0",
     "Q": "--Q1",
+    "heights": "--heightmap",
+    "spacing": "--spacing",
 }
-#: fewest springs across the largest contact radius that resolve it
+#: fewest springs across the largest contact radius that resolve it (the models' ``min_nodes``)
 MIN_NODES = 10
+#: fewest increments per cycle, and fewest half-space elements across the contact
+MIN_STEPS, MIN_GRID = 4, 8
+#: the defaults of --steps, --nodes (by model) and --grid
+STEPS, NODES, GRID = 400, {"mdr": 2000, "halfplane": 400}, 40
 
 
 def configure(p) -> None:
@@ -82,25 +90,31 @@ def configure(p) -> None:
         "--k-support",
         default="0",
         metavar="K",
-        help="tangential stiffness holding the body, in parallel with the contact "
-        "(default 0: pure load control)",
+        help="tangential stiffness holding the body, in parallel with the contact, in "
+        "force per length (absolute; the output prints the contact's own k_t0 to compare; "
+        "default 0: pure load control)",
     )
     p.add_argument(
         "--nodes",
         default=None,
         metavar="N",
-        help=f"springs across the largest contact radius (mdr, default 2000) or "
-        f"elements across the largest contact width (halfplane, default 400); "
-        f"at least {MIN_NODES}",
+        help=f"springs across the largest contact radius (mdr, default {NODES['mdr']}) or "
+        f"elements across the largest contact width (halfplane, default "
+        f"{NODES['halfplane']}); at least {MIN_NODES}",
     )
-    p.add_argument("--steps", default="400", metavar="N", help="increments per cycle")
+    p.add_argument(
+        "--steps",
+        default=str(STEPS),
+        metavar="N",
+        help=f"increments per cycle (default {STEPS}; at least {MIN_STEPS})",
+    )
     g = p.add_argument_group("half-space (--model halfspace)")
     g.add_argument(
         "--grid",
         default=None,
         metavar="N",
-        help="elements across the largest contact's diameter (sphere, punch; "
-        "default 40); the grid adds 3 %% on each side",
+        help=f"elements across the largest contact's diameter (sphere, punch; "
+        f"default {GRID}, at least {MIN_GRID}); the grid adds 3 %% on each side",
     )
     g.add_argument(
         "--dims",
@@ -127,9 +141,10 @@ def configure(p) -> None:
     )
     g.add_argument(
         "--instants",
-        default="0,0.25,0.5,0.75",
+        default=None,
         metavar="F,F,...",
-        help="fractions of the period at which --figures draws the zones (default 0,0.25,0.5,0.75)",
+        help="with --figures: fractions of the period at which the zones are drawn "
+        "(default 0,0.25,0.5,0.75)",
     )
     g.add_argument(
         "--animation",
@@ -148,9 +163,22 @@ def configure(p) -> None:
         "gradients on FFT products); default: the model's",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--no-progress", action="store_true", help="no progress report on stderr")
+    _common.add_memory_option(p)
 
 
 def run(args) -> int:
+    from ._progress import Progress
+
+    # on stderr unless --no-progress or --json; quiet for quick runs (it starts after a delay)
+    args.reporter = Progress(not args.no_progress and not args.json, what="lcpfric contact")
+    try:
+        return _run(args)
+    finally:
+        args.reporter.close()
+
+
+def _run(args) -> int:
     from .. import _checks
     from ..errors import InputError
     from ..model.continuum import HalfPlaneCylinder, MDRSphere
@@ -172,16 +200,26 @@ def run(args) -> int:
             f"--model {' or '.join(MODELS[geometry])}",
         )
     method = _method(args.method, model_name)
-    steps = _count(args.steps, "--steps")
+    steps = _checks.positive_int("--steps", args.steps, MIN_STEPS)
     if not num["P0"] > 0:
         raise InputError("--P0", f"the mean normal load must be > 0, got {num['P0']:g}")
     for k in ("P1", "Q1"):
         if num[k] < 0:
             raise InputError(f"--{k}", f"an amplitude must be >= 0, got {num[k]:g}")
     if model_name != "halfspace":
-        for option in ("grid", "radius", "heightmap", "spacing", "figures", "animation"):
+        for option in (
+            "grid",
+            "radius",
+            "heightmap",
+            "spacing",
+            "figures",
+            "animation",
+            "instants",
+        ):
             if getattr(args, option) is not None:
-                raise InputError(f"--{option}", "applies to --model halfspace only")
+                raise InputError(
+                    f"--{option}", f"applies to --model halfspace only, not --model {model_name}"
+                )
         if args.dims != "1":
             raise InputError("--dims", "2 applies to --model halfspace only")
     P, Q = Harmonic(num["P0"], num["P1"]), Harmonic(0.0, num["Q1"], phi)
@@ -191,17 +229,17 @@ def run(args) -> int:
         if args.R is None:
             raise InputError("--R", f"the {geometry} needs its effective radius")
         R = _checks.parse_number(args.R, "--R")
-        default = "2000" if model_name == "mdr" else "400"
-        nodes = _count(args.nodes or default, "--nodes")
-        if nodes < MIN_NODES:
-            raise InputError(
-                "--nodes",
-                f"{nodes} springs are too coarse to resolve the contact; give at least {MIN_NODES}",
-            )
         kind = MDRSphere if model_name == "mdr" else HalfPlaneCylinder
+        given = NODES[model_name] if args.nodes is None else args.nodes
+        nodes = _checks.positive_int("--nodes", given, kind.min_nodes)
+        if nodes > kind.max_nodes:
+            raise InputError("--nodes", f"must be at most {kind.max_nodes}, got {nodes}")
+        _scene_memory(args, nodes, 1, steps, False, "--nodes")
         model = kind(R, num["E"], num["nu"], num["mu"], P, Q, k_support=ks, nodes=nodes)
     record = model_name == "halfspace" and (args.figures or args.animation) is not None
-    r = steady_state(model, method, steps, history=record)
+    if model_name == "halfspace" and model.N**2 * steps > 4e6:  # seconds of normal solves
+        args.reporter.stage(f"{model.N} x {model.N} grid: the normal problem at every instant")
+    r = steady_state(model, method, steps, history=record, progress=args.reporter.cycle)
     c = r.contact
     out = {
         "W": r.W,
@@ -223,20 +261,23 @@ def run(args) -> int:
         st = r.solver_stats
         out.update(
             dims=model.dims,
-            grid=model.N,
+            grid=getattr(model, "grid_across", model.N),
+            grid_side=model.N,
             nodes_in_contact_max=c.nodes_in_contact_max,
             normal_seconds=st["normal_seconds"],
             tangential_seconds=st["tangential_seconds"],
         )
         out["files"] = _pictures(args, model, r)
+    args.reporter.close()  # before the results, so that they do not mix with a bar
     if args.json:
         print(json.dumps(out))
         return 0
     size = "half-width" if geometry == "cylinder" else "radius"
     unit = " (per unit length)" if geometry == "cylinder" else ""
+    k_t0 = "" if c.k_t0 is None else f"k_t0 = {c.k_t0:.6g}; "
     print(
         f"W = {r.W:.10g} per cycle{unit}; {c.normalization} = {c.W_normalized:.10g} "
-        f"(largest contact {size} {c.contact_size_max:.6g}; {c.nodes} nodes, "
+        f"({k_t0}largest contact {size} {c.contact_size_max:.6g}; {c.nodes} nodes, "
         f"{r.steps_per_cycle} steps per cycle, {r.cycles} cycles, {r.method}, "
         f"{r.seconds:.2f} s)"
     )
@@ -257,7 +298,9 @@ def _halfspace(args, geometry, num, P, Q, ks, steps):
         raise InputError("--nodes", "the half-space takes --grid (elements across the contact)")
     if args.figures is not None:
         output_dir(args.figures, "--figures")
-    args.fractions = _fractions(args.instants)
+    elif args.instants is not None:
+        raise InputError("--instants", "sets the instants --figures draws; give --figures DIR")
+    args.fractions = _fractions(args.instants or "0,0.25,0.5,0.75")
     if args.animation is not None:
         output_file(args.animation, "--animation", ".gif")
     common = dict(dims=dims, k_support=ks)
@@ -271,7 +314,8 @@ def _halfspace(args, geometry, num, P, Q, ks, steps):
             raise InputError("--spacing", "the height map needs its grid spacing")
         spacing = _checks.parse_number(args.spacing, "--spacing")
         heights = _load_heightmap(args.heightmap)
-        _steps_memory(heights.size, steps, dims, args)
+        record = (args.figures or args.animation) is not None
+        _scene_memory(args, heights.size, dims, steps, record, "--heightmap")
         return HalfSpace(
             num["E"], num["nu"], num["mu"], P, Q, heights=heights, spacing=spacing, **common
         )
@@ -282,9 +326,10 @@ def _halfspace(args, geometry, num, P, Q, ks, steps):
             "--R", f"the {geometry} needs --R (its radius, or the punch's edge radius)"
         )
     R = _checks.parse_number(args.R, "--R")
-    grid = _count(args.grid or "40", "--grid")
+    grid = _checks.positive_int("--grid", GRID if args.grid is None else args.grid, MIN_GRID)
     side = grid + 2 * max(2, -(-3 * grid // 100))
-    _steps_memory(side * side, steps, dims, args)
+    record = (args.figures or args.animation) is not None
+    _scene_memory(args, side * side, dims, steps, record, "--grid")
     if geometry == "punch":
         if args.radius is None:
             raise InputError("--radius", "the punch needs its flat radius")
@@ -313,17 +358,21 @@ def _fractions(text) -> tuple:
     return out
 
 
-def _steps_memory(nodes, steps, dims, args) -> None:
-    """Refuse a grid and steps whose cycle would not fit in memory (before any work: the
-    scene checks the same, after the model's normal solves)."""
+def _scene_memory(args, nodes, dims, steps, record, option) -> None:
+    """Refuse a model and steps whose cycle would not fit in memory, before any work (the
+    driver checks the same, after the model's set-up): blamed on --steps when the default steps
+    would fit, else on the option that sets the nodes (``option``)."""
     from .. import memory
 
-    record = (args.figures or args.animation) is not None
-    memory.check(
-        memory.continuum_bytes(nodes, dims, steps, record),
-        "--grid" if args.heightmap is None else "--heightmap",
-        f"{nodes} nodes x {steps} steps (d = {dims})",
-    )
+    need = memory.continuum_bytes(nodes, dims, steps, record)
+    limit = _common.memory_limit(args)
+    if (
+        need > limit[0]
+        and steps > STEPS
+        and memory.continuum_bytes(nodes, dims, STEPS, record) <= limit[0]
+    ):
+        option = f"{option}, --steps"
+    _common.check_memory(need, args, option, f"{nodes} nodes x {steps} steps (d = {dims})")
 
 
 def _pictures(args, model, r) -> list:
@@ -334,14 +383,16 @@ def _pictures(args, model, r) -> list:
         from ..figures.halfspace import write_halfspace_figures
 
         Path(args.figures).mkdir(exist_ok=True)
-        files += [
-            str(f)
-            for f in write_halfspace_figures(args.figures, model, r, fractions=args.fractions)
-        ]
+        args.reporter.stage(f"writing the figures into {args.figures}")
+        written = write_halfspace_figures(
+            args.figures, model, r, fractions=args.fractions, progress=args.reporter.stage
+        )
+        files += [str(f) for f in written]
     if args.animation is not None:
         from ..figures.halfspace import animate_zones
 
-        files.append(str(animate_zones(model, r, args.animation)))
+        args.reporter.stage(f"writing the animation {args.animation}")
+        files.append(str(animate_zones(model, r, args.animation, progress=args.reporter.stage)))
     return files
 
 
@@ -362,16 +413,6 @@ def _method(text, model_name: str) -> str | None:
             f"({cls}); use {' or '.join(names)}",
         )
     return entry.name
-
-
-def _count(text, option: str) -> int:
-    from .. import _checks
-    from ..errors import InputError
-
-    x = _checks.parse_number(text, option)
-    if not (x >= 1 and x == int(x)):
-        raise InputError(option, f"must be a whole number >= 1, got {text!r}")
-    return int(x)
 
 
 def _load_heightmap(path):

@@ -7,6 +7,7 @@ import math
 import time
 
 from . import _common
+from ..errors import InputError
 
 HELP = "dissipation per cycle of one load case"
 DESCRIPTION = (
@@ -32,13 +33,23 @@ def configure(p) -> None:
         help="steps per cycle of a time-stepping method (default 2000); for exact, "
         "the points of the sampled time series",
     )
-    p.add_argument("--tol", default="1e-10", metavar="X", help="steady-state tolerance on v")
-    p.add_argument("--max-cycles", default="100", metavar="N", help="cap on cycles")
+    p.add_argument(
+        "--tol",
+        default=None,
+        metavar="X",
+        help="steady-state tolerance on v of a time-stepping method (default 1e-10)",
+    )
+    p.add_argument(
+        "--max-cycles",
+        default=None,
+        metavar="N",
+        help="cap on the cycles of a time-stepping method (default 100)",
+    )
     p.add_argument(
         "--placement",
-        default="contact",
+        default=None,
         choices=("contact", "uniform"),
-        help="where the steps go (default: contact)",
+        help="where the steps of a time-stepping method go (default: contact)",
     )
     _common.add_memory_option(p)
 
@@ -49,12 +60,19 @@ def solve(args):
     from .. import _checks
 
     steps = _checks.positive_int("--steps", args.steps, minimum=4)
-    tol = _checks.positive("--tol", _checks.parse_number(args.tol, "--tol"))
-    max_cycles = _checks.positive_int("--max-cycles", args.max_cycles, minimum=1)
+    tol = _checks.positive("--tol", _checks.parse_number(args.tol or "1e-10", "--tol"))
+    max_cycles = _checks.positive_int("--max-cycles", args.max_cycles or "100", minimum=1)
     method = str(args.method).strip()
     from ..methods import CLOSED_FORM, get_method
 
     exact = get_method(method)[0].kind == CLOSED_FORM
+    for name in ("tol", "max_cycles", "placement"):
+        if exact and getattr(args, name) is not None:
+            raise InputError(
+                "--" + name.replace("_", "-"),
+                f"applies to time-stepping methods; {method} is a closed form (no steps, "
+                "no cycles to converge)",
+            )
     what = (
         f"a time series of {steps + 1} points"
         if exact
@@ -66,7 +84,7 @@ def solve(args):
     from ..periodic import steady_state
 
     t0 = time.perf_counter()
-    kwargs = {} if exact else {"placement": args.placement}
+    kwargs = {} if exact else {"placement": args.placement or "contact"}
     res = steady_state(
         model, method=method, steps_per_cycle=steps, tol=tol, max_cycles=max_cycles, **kwargs
     )

@@ -35,19 +35,21 @@ def run(args) -> int:
         out = _common.output_file(args.out, "--out", FORMATS)
         _common.require_extras("loop figures", ["matplotlib"])
     model, res, seconds, assumed, _exact = dissipation.solve(args)
-    from ..analysis.loop import hysteresis_loop
-    from ..figures.loop import figure_loop
-    from ..results import State
+    from ..analysis.loop import hysteresis_loop, state_shares
 
     loop = hysteresis_loop(res)
-    shares = {State(code).label: float((loop.state[1:] == code).mean()) for code in State}
+    # time shares (steps of unequal length weighed by their duration; exact for the closed form)
+    shares = {state.label: share for state, share in state_shares(res, model=model).items()}
     if out is not None:
-        units = ("", "") if not model.dimensional else ("displacement", "force")
+        from ..figures.loop import figure_loop, loop_labels
+
+        names, units = loop_labels(model)
         fig = figure_loop(
             loop,
             title=f"{res.method}, P̂1 = {model.P1_hat:.4g}, "
             f"Q̂1 = {model.Q1_hat:.4g}, φ = {model.phi / math.pi:.4g}π",
             units=units,
+            names=names,
         )
         fig.savefig(out)
     summary = {
@@ -69,7 +71,7 @@ def run(args) -> int:
         f"hysteresis loop of {res.method}: {loop.v.size} points; enclosed area -∮F dv = "
         f"{loop.area:.10g}, W = {res.W:.10g} (W_hat = {res.W_hat:.10g})"
     )
-    print("share of the cycle: " + ", ".join(f"{k} {v:.1%}" for k, v in shares.items()))
+    print("share of the cycle's time: " + ", ".join(f"{k} {v:.1%}" for k, v in shares.items()))
     if out is not None:
         print(f"wrote {out}")
     if assumed:

@@ -3,12 +3,13 @@ W k_t0/(μ² P0²) of the Hertz contact with ``--contact sphere``."""
 
 from __future__ import annotations
 
+import argparse
 import json
-import re
 import sys
 from typing import TYPE_CHECKING
 
 from . import _common
+from ._scheduler import connect, scheduler_address
 from ..errors import InputError
 
 if TYPE_CHECKING:
@@ -26,8 +27,19 @@ DESCRIPTION = (
 OPTIONS = {
     "steps_per_cycle": "--steps",
     "store": "--out",
-    "k_support": "--k-support",
+    "out": "--out",
+    "k_support_ratio": "--k-support-ratio",
     "nodes": "--nodes",
+    "grid": "--grid",
+}
+#: the continuum-contact options and the contact models they apply to
+CONTACT_OPTIONS = {
+    "contact_model": ("mdr", "halfspace"),
+    "k_support_ratio": ("mdr", "halfspace"),
+    "nodes": ("mdr",),
+    "grid": ("halfspace",),
+    "dims": ("halfspace",),
+    "nu": ("halfspace",),
 }
 DIMS = ("phi", "P1", "Q1")
 
@@ -76,35 +88,36 @@ def configure(p) -> None:
     g.add_argument(
         "--contact-model",
         choices=("mdr", "halfspace"),
-        default="mdr",
+        default=None,
         help="mdr (dimensionality reduction, default) or halfspace (boundary elements on a grid)",
     )
     g.add_argument(
-        "--k-support",
-        default="0",
-        metavar="K",
-        help="tangential support stiffness over k_t0 (default 0: pure load control; "
-        "loads with |Q| > mu P at some instant are then NaN)",
+        "--k-support-ratio",
+        default=None,
+        metavar="X",
+        help="tangential support stiffness as a multiple of the contact's k_t0 (default 0: "
+        "pure load control; loads with |Q| > mu P at some instant are then NaN)",
     )
+    g.add_argument("--k-support", default=None, help=argparse.SUPPRESS)  # refused: see run
     g.add_argument(
         "--nodes",
-        default="200",
+        default=None,
         metavar="N",
-        help="mdr: springs across the largest contact radius (default 200)",
+        help="mdr: springs across the largest contact radius (default 200, at least 10)",
     )
     g.add_argument(
         "--grid",
-        default="20",
+        default=None,
         metavar="N",
-        help="halfspace: elements across the largest contact (default 20)",
+        help="halfspace: elements across the largest contact (default 20, at least 8)",
     )
     g.add_argument(
         "--dims",
-        default="1",
+        default=None,
         choices=("1", "2"),
         help="halfspace: tangential directions (default 1)",
     )
-    g.add_argument("--nu", default="0", metavar="X", help="halfspace: Poisson's ratio (default 0)")
+    g.add_argument("--nu", default=None, metavar="X", help="halfspace: Poisson's ratio (default 0)")
     p.add_argument(
         "--steps", default=None, metavar="N", help="steps per cycle for time-stepping methods"
     )
@@ -148,68 +161,6 @@ def grid_count(text) -> int | None:
     return len([s for s in text.split(",") if s.strip()])
 
 
-_ADDRESS = re.compile(
-    r"^(?:(?P<scheme>[A-Za-z][A-Za-z0-9+.-]*)://)?"
-    r"(?P<host>\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):(?P<port>\d{1,5})$"
-)
-_SCHEMES = ("tcp", "tls", "ws", "wss", "ucx")
-PROBE_SECONDS = 5.0
-
-
-def scheduler_address(text) -> str:
-    """Check a Dask scheduler address, and that something listens there, before any work."""
-    import socket
-
-    s = str(text).strip()
-    m = _ADDRESS.match(s)
-    scheme = (m.group("scheme") or "tcp").lower() if m else ""
-    if m is None or scheme not in _SCHEMES or not 0 < int(m.group("port")) < 65536:
-        raise InputError(
-            "--scheduler",
-            f"{text!r} is not a Dask scheduler address; give "
-            "tcp://HOST:PORT or HOST:PORT, e.g. tcp://10.0.0.5:8786",
-        )
-    host, port = m.group("host").strip("[]"), int(m.group("port"))
-    address = s if m.group("scheme") else f"tcp://{s}"
-    if scheme != "ucx":
-        try:
-            socket.create_connection((host, port), timeout=PROBE_SECONDS).close()
-        except socket.gaierror:
-            raise InputError(
-                "--scheduler",
-                f"cannot reach the Dask scheduler at {address}: unknown host {host!r}",
-            ) from None
-        except (OSError, TimeoutError) as exc:
-            reason = getattr(exc, "strerror", None) or type(exc).__name__
-            if isinstance(exc, TimeoutError):
-                reason = f"no answer within {PROBE_SECONDS:g} s"
-            raise InputError(
-                "--scheduler", f"cannot reach the Dask scheduler at {address}: {reason}"
-            ) from None
-    return address
-
-
-CONNECT_SECONDS = 20
-
-
-def connect(address: str):
-    """A ``dask.distributed.Client`` of the scheduler at ``address``; any failure to connect is
-    bad input for ``--scheduler`` (a service there that is not a Dask scheduler makes Dask's
-    reader fail in odd ways, a MemoryError among them)."""
-    from distributed import Client
-
-    try:
-        return Client(address, timeout=f"{CONNECT_SECONDS}s")
-    except MemoryError:
-        reason = "what answers there does not speak Dask's protocol"
-    except Exception as exc:  # OSError, TimeoutError, a protocol error...
-        reason = f"{type(exc).__name__}: {exc}"
-    raise InputError(
-        "--scheduler",
-        f"cannot connect to a Dask scheduler at {address}: {_common.one_line(reason)}",
-    )
-
-
 def _chunk_files(store: Path) -> list[Path]:
     return sorted(store.glob("chunk-*.npy")) if store.is_dir() else []
 
@@ -228,30 +179,56 @@ def remove_store(store: Path) -> None:
 
 
 # -- the command -----------------------------------------------------------------------------------
+def _contact(args) -> dict | None:
+    """The ``contact`` spec of the continuum-contact options; an option that does not apply
+    (no --contact, or another --contact-model) is refused, naming why."""
+    from .. import _checks
+
+    if args.k_support is not None:
+        raise InputError(
+            "--k-support",
+            "the map's support stiffness is a multiple of k_t0: give --k-support-ratio "
+            "(lcpfric contact's --k-support is an absolute stiffness)",
+        )
+    given = [k for k in CONTACT_OPTIONS if getattr(args, k) is not None]
+    if args.contact is None:
+        if given:
+            name = "--" + given[0].replace("_", "-")
+            raise InputError(name, "applies to a continuum contact map only: add --contact sphere")
+        return None
+    model = args.contact_model or "mdr"
+    for k in given:
+        if model not in CONTACT_OPTIONS[k]:
+            raise InputError(
+                "--" + k.replace("_", "-"),
+                f"applies to --contact-model {' or '.join(CONTACT_OPTIONS[k])} only, not {model}",
+            )
+    ratio = "0" if args.k_support_ratio is None else args.k_support_ratio
+    contact = {
+        "geometry": args.contact,
+        "k_support_ratio": _checks.nonnegative(
+            "--k-support-ratio", _checks.parse_number(ratio, "--k-support-ratio")
+        ),
+    }
+    if model == "halfspace":
+        nu = _checks.parse_number("0" if args.nu is None else args.nu, "--nu")
+        if not 0.0 <= nu < 0.5:
+            raise InputError("--nu", f"must be in [0, 0.5), got {args.nu!r}")
+        grid = _checks.positive_int("--grid", "20" if args.grid is None else args.grid, 8)
+        contact.update(model="halfspace", grid=grid, dims=int(args.dims or 1), nu=nu)
+    else:
+        contact["nodes"] = _checks.positive_int(
+            "--nodes", "200" if args.nodes is None else args.nodes, 10
+        )
+    return contact
+
+
 def run(args) -> int:
     from .. import _checks
 
     method = None if args.method is None else str(args.method).strip()
-    contact = None
-    if args.contact is not None:
-        contact = {
-            "geometry": args.contact,
-            "k_support": _checks.nonnegative(
-                "--k-support", _checks.parse_number(args.k_support, "--k-support")
-            ),
-        }
-        if args.contact_model == "halfspace":
-            nu = _checks.parse_number(args.nu, "--nu")
-            if not 0.0 <= nu < 0.5:
-                raise InputError("--nu", f"must be in [0, 0.5), got {args.nu!r}")
-            contact.update(
-                model="halfspace",
-                grid=_checks.positive_int("--grid", args.grid, 8),
-                dims=int(args.dims),
-                nu=nu,
-            )
-        else:
-            contact["nodes"] = _checks.positive_int("--nodes", args.nodes)
+    contact = _contact(args)
+    if contact is not None:
         from ..analysis.contact_maps import map_spec
 
         own = map_spec(contact, None, method)[3]  # checks that the method solves it
@@ -299,6 +276,8 @@ def run(args) -> int:
     Q1 = parse_grid(args.Q1, "--Q1")
     phi = parse_grid(args.phi, "--phi", angle=True)
     scheduler = None if args.scheduler is None else scheduler_address(args.scheduler)
+    if contact is not None and not args.json:
+        _announce(contact, steps, method, P1.size * Q1.size * phi.size, processes, scheduler)
 
     if args.restart:  # nothing of the earlier run may survive an interrupted restart
         out.unlink(missing_ok=True)
@@ -352,6 +331,22 @@ def run(args) -> int:
         if client is not None:
             client.close()
     return _report(ds, out, args.json)
+
+
+def _announce(contact, steps, method, points, processes, scheduler) -> None:
+    """Say on stderr how long a contact map is expected to take, when that is over a minute
+    (the registry's measured cost per point; Ctrl-C keeps the finished chunks)."""
+    from ..analysis.contact_maps import map_spec
+
+    workers = 1 if scheduler is not None else min(_common.workers_for(processes), points)
+    seconds = map_spec(contact, steps, method)[2] * points / max(1, workers)
+    if seconds > 60:
+        took = f"{seconds / 60:.0f} min" if seconds < 7200 else f"{seconds / 3600:.1f} h"
+        print(
+            f"lcpfric map: about {took} of work expected ({points} points, {workers} "
+            "workers); Ctrl-C keeps the finished chunks, and the same command resumes",
+            file=sys.stderr,
+        )
 
 
 def _report(ds, out: Path, as_json: bool) -> int:

@@ -262,11 +262,12 @@ def figure_traction_vectors(model, result, fraction: float = 0.25, title: str = 
         return finish(fig)
 
 
-def animate_zones(model, result, path, frames=None, fps: int = 10):
+def animate_zones(model, result, path, frames=None, fps: int = 10, progress=None):
     """The zone map (:func:`figure_zone_maps`'s panel) over the last cycle as an animated GIF at
     ``path`` (matplotlib's PillowWriter): ``frames`` instants evenly spread over the recorded
-    ones (default: all of them, at most :data:`ANIMATION_FRAMES`), ``fps`` frames a second.
-    Returns the path."""
+    ones (default: all of them, at most :data:`ANIMATION_FRAMES`), ``fps`` frames a second;
+    ``progress(line)``, if given (e.g. a printer to stderr), hears a line at every tenth of the
+    frames drawn. Returns the path."""
     path = Path(path)
     if path.suffix.lower() != ".gif":
         raise InputError(
@@ -340,22 +341,39 @@ def animate_zones(model, result, path, frames=None, fps: int = 10):
             head.set_text(panels.loads_label(model, float(result.t[j]), period))
             return mesh, edge, head
 
+        said = [0]
+
+        def drawn(k, total):
+            tenth = 10 * (k + 1) // max(total, 1)
+            if progress is not None and tenth > said[0]:
+                said[0] = tenth
+                progress(f"animation {path.name}: frame {k + 1} of {total} ({10 * tenth} %)")
+
         anim = FuncAnimation(fig, update, frames=[int(i) for i in index], blit=False)
-        anim.save(str(path), writer=PillowWriter(fps=fps), dpi=ANIMATION_DPI)
+        anim.save(
+            str(path), writer=PillowWriter(fps=fps), dpi=ANIMATION_DPI, progress_callback=drawn
+        )
     return path
 
 
 def write_halfspace_figures(
-    out_dir, model, result, formats=("png", "pdf"), fractions=(0.0, 0.25, 0.5, 0.75)
+    out_dir,
+    model,
+    result,
+    formats=("png", "pdf"),
+    fractions=(0.0, 0.25, 0.5, 0.75),
+    progress=None,
 ) -> list[Path]:
     """Write the zone maps at ``fractions`` of the period (``halfspace-zones``) and, for
     ``dims = 2``, the traction vectors at the first of them with a tangential load (``halfspace-
     tractions``, at the largest |Q| if none has one) of a solved half-space contact into
-    ``out_dir``: the paths."""
+    ``out_dir``: the paths. ``progress(line)``, if given, hears a line per figure written."""
     panels.check_result(model, result)
+    say = progress or (lambda line: None)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     paths = save(figure_zone_maps(model, result, fractions), out_dir, "halfspace-zones", formats)
+    say(f"figures: halfspace-zones written to {out_dir}")
     if model.dims == 2:
         T = float(result.t[-1])
         Q = [abs(float(model.Q(f * T))) for f in fractions]
@@ -371,4 +389,5 @@ def write_halfspace_figures(
             "halfspace-tractions",
             formats,
         )
+        say(f"figures: halfspace-tractions written to {out_dir}")
     return paths

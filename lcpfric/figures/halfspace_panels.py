@@ -30,7 +30,7 @@ __all__ = [
 ]
 
 #: the zones' colours: stick, forward slip, backward slip, separated
-ZONE_COLOURS = ("#23395d", "#d9531e", "#f4a259", "#ececec")
+ZONE_COLOURS = ("#23395d", "#c51b7d", "#f4a259", "#ececec")
 
 
 def check_result(model, result):
@@ -226,8 +226,17 @@ def ticks(ax):
 
 # -- figures --------------------------------------------------------------------------------------
 def caption(model, sides: bool = True) -> str:
-    """The legend's title: the surface, the grid, the tangential directions, a0."""
-    head = f"{model.geometry}, {model.N} x {model.N} elements, "
+    """The legend's title: the surface, the grid (as asked: for a sphere or a punch the
+    elements across the largest contact, ``grid_across``, then the whole grid with its margins),
+    the tangential directions, a0."""
+    across = getattr(model, "grid_across", None)
+    N = model.N
+    if across is not None and across != N:
+        head = (
+            f"{model.geometry}, {across} elements across the largest contact ({N} x {N} in all)\n"
+        )
+    else:
+        head = f"{model.geometry}, {N} x {N} elements, "
     if model.dims == 1:
         head += "tractions along x"
     elif sides:

@@ -12,12 +12,12 @@
                   MDR sphere's maps)
 """
 
-__all__ = ["steady_state", "cycle_change", "DRIVER_OPTIONS"]
+__all__ = ["steady_state", "cycle_change", "CycleProgress", "DRIVER_OPTIONS"]
 
 
 def __getattr__(name: str):
     # imported on first use: the measure alone must not pull in the driver and the steppers
-    if name in ("steady_state", "DRIVER_OPTIONS"):
+    if name in ("steady_state", "CycleProgress", "DRIVER_OPTIONS"):
         from . import driver
 
         return getattr(driver, name)

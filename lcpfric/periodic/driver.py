@@ -8,7 +8,7 @@ start may be moved towards the fixed point of the cycle map (:mod:`.acceleration
 that settles over many cycles (the half-space with d = 2) has its early cycles' increments
 solved loosely (:func:`loose_tolerance`). The last cycle becomes the result in the model's
 units (:mod:`.assemble`). Non-convergence is reported (``converged=False``, and an error or a
-warning by ``on_nonconvergence``), never returned as converged.
+warning by ``on_nonconvergence``), never returned as converged. ``progress`` watches each cycle.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ import math
 import time
 import warnings
 from dataclasses import replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Callable, NamedTuple
 
 import numpy as np
 
@@ -40,7 +40,7 @@ if TYPE_CHECKING:
     from ..model.continuum import HalfPlaneCylinder, HalfSpace, MDRSphere
     from ..steppers.base import Stepper
 
-__all__ = ["steady_state", "loose_tolerance", "DRIVER_OPTIONS"]
+__all__ = ["steady_state", "loose_tolerance", "CycleProgress", "DRIVER_OPTIONS"]
 
 #: The driver's own keyword options: the names of :func:`steady_state`'s keyword arguments that
 #: the driver takes itself (everything else goes to the method).
@@ -52,6 +52,7 @@ DRIVER_OPTIONS = (
     "placement",
     "u0",
     "history",
+    "progress",
 )
 #: steppers with loose early cycles: the increments' tolerance, this times the last cycle's
 #: change, at most ``_LOOSE_MAX`` (and at least the final one)
@@ -62,6 +63,30 @@ _FINAL = 0.1
 #: their smallest cycle tolerance (its increments, a tenth of it, near the 1e-13 that they
 #: hold at best)
 _TOL_MIN = 1e-12
+
+
+class CycleProgress(NamedTuple):
+    """What :func:`steady_state` passes to its ``progress`` callable after each cycle.
+
+    Parameters
+    ----------
+    cycle : int
+        The cycle just run, from 1.
+    change : float
+        Its convergence measure, the change from the cycle before (:mod:`.measure`; ``inf`` first).
+    tol : float
+        The run stops once ``change <= tol`` (at full accuracy, for loose early cycles) ...
+    max_cycles : int
+        ... or after this many cycles.
+    W : float
+        The cycle's dissipation, in the model's units.
+    """
+
+    cycle: int
+    change: float
+    tol: float
+    max_cycles: int
+    W: float
 
 
 def steady_state(
@@ -75,6 +100,7 @@ def steady_state(
     placement: str | None = None,
     u0: ArrayLike | None = None,
     history: bool = True,
+    progress: Callable[[CycleProgress], Any] | None = None,
     **options: Any,
 ) -> SteadyState:
     """The periodic steady state and its dissipation per cycle.
@@ -128,6 +154,9 @@ def steady_state(
         state at the cycle's start, which determines the whole cycle, and on each unknown's
         range over the cycle. Time steppers whose ``cycle`` takes ``history`` support it; the
         others raise InputError.
+    progress : callable, optional
+        Called after each cycle with a :class:`CycleProgress`; it changes no bit of the result,
+        an exception raised in it stops the run, and a closed-form method never calls it.
     **options
         The method's own options (solver tolerances and settings). An option that neither the
         driver nor the method takes raises :class:`~lcpfric.errors.InputError` naming the
@@ -146,10 +175,10 @@ def steady_state(
     ------
     lcpfric.errors.InputError
         Bad options (``tol``, ``max_cycles``, ``steps_per_cycle``, ``on_nonconvergence``,
-        ``history``, ``u0`` out of range or of the wrong size), an unknown method name or
-        option (naming the valid ones), a model that is none of the above, a model the method
-        cannot treat (naming the methods that can), ``history=False`` with a method that
-        keeps the whole cycle, or a computation over the memory limit
+        ``history``, ``u0`` out of range or of the wrong size, ``progress`` not callable), an
+        unknown method name or option (naming the valid ones), a model that is none of the
+        above, a model the method cannot treat (naming the methods that can), ``history=False``
+        with a method that keeps the whole cycle, or a computation over the memory limit
         (:mod:`lcpfric.memory`).
     lcpfric.errors.SolverNotFound
         The method needs an optional package that is not installed (a
@@ -203,6 +232,8 @@ def steady_state(
     tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles, on_nonconvergence)
     solver = _method(method, options)
     history = _checks.boolean("history", history)
+    if progress is not None and not callable(progress):
+        raise InputError("progress", f"must be a callable or None, got {type(progress).__name__}")
     if not history and (
         solver.kind == CLOSED_FORM or "history" not in inspect.signature(solver.cycle).parameters
     ):
@@ -279,8 +310,12 @@ def steady_state(
             changes.append(change)
             if accurate:
                 smallest = min(smallest, change)
-            if change <= tol and accurate:
-                break
+        if progress is not None:
+            progress(
+                CycleProgress(len(W_cycles), float(change), tol, max_cycles, float(W_cycles[-1]))
+            )
+        if change <= tol and accurate:
+            break
         prev = cyc
         jump = (
             accelerate(cyc, FrictionLimits(work) if work.system is not None else None)

@@ -70,7 +70,7 @@ class ContactModel:
         Tangential stiffness of the support in parallel with the contact, >= 0 (0: pure load
         control).
     nodes : int
-        Number of nodes, from 1 to ``max_nodes``.
+        Number of nodes, from ``min_nodes`` to ``max_nodes``.
 
     Attributes
     ----------
@@ -101,6 +101,8 @@ class ContactModel:
     """
 
     max_nodes = 200_000
+    #: fewest nodes that resolve the contact (the springs or elements across it)
+    min_nodes = 1
     dims = 1
     k_t0: float | None = None
     #: the driver's defaults (:func:`lcpfric.steady_state`)
@@ -132,6 +134,12 @@ class ContactModel:
         self.period = periods[0] if periods else 1.0
         self.k_support = _checks.nonnegative("k_support", k_support)
         self.nodes = _checks.positive_int("nodes", nodes)
+        if self.nodes < self.min_nodes:
+            raise InputError(
+                "nodes",
+                f"{self.nodes} nodes are too coarse to resolve the contact; give at least "
+                f"{self.min_nodes}",
+            )
         if self.nodes > self.max_nodes:
             raise InputError("nodes", f"must be at most {self.max_nodes}, got {self.nodes}")
         if not self.P.mean > 0:

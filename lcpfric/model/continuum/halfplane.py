@@ -56,6 +56,8 @@ __all__ = ["HalfPlaneCylinder", "NormalProblem", "MAX_NODES", "log_kernel", "ent
 
 #: largest number of elements (the influence matrix is dense: 8 N² bytes)
 MAX_NODES = 6000
+#: fewest springs (elements) across the largest contact that resolve it
+MIN_NODES = 10
 _MAX_ITER = 400
 
 
@@ -126,6 +128,7 @@ class HalfPlaneCylinder(ContactModel):
     """
 
     max_nodes = MAX_NODES
+    min_nodes = MIN_NODES
     default_method = "halfplane-pdas"
 
     def __init__(

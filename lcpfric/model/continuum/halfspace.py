@@ -65,7 +65,8 @@ class HalfSpace(ContactModel):
         Total normal and tangential (along x) loads.
     heights : (N, N) array_like
         The gap at zero approach (the sum of the two surfaces' heights), on the grid; index
-        ``[i, j]`` is the element at ``(x_i, y_j)``.
+        ``[i, j]`` is the element at ``(x_i, y_j)``. Every entry must be finite; a masked
+        array with masked points is refused (every grid point is a surface point).
     spacing : float
         The element side h.
     dims : {1, 2}
@@ -131,6 +132,16 @@ class HalfSpace(ContactModel):
         _a0: float | None = None,
         geometry: str = "heightmap",
     ) -> None:
+        if np.ma.isMaskedArray(heights):
+            if np.ma.count_masked(heights):
+                raise InputError(
+                    "heights",
+                    f"a masked array ({np.ma.count_masked(heights)} points masked) is not "
+                    "supported: every grid point is a surface point; to keep points out of "
+                    "contact give them a gap larger than the approach at the largest load "
+                    "(heights.filled(a large value)), or crop the surface",
+                )
+            heights = np.ma.getdata(heights)
         g0 = _checks.finite_array("heights", heights)
         if g0.ndim != 2 or g0.shape[0] != g0.shape[1] or g0.shape[0] < 4:
             raise InputError(

@@ -70,6 +70,8 @@ __all__ = ["MDRSphere", "MAX_NODES"]
 
 #: largest number of springs (the arrays are nodes x steps)
 MAX_NODES = 200_000
+#: fewest springs (elements) across the largest contact that resolve it
+MIN_NODES = 10
 
 
 class MDRSphere(ContactModel):
@@ -120,6 +122,7 @@ class MDRSphere(ContactModel):
     """
 
     max_nodes = MAX_NODES
+    min_nodes = MIN_NODES
     default_method = "mdr-bar"
 
     def __init__(
