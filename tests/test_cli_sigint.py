@@ -104,10 +104,10 @@ def _running(pid: int) -> bool:
     return stat.rsplit(")", 1)[1].split()[0] != "Z"
 
 
-def _interrupt(proc, limit: float) -> tuple[int, float, str]:
-    """SIGINT to the main process only; its exit code, the seconds it took, its stderr."""
+def _interrupt(proc, limit: float, sig=signal.SIGINT) -> tuple[int, float, str]:
+    """``sig`` to the main process only; its exit code, the seconds it took, its stderr."""
     t0 = time.monotonic()
-    os.kill(proc.pid, signal.SIGINT)
+    os.kill(proc.pid, sig)
     try:
         proc.wait(timeout=limit)
     except subprocess.TimeoutExpired:
@@ -151,14 +151,15 @@ def test_sigint_to_the_main_process_stops_the_workers_and_keeps_the_chunks(tmp_p
     assert saved and f"interrupted: {len(saved)} finished chunks are saved" in err
     assert not out.exists()
 
-    # The same command resumes: it keeps the saved chunks and computes the others.
+    # The same command resumes: it keeps the saved chunks and computes the others; SIGTERM
+    # (timeout's and schedulers' default) stops it as SIGINT does.
     again = _start(out)
     workers = []
     try:
         _wait_for_chunks(again, store, len(saved))
         workers = _descendants(again.pid)
-        code, _, err = _interrupt(again, 10.0)
-        assert code == 130, (code, err)
+        code, _, err = _interrupt(again, 10.0, signal.SIGTERM)
+        assert code == 130 and "finished chunks are saved" in err, (code, err)
     finally:
         if again.poll() is None or any(_running(p) for p in workers):
             _kill_all(again, workers)

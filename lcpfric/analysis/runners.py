@@ -45,8 +45,10 @@ def run_serial(tasks: dict, compute: Callable, on_result: Callable) -> str:
 
 
 def _ignore_sigint() -> None:
-    """In a worker: leave Ctrl-C to the parent, which cancels the chunks not yet started."""
+    """In a worker: leave Ctrl-C to the parent, which cancels the chunks not yet started, and
+    let SIGTERM end the worker (the parent's handler, inherited by a fork, must not)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 def _stop_workers(pool) -> None:

@@ -55,8 +55,7 @@ from .sweep_plan import (
     describe_sweep,
     per_point_W_hat,
     plan_sweep,
-    sweep_bytes,
-    sweep_parameter,
+    sweep_memory,
 )
 
 __all__ = ["sweep", "per_point_W_hat", "write_dataset", "netcdf_engine"]
@@ -223,11 +222,7 @@ def sweep(
     n = phi.size * P1.size * Q1.size
     workers = processes or default_workers()
     chunks = chunk_bounds(n, chunk_size, plan["cost"], plan["batched"])
-    memory.check(
-        sweep_bytes(plan, n, chunks, phi, P1, Q1, scheduler, workers),
-        sweep_parameter(plan, n, phi, P1, Q1),
-        f"a map of {n} points ({phi.size} x {P1.size} x {Q1.size})",
-    )
+    memory.check(*sweep_memory(plan, chunks, phi, P1, Q1, scheduler, workers))
     description, key, attrs = describe_sweep(plan, phi, P1, Q1, chunks)
     if out is not None and resume and out.exists():
         try:

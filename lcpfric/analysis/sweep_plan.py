@@ -149,6 +149,16 @@ def sweep_bytes(plan, n, chunks, phi, P1, Q1, scheduler, workers) -> float:
     )
 
 
+def sweep_memory(plan, chunks, phi, P1, Q1, scheduler, workers) -> tuple[float, str, str]:
+    """``(bytes, parameter, what)`` of a sweep, for :func:`lcpfric.memory.check`."""
+    n = phi.size * P1.size * Q1.size
+    return (
+        sweep_bytes(plan, n, chunks, phi, P1, Q1, scheduler, workers),
+        sweep_parameter(plan, n, phi, P1, Q1),
+        f"a map of {n} points ({phi.size} x {P1.size} x {Q1.size})",
+    )
+
+
 def sweep_parameter(plan, n, phi, P1, Q1) -> str:
     """The parameter a memory error names: the grid of points when its values alone take half
     the limit (or for the single node), else what sets the contact map's work per point."""

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import signal
 import sys
 from typing import TYPE_CHECKING
 
@@ -277,7 +278,7 @@ def run(args) -> int:
     phi = parse_grid(args.phi, "--phi", angle=True)
     scheduler = None if args.scheduler is None else scheduler_address(args.scheduler)
     if contact is not None and not args.json:
-        _announce(contact, steps, method, P1.size * Q1.size * phi.size, processes, scheduler)
+        _announce(args, contact, steps, method, (P1, Q1, phi), processes, scheduler)
 
     if args.restart:  # nothing of the earlier run may survive an interrupted restart
         out.unlink(missing_ok=True)
@@ -288,6 +289,7 @@ def run(args) -> int:
     from ..analysis.sweep import sweep
 
     client = None if scheduler is None else connect(scheduler)
+    previous = _terminate_as_interrupt()
     try:
         ds = sweep(
             P1,
@@ -328,18 +330,41 @@ def run(args) -> int:
             remove_store(store)
         raise
     finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
         if client is not None:
             client.close()
     return _report(ds, out, args.json)
 
 
-def _announce(contact, steps, method, points, processes, scheduler) -> None:
-    """Say on stderr how long a contact map is expected to take, when that is over a minute
-    (the registry's measured cost per point; Ctrl-C keeps the finished chunks)."""
-    from ..analysis.contact_maps import map_spec
+def _terminate_as_interrupt():
+    """SIGTERM (``timeout``, ``kill``, batch schedulers) stops a map as Ctrl-C does: workers
+    stopped, finished chunks kept, exit 130. Returns the previous handler (None where signals
+    cannot be set: not the main thread)."""
 
+    def _stop(signum, frame):
+        raise KeyboardInterrupt
+
+    try:
+        return signal.signal(signal.SIGTERM, _stop)
+    except ValueError:
+        return None
+
+
+def _announce(args, contact, steps, method, axes, processes, scheduler) -> None:
+    """Say on stderr how long a contact map is expected to take, when that is over a minute
+    (the registry's measured cost per point; Ctrl-C keeps the finished chunks), after the
+    sweep's own memory check (so that a refused map is not announced)."""
+    from .. import memory
+    from ..analysis.sweep_plan import chunk_bounds, plan_sweep, sweep_memory
+
+    P1, Q1, phi = axes
+    points = P1.size * Q1.size * phi.size
     workers = 1 if scheduler is not None else min(_common.workers_for(processes), points)
-    seconds = map_spec(contact, steps, method)[2] * points / max(1, workers)
+    plan = plan_sweep(P1, Q1, phi, method, steps, contact)
+    chunks = chunk_bounds(points, args.chunk_size and int(args.chunk_size), plan["cost"], False)
+    memory.check(*sweep_memory(plan, chunks, phi, P1, Q1, scheduler, workers))
+    seconds = plan["cost"] * points / max(1, workers)
     if seconds > 60:
         took = f"{seconds / 60:.0f} min" if seconds < 7200 else f"{seconds / 3600:.1f} h"
         print(
