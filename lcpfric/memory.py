@@ -86,8 +86,15 @@ def parse_size(text, name: str) -> float:
             f"cannot parse {text!r} as a memory size; give e.g. 8G, 500M, "
             "2GiB, or none for no limit",
         )
-    value = float(m.group(1)) * 10.0 ** int(m.group(2) or 0) * _UNITS[unit]
-    if not math.isfinite(value) or value <= 0:
+    try:
+        value = float(m.group(1)) * 10.0 ** int(m.group(2) or 0) * _UNITS[unit]
+    except OverflowError:
+        value = math.inf
+    if not math.isfinite(value):
+        raise InputError(
+            name, f"{text!r} is beyond any memory; give a size such as 8G, or none for no limit"
+        )
+    if value <= 0:
         raise InputError(name, f"must be a positive size, got {text!r}")
     return value
 

@@ -238,9 +238,20 @@ def scene_times(scene):
 
 
 # -- maps ----------------------------------------------------------------------------------------
+def _ratio(kw: dict) -> dict:
+    """0.2 names a map's support (a multiple of k_t0) k_support_ratio; 0.1 k_support."""
+    from lcpfric.analysis import contact_maps
+
+    if "k_support" in kw and "k_support_ratio" in contact_maps.CONTACT_DEFAULTS:
+        kw = dict(kw)
+        kw["k_support_ratio"] = kw.pop("k_support")
+    return kw
+
+
 def mdr_map(P1, Q1, phi, **kw):
     from lcpfric.analysis.contact_maps import mdr_W_normalized
 
+    kw = _ratio(kw)
     return mdr_W_normalized(
         np.asarray(P1, float), np.asarray(Q1, float), np.asarray(phi, float), **kw
     )
@@ -249,6 +260,7 @@ def mdr_map(P1, Q1, phi, **kw):
 def halfspace_map(P1, Q1, phi, **kw):
     from lcpfric.analysis.contact_maps import halfspace_W_normalized
 
+    kw = _ratio(kw)
     return halfspace_W_normalized(
         np.asarray(P1, float), np.asarray(Q1, float), np.asarray(phi, float), **kw
     )
@@ -256,15 +268,10 @@ def halfspace_map(P1, Q1, phi, **kw):
 
 def sweep_map(P1, Q1, phi, **kw):
     """A sweep as a dict {(phi, P1, Q1): value} (W_hat, or W_normalized for a contact)."""
-    from lcpfric.analysis import contact_maps
     from lcpfric.analysis.sweep import sweep
 
-    contact = kw.get("contact")
-    if contact and "k_support" in contact and "k_support_ratio" in contact_maps.CONTACT_DEFAULTS:
-        # 0.2 names the map's support ratio k_support_ratio (0.1: k_support)
-        kw["contact"] = {
-            ("k_support_ratio" if k == "k_support" else k): v for k, v in contact.items()
-        }
+    if kw.get("contact"):
+        kw["contact"] = _ratio(kw["contact"])
     ds = sweep(P1, Q1, phi, progress=False, processes=1, **kw)
     var = "W_normalized" if kw.get("contact") is not None else "W_hat"
     arr = ds[var].values

@@ -110,8 +110,8 @@ def shakedown(
     Raises
     ------
     InputError
-        Without a model: ``P1`` or ``Q1`` missing, negative or not finite, or ``phi`` not
-        finite.
+        Without a model: ``P1`` or ``Q1`` missing, negative, not finite or over 1e300
+        (:data:`~lcpfric.exact.MAX_AMPLITUDE`), or ``phi`` not finite.
     """
     from ..model import SingleNode
 
@@ -135,8 +135,10 @@ def shakedown(
             hi = plus.extrema()[0]
             ok = lo <= hi
             return Shakedown(bool(ok), 0.5 * (lo + hi) if ok else None, float(hi - lo))
-    P1 = _checks.nonnegative("P1", P1)
-    Q1 = _checks.nonnegative("Q1", Q1)
+    from ..exact.formulas import MAX_AMPLITUDE
+
+    P1 = _checks.amplitude("P1", P1, MAX_AMPLITUDE)
+    Q1 = _checks.amplitude("Q1", Q1, MAX_AMPLITUDE)
     phi = _checks.finite("phi", phi)
     z = Q1 * np.exp(1j * phi)
     r_lo, r_hi = abs(z + P1), abs(z - P1)

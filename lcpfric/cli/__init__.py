@@ -32,7 +32,7 @@ import argparse
 import importlib
 import sys
 
-from ._common import Parser, execute, values_after_options
+from ._common import Parser, execute, repeated_option, values_after_options
 
 __all__ = ["main", "build_parser", "COMMANDS"]
 
@@ -98,6 +98,10 @@ def main(argv=None) -> int:
     """Run ``lcpfric`` with ``argv`` (default: ``sys.argv[1:]``); return the exit code."""
     parser = build_parser()
     argv = values_after_options(parser, list(sys.argv[1:] if argv is None else argv))
+    twice = repeated_option(parser, argv)
+    if twice is not None:
+        print(twice, file=sys.stderr)
+        return 2
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help, --version, or a parse error (already printed)

@@ -27,6 +27,7 @@ __all__ = [
     "option_for",
     "execute",
     "values_after_options",
+    "repeated_option",
     "MissingExtras",
     "require_extras",
     "installed",
@@ -135,6 +136,41 @@ def values_after_options(parser: argparse.ArgumentParser, argv: list[str]) -> li
         out.append(tok)
         i += 1
     return out
+
+
+def repeated_option(parser: argparse.ArgumentParser, argv: list[str]) -> str | None:
+    """The one-line error for a value-taking option given twice (argparse keeps the last value
+    and drops the first without a word), or None. ``argv`` as :func:`values_after_options`
+    returns it."""
+    sub = next((a for a in parser._actions if isinstance(a, argparse._SubParsersAction)), None)
+    index = next((i for i, tok in enumerate(argv) if not tok.startswith("-")), None)
+    if sub is None or index is None or argv[index] not in sub.choices:
+        return None
+    subparser = sub.choices[argv[index]]
+    options = _value_options(subparser)
+    seen: dict[str, str] = {}
+    i = index + 1
+    while i < len(argv):
+        tok = argv[i]
+        if tok == "--":
+            break
+        head, eq, value = tok.partition("=")
+        name = _resolve(head, options, subparser.allow_abbrev)
+        if name is None:
+            i += 1
+            continue
+        if not eq:
+            value = argv[i + 1] if i + 1 < len(argv) else ""
+            i += 1
+        i += 1
+        dest = options[name].dest
+        if dest in seen:
+            return (
+                f"{subparser.prog}: error: {name}: given twice ({seen[dest]!r}, then "
+                f"{value!r}); give it once (see '{subparser.prog} --help')"
+            )
+        seen[dest] = value
+    return None
 
 
 # -- option names ----------------------------------------------------------------------------------

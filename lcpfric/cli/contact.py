@@ -53,7 +53,7 @@ def configure(p) -> None:
     p.add_argument(
         "--geometry",
         choices=("sphere", "cylinder", "punch"),
-        default="sphere",
+        default=None,
         help="sphere (3-D Hertz), cylinder (plane strain) or punch (a flat punch "
         "of radius --radius with edges rounded to --R)",
     )
@@ -118,7 +118,7 @@ def configure(p) -> None:
     )
     g.add_argument(
         "--dims",
-        default="1",
+        default=None,
         choices=("1", "2"),
         help="tangential directions: 1 (tractions along Q) or 2 (in the plane, "
         "Cerruti's coupling when nu > 0)",
@@ -185,13 +185,12 @@ def _run(args) -> int:
     from ..model.loads import Harmonic
     from ..periodic import steady_state
 
-    num = {
-        k: _checks.parse_number(getattr(args, k), f"--{k}")
-        for k in ("E", "nu", "mu", "P0", "P1", "Q1")
-    }
+    num = {k: _scaled(getattr(args, k), f"--{k}") for k in ("E", "nu", "mu", "P0", "P1", "Q1")}
     phi = _checks.parse_angle(args.phi, "--phi")
-    ks = _checks.parse_number(args.k_support, "--k-support")
-    geometry = "heightmap" if args.heightmap is not None else args.geometry
+    ks = _scaled(args.k_support, "--k-support")
+    if args.heightmap is not None and args.geometry is not None:
+        raise InputError("--geometry", "does not apply to --heightmap (the array is the surface)")
+    geometry = "heightmap" if args.heightmap is not None else args.geometry or "sphere"
     model_name = args.model or MODELS[geometry][0]
     if model_name not in MODELS[geometry]:
         raise InputError(
@@ -207,28 +206,21 @@ def _run(args) -> int:
         if num[k] < 0:
             raise InputError(f"--{k}", f"an amplitude must be >= 0, got {num[k]:g}")
     if model_name != "halfspace":
-        for option in (
-            "grid",
-            "radius",
-            "heightmap",
-            "spacing",
-            "figures",
-            "animation",
-            "instants",
-        ):
+        only = ("grid", "radius", "heightmap", "spacing", "figures", "animation", "instants")
+        for option in only:
             if getattr(args, option) is not None:
                 raise InputError(
                     f"--{option}", f"applies to --model halfspace only, not --model {model_name}"
                 )
-        if args.dims != "1":
-            raise InputError("--dims", "2 applies to --model halfspace only")
+        if args.dims is not None:
+            raise InputError("--dims", f"applies to --model halfspace only, not {model_name}")
     P, Q = Harmonic(num["P0"], num["P1"]), Harmonic(0.0, num["Q1"], phi)
     if model_name == "halfspace":
         model = _halfspace(args, geometry, num, P, Q, ks, steps)
     else:
         if args.R is None:
             raise InputError("--R", f"the {geometry} needs its effective radius")
-        R = _checks.parse_number(args.R, "--R")
+        R = _scaled(args.R, "--R")
         kind = MDRSphere if model_name == "mdr" else HalfPlaneCylinder
         given = NODES[model_name] if args.nodes is None else args.nodes
         nodes = _checks.positive_int("--nodes", given, kind.min_nodes)
@@ -293,7 +285,7 @@ def _halfspace(args, geometry, num, P, Q, ks, steps):
     from ..errors import InputError
     from ._paths import output_dir, output_file
 
-    dims = int(args.dims)
+    dims = int(args.dims or 1)
     if args.nodes is not None:
         raise InputError("--nodes", "the half-space takes --grid (elements across the contact)")
     if args.figures is not None:
@@ -305,14 +297,14 @@ def _halfspace(args, geometry, num, P, Q, ks, steps):
         output_file(args.animation, "--animation", ".gif")
     common = dict(dims=dims, k_support=ks)
     if geometry == "heightmap":
-        for option in ("grid", "radius"):
+        for option in ("grid", "radius", "R"):
             if getattr(args, option) is not None:
                 raise InputError(
-                    f"--{option}", "does not apply to --heightmap (its grid is the array's)"
+                    f"--{option}", "does not apply to --heightmap (the array is the surface)"
                 )
         if args.spacing is None:
             raise InputError("--spacing", "the height map needs its grid spacing")
-        spacing = _checks.parse_number(args.spacing, "--spacing")
+        spacing = _scaled(args.spacing, "--spacing")
         heights = _load_heightmap(args.heightmap)
         record = (args.figures or args.animation) is not None
         _scene_memory(args, heights.size, dims, steps, record, "--heightmap")
@@ -325,7 +317,7 @@ def _halfspace(args, geometry, num, P, Q, ks, steps):
         raise InputError(
             "--R", f"the {geometry} needs --R (its radius, or the punch's edge radius)"
         )
-    R = _checks.parse_number(args.R, "--R")
+    R = _scaled(args.R, "--R")
     grid = _checks.positive_int("--grid", GRID if args.grid is None else args.grid, MIN_GRID)
     side = grid + 2 * max(2, -(-3 * grid // 100))
     record = (args.figures or args.animation) is not None
@@ -333,7 +325,7 @@ def _halfspace(args, geometry, num, P, Q, ks, steps):
     if geometry == "punch":
         if args.radius is None:
             raise InputError("--radius", "the punch needs its flat radius")
-        radius = _checks.parse_number(args.radius, "--radius")
+        radius = _scaled(args.radius, "--radius")
         return HalfSpace.punch(R, radius, num["E"], num["nu"], num["mu"], P, Q, grid=grid, **common)
     if args.radius is not None:
         raise InputError("--radius", "applies to --geometry punch only")
@@ -356,6 +348,20 @@ def _fractions(text) -> tuple:
             "--instants", f"must be 1 to 12 fractions of the period in [0, 1], got {text!r}"
         )
     return out
+
+
+def _scaled(text, option: str) -> float:
+    """A number of the contact's inputs, within 1e-100 to 1e100 in magnitude (or 0): the
+    models' formulas take powers and products of them, which overflow beyond."""
+    from .. import _checks
+    from ..errors import InputError
+
+    x = _checks.parse_number(text, option)
+    if x != 0.0 and not 1e-100 <= abs(x) <= 1e100:
+        raise InputError(
+            option, f"must be 0 or of magnitude 1e-100 to 1e100 (change the units), got {x:g}"
+        )
+    return x
 
 
 def _scene_memory(args, nodes, dims, steps, record, option) -> None:

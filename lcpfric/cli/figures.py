@@ -7,6 +7,7 @@ import sys
 import time
 
 from . import _common
+from ..errors import InputError
 
 HELP = "compute and draw the paper's Figs. 3-7 and 9, or the contact figures (PNG and PDF)"
 DESCRIPTION = (
@@ -43,7 +44,12 @@ def configure(p) -> None:
         help="the continuum contact figures (Hertz contact by MDR, cylinder by "
         "half-plane elements)",
     )
-    p.add_argument("--points", default="361", metavar="N", help="points per curve (default 361)")
+    p.add_argument(
+        "--points",
+        default=None,
+        metavar="N",
+        help="points per curve of the paper's figures (default 361; not with --contact)",
+    )
     p.add_argument(
         "--format",
         default="png,pdf",
@@ -60,8 +66,12 @@ def run(args) -> int:
     from .. import _checks
 
     grid = _checks.positive_int("--grid", args.grid or ("41" if args.contact else "101"), minimum=3)
-    points = _checks.positive_int("--points", args.points, minimum=3)
+    if args.contact and args.points is not None:
+        raise InputError("--points", "applies to the paper's figures, not to --contact")
+    points = _checks.positive_int("--points", args.points or "361", minimum=3)
     formats = [f.strip().lower() for f in str(args.format).split(",") if f.strip()]
+    if len(set(formats)) < len(formats):
+        raise InputError("--format", f"names a format more than once: {args.format!r}")
     need = _common.map_bytes(
         float(grid) ** 2 * MAP_PHASES, 2 * grid + MAP_PHASES
     ) + _common.map_bytes(float(points) * CURVES)

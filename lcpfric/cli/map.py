@@ -252,6 +252,11 @@ def run(args) -> int:
     processes = (
         None if args.processes is None else _checks.positive_int("--processes", args.processes)
     )
+    if processes is not None and args.scheduler is not None:
+        raise InputError(
+            "--processes",
+            "sets local workers; with --scheduler the cluster's workers run the chunks",
+        )
     chunk_size = (
         None if args.chunk_size is None else _checks.positive_int("--chunk-size", args.chunk_size)
     )
