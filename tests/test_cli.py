@@ -921,7 +921,7 @@ def test_contact_halfspace_json_and_height_map(capsys, tmp_path):
         tmp_path / "h.npy",
         "--spacing",
         m.h,
-        *[a for a in base[1:] if a not in ("--model", "halfspace")][:-5],
+        *[a for a in base[3:] if a not in ("--model", "halfspace")][:-5],  # no --R
         "--steps",
         "40",
         "--json",
