@@ -136,9 +136,19 @@ def test_masked_height_map_is_refused():
 @pytest.mark.parametrize(
     "argv, option",
     [
-        (("loop", "--P1", "1", "--Q1", "1", "--out", "/proc/loop.pdf"), "--out"),
-        (("map", "--P1", "1", "--Q1", "1", "--phi", "0", "--out", "/proc/m.nc"), "--out"),
-        (("figures", "--out", "/proc/figs"), "--out"),
+        pytest.param(
+            ("loop", "--P1", "1", "--Q1", "1", "--out", "/proc/loop.pdf"),
+            "--out",
+            marks=needs("matplotlib"),
+        ),
+        pytest.param(
+            ("map", "--P1", "1", "--Q1", "1", "--phi", "0", "--out", "/proc/m.nc"),
+            "--out",
+            marks=needs("xarray", "h5netcdf"),
+        ),
+        pytest.param(
+            ("figures", "--out", "/proc/figs"), "--out", marks=needs("matplotlib", "xarray")
+        ),
         (
             (
                 "contact",
@@ -217,6 +227,7 @@ def test_height_map_messages_name_the_option_and_no_infinite_range(capsys, tmp_p
     assert "index (3, 4)" in line and "inf)" not in line
 
 
+@needs("xarray", "h5netcdf")
 def test_memory_guard_names_options_that_exist(capsys, tmp_path):
     base = ("contact", *SPHERE, "--P1", "1", "--Q1", "1")
     line = one_line(*run(capsys, *base, "--steps", "1e12")[::2], "--steps")
