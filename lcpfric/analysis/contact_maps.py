@@ -31,6 +31,7 @@ from .. import _checks
 from ..errors import ConvergenceError, ConvergenceWarning, InputError
 from ..periodic import batched
 from ..steppers.dissipation import node_shares
+from ..model.continuum.mdr import MIN_NODES
 from ..steppers.mdr_bar import bar_increment
 
 __all__ = [
@@ -94,7 +95,7 @@ def mdr_W_normalized(
     P̂1, Q̂1 and φ); ``k_support_ratio`` in units of k_t0. NaN where pure load control has no
     equilibrium, and where a point reaches no steady state in ``max_cycles`` (module
     docstring); 0 where Q̂1 = 0."""
-    nodes = _checks.positive_int("nodes", nodes)
+    nodes = _checks.positive_int("nodes", nodes, MIN_NODES)
     tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles, on_nonconvergence)
     P1, Q1, phi, steps, ks, out, run = _points(P1, Q1, phi, steps_per_cycle, k_support_ratio)
     idx = np.flatnonzero(run)
@@ -312,13 +313,18 @@ def map_spec(contact, steps_per_cycle, method=None):
             )
     if model == "halfspace":
         steps = _checks.positive_int("steps_per_cycle", steps_per_cycle or _HALFSPACE_STEPS, 4)
-        grid = _checks.positive_int("grid", spec["grid"], 8)
-        if spec["dims"] not in (1, 2):
+        from ..model.continuum.halfspace import MIN_ACROSS
+
+        grid = _checks.positive_int("grid", spec["grid"], MIN_ACROSS)
+        if str(spec["dims"]) not in ("1", "2"):
             raise InputError("dims", f"must be 1 or 2, got {spec['dims']!r}")
+        nu = _checks.finite("nu", spec["nu"])
+        if not 0.0 <= nu < 0.5:
+            raise InputError("nu", f"Poisson's ratio must be in [0, 0.5), got {nu:g}")
         options = {
             "grid": grid,
             "dims": int(spec["dims"]),
-            "nu": _checks.nonnegative("nu", spec["nu"]),
+            "nu": nu,
             "k_support_ratio": _checks.nonnegative("k_support_ratio", spec["k_support_ratio"]),
             "tol": _checks.positive("tol", spec["tol"]),
             "steps_per_cycle": steps,
@@ -334,7 +340,7 @@ def map_spec(contact, steps_per_cycle, method=None):
         )
     steps = _checks.positive_int("steps_per_cycle", steps_per_cycle or _CONTACT_STEPS, 4)
     options = {
-        "nodes": _checks.positive_int("nodes", spec["nodes"]),
+        "nodes": _checks.positive_int("nodes", spec["nodes"], MIN_NODES),
         "k_support_ratio": _checks.nonnegative("k_support_ratio", spec["k_support_ratio"]),
         "tol": _checks.positive("tol", spec["tol"]),
         "steps_per_cycle": steps,

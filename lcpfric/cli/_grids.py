@@ -34,13 +34,7 @@ def parse_grid(text: str, name: str, angle: bool = False) -> np.ndarray:
     items = [s for s in text.split(",") if s.strip()]
     if not items:
         raise InputError(name, "expected START:STOP:NUM or a comma-separated list of values")
-    values = np.array([parse(s) for s in items])
-    unique, counts = np.unique(values, return_counts=True)
-    if unique.size < values.size:
-        raise InputError(
-            name, f"the value {unique[counts > 1][0]:g} is given more than once; give each once"
-        )
-    return values
+    return np.array([parse(s) for s in items])  # a value given twice: refused by the sweep
 
 
 def parse_phi_list(text: str) -> np.ndarray:

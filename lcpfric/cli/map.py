@@ -32,6 +32,7 @@ OPTIONS = {
     "k_support_ratio": "--k-support-ratio",
     "nodes": "--nodes",
     "grid": "--grid",
+    "dims": "--dims",
 }
 #: the continuum-contact options and the contact models they apply to
 CONTACT_OPTIONS = {
@@ -204,23 +205,15 @@ def _contact(args) -> dict | None:
                 "--" + k.replace("_", "-"),
                 f"applies to --contact-model {' or '.join(CONTACT_OPTIONS[k])} only, not {model}",
             )
-    ratio = "0" if args.k_support_ratio is None else args.k_support_ratio
-    contact = {
-        "geometry": args.contact,
-        "k_support_ratio": _checks.nonnegative(
-            "--k-support-ratio", _checks.parse_number(ratio, "--k-support-ratio")
-        ),
-    }
-    if model == "halfspace":
-        nu = _checks.parse_number("0" if args.nu is None else args.nu, "--nu")
-        if not 0.0 <= nu < 0.5:
-            raise InputError("--nu", f"must be in [0, 0.5), got {args.nu!r}")
-        grid = _checks.positive_int("--grid", "20" if args.grid is None else args.grid, 8)
-        contact.update(model="halfspace", grid=grid, dims=int(args.dims or 1), nu=nu)
-    else:
-        contact["nodes"] = _checks.positive_int(
-            "--nodes", "200" if args.nodes is None else args.nodes, 10
-        )
+    # the values are checked (and defaulted) by the map itself: one rule for the API and here
+    contact = {"geometry": args.contact, **({"model": model} if model != "mdr" else {})}
+    for key in ("k_support_ratio", "nu"):
+        if getattr(args, key) is not None:
+            option = "--" + key.replace("_", "-")
+            contact[key] = _checks.parse_number(getattr(args, key), option)
+    for key in ("nodes", "grid", "dims"):
+        if getattr(args, key) is not None:
+            contact[key] = getattr(args, key)
     return contact
 
 
