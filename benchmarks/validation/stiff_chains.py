@@ -1,0 +1,128 @@
+"""Nearly rigid chains against their merged node (issue 36: the starting point, measured).
+
+Usage::
+
+    python benchmarks/validation/stiff_chains.py [--quick]
+
+A chain of n nodes, each grounded by a spring of stiffness 1 and tied to its neighbours by
+couplings k_c, each node with its own normal and tangential load phases (seeded), no separation.
+As k_c grows the nodes move as one: the chain tends to the merged single node (stiffness n,
+friction limit f Σ N_i, load Σ Q_i), which ``exact`` solves in closed form. For each chain and
+k_c the table gives each method's relative difference from the merged node (or the error it
+raised), and two measures of what float64 can give: ``eps cond(K)``, and how far one ulp on
+``K[0, 0]`` moves ``exact``'s W (the conditioning of W on K given as float64 entries). The
+difference from the merged node also holds the O(1/k_c) coupling effect of the chain itself.
+Writes ``benchmarks/results/stiff-chains.md``.
+"""
+
+from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks")]
+
+from _report import results_file  # noqa: E402 (benchmarks/ on the path above)
+import argparse
+import sys
+import time
+
+import numpy as np
+
+import lcpfric
+from lcpfric import Harmonic, SingleNode
+
+METHODS = ("exact", "active-set", "explicit")
+COUPLINGS = (1e2, 1e4, 1e6, 1e8, 1e10, 1e12)
+
+
+def loads(n: int, seed: int):
+    """Seeded loads whose merged node slips (W > 0): amplitudes and phases per node."""
+    rng = np.random.default_rng(seed)
+    while True:
+        P1 = rng.uniform(0.0, 0.9, n)
+        Q1 = rng.uniform(1.5, 3.0, n)
+        psi = rng.uniform(-0.5, 0.5, n)  # the normal loads' phases
+        phi = rng.uniform(-0.3, 0.3, n)  # Q relative to P, node by node
+        if merged_W(P1, Q1, psi, phi) > 0:
+            return P1, Q1, psi, phi
+
+
+def merged_W(P1, Q1, psi, phi) -> float:
+    """W of the merged node: stiffness n, P = Σ P_i, Q = Σ Q_i (all P0_i = 1, f = 1)."""
+    n = len(P1)
+    zp = np.sum(P1 * np.exp(1j * psi))
+    zq = np.sum(Q1 * np.exp(1j * (psi + phi)))
+    node = SingleNode(
+        k11=float(n),
+        f=1.0,
+        P0=float(n),
+        normal_load=Harmonic(float(n), abs(zp), float(np.angle(zp))),
+        tangential_load=Harmonic(0.0, abs(zq), float(np.angle(zq))),
+    )
+    return lcpfric.steady_state(node, "exact").W
+
+
+def one_ulp(system, W) -> float:
+    """The largest relative change of ``exact``'s W when K[0, 0] moves by one ulp."""
+    K = np.array(system.stiffness, dtype=float)
+    worst = 0.0
+    for direction in (np.inf, -np.inf):
+        K2 = K.copy()
+        K2[0, 0] = np.nextafter(K2[0, 0], direction)
+        moved = lcpfric.ContactSystem(
+            K2, system.friction, system.tangential_loads, system.normal, dims=1
+        )
+        worst = max(worst, abs(lcpfric.steady_state(moved, "exact").W / W - 1.0))
+    return worst
+
+
+def run_case(n: int, kc: float, seed: int) -> str:
+    P1, Q1, psi, phi = loads(n, seed)
+    Wm = merged_W(P1, Q1, psi, phi)
+    system = lcpfric.chain(n, k_coupling=kc, P0=1.0, P1=P1, Q1=Q1, phi=phi, normal_phase=psi)
+    cond = np.linalg.cond(np.array(system.stiffness, dtype=float))
+    cells = [f"{n}", f"{kc:.0e}", f"{np.finfo(float).eps * cond:.1e}"]
+    W_exact = None
+    for method in METHODS:
+        t0 = time.perf_counter()
+        try:
+            W = lcpfric.steady_state(system, method).W
+        except lcpfric.LcpfricError as exc:
+            cells.append(f"{type(exc).__name__} ({time.perf_counter() - t0:.2f} s)")
+            continue
+        W_exact = W if method == "exact" else W_exact
+        cells.append(f"{W / Wm - 1:+.1e} ({time.perf_counter() - t0:.2f} s)")
+    cells.append("-" if W_exact is None else f"{one_ulp(system, W_exact):.1e}")
+    return "| " + " | ".join(cells) + " |"
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="chains of 2 nodes only")
+    args = parser.parse_args(argv)
+    sizes = (2,) if args.quick else (2, 4, 8)
+    out = None if args.quick else _ROOT / "benchmarks" / "results" / "stiff-chains.md"
+    command = "validation/stiff_chains.py" + (" --quick" if args.quick else "")
+    with results_file(out, "Nearly rigid chains against the merged node", command, True):
+        print(
+            "Relative difference of W from the merged node's closed form (seeded loads, the "
+            "chain's own O(1/k_c) effect included), or the error raised, and the time; "
+            "`eps cond(K)` and `1 ulp of K[0,0]` (how far one ulp moves exact's W) are what "
+            "float64 entries of K determine.\n"
+        )
+        print(
+            "| n | k_c | eps cond(K) | "
+            + " | ".join(METHODS)
+            + " | 1 ulp of K[0,0] |\n|"
+            + "---|" * (4 + len(METHODS))
+        )
+        for n in sizes:
+            for kc in COUPLINGS:
+                print(run_case(n, kc, seed=n), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
