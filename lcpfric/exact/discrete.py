@@ -86,6 +86,7 @@ from .. import _checks
 from ..errors import ConvergenceError, InputError
 from ..periodic.measure import cycle_change
 from ..results import State
+from .clusters import STIFF, ClusterEventSolver
 from .events import EventSolver
 from .triples import TWO_PI, harmonic_triples, next_entry, segment_dissipation, value
 
@@ -288,7 +289,10 @@ def exact_system_cycle(
     Q0 = Qt[:, 0].copy()
     Qt = Qt.copy()
     Qt[:, 0] = 0.0
-    solver = EventSolver(K, f, Qt / scale, Pt / scale, samples, max_events or 200 * n + 1000, kappa)
+    # a stiff system (eps cond(K) beyond STIFF) is solved in cluster coordinates, which keep
+    # the stretches of its stiff springs (lcpfric.exact.clusters)
+    Solver = ClusterEventSolver if _EPS * kappa > STIFF else EventSolver
+    solver = Solver(K, f, Qt / scale, Pt / scale, samples, max_events or 200 * n + 1000, kappa)
     u_static = -solver.cho_solve(Q0) if np.any(Q0) else np.zeros(n)
     theta_s = np.linspace(0.0, TWO_PI, samples + 1)
     u, status = solver.initial_state()
@@ -312,7 +316,11 @@ def exact_system_cycle(
         )
         ref = max(span, solver.qscale)
         size = max(float(np.max(np.abs(u_end), initial=0.0)), ref, solver.rscale)
-        floor = max(tol, 100.0 * _EPS * kappa * size / ref)
+        floor = max(tol, 100.0 * _EPS * solver.kappa * size / ref)
+        if solver.structured:
+            # node by node, in forces: the nodes' displacements span many scales (cluster
+            # offsets, stiff groundings), which one displacement range would hide
+            change, floor = solver.force_change(r), max(tol, 100.0 * _EPS * solver.kappa)
         if change <= floor:
             break
         if best is None or change < 0.9 * best[0]:
@@ -320,7 +328,12 @@ def exact_system_cycle(
             # is tracked)
             step = r
             if track:
-                step = _newton_step(solver.jacobian(), r, status, solver.flipped)
+                J = solver.jacobian()
+                if solver.structured:  # the step in u (where a held node is a unit row)
+                    T, Ti = solver.transform()
+                    step = Ti @ _newton_step(T @ J @ Ti, T @ r, status, solver.flipped)
+                else:
+                    step = _newton_step(J, r, status, solver.flipped)
                 newton += 1
             best, lam = (change, u, status, step, u_end, status_end), 1.0
             u_next, guess = u + step, status_end
@@ -354,6 +367,7 @@ def exact_system_cycle(
         cycles=len(W_cycles),
         newton_steps=newton,
         condition=kappa,
+        structured=solver.structured,
         periodicity_tol=floor,
         seconds=time.perf_counter() - start,
     )

@@ -49,7 +49,9 @@ class EventSolver(Pattern):
             T[:k] = np.where(stick, bt - Ft, D[:, None] * rate_of(self.U[rows]))
             T[k:] = np.where(stick, bt + Ft, 0.0)
             ftol = self.rel * self.fscale[rows]
-            tol = np.concatenate([np.where(stick[:, 0], ftol, self.rel * self.rscale), ftol])
+            tol = np.concatenate(
+                [np.where(stick[:, 0], ftol, self.rel * self.rate_scale[rows]), ftol]
+            )
             t, skipped = next_entry(T, theta, tol, skipped=True)
             if skipped > self.stats["skipped_depth"]:
                 self.stats["skipped_depth"] = skipped
@@ -82,7 +84,7 @@ class EventSolver(Pattern):
         self.stats["lcp_solves"] += 1
         u = self.u_at(theta)
         sep = guess == SEPARATION
-        F0 = value(self.Qt, theta) + self.Kmul(u)
+        F0 = self.forces_at(theta, u)
         bound = np.where(sep, 0.0, np.maximum(value(self.bt, theta), 0.0))
         slipping = (guess == FORWARD) | (guess == BACKWARD)
         F0 = np.where(
@@ -153,7 +155,7 @@ class EventSolver(Pattern):
         self.track = track
         self.flipped = np.zeros(n, dtype=bool)
         if track:
-            self.Jt = np.diag((self.status == STICK).astype(float))
+            self.Jt = self.start_tangent()
         attempt = 0
         last = -1.0
         while True:
@@ -254,7 +256,7 @@ class EventSolver(Pattern):
         # a node whose contact starts exactly at 0 is in contact
         b0 = np.where(contact, value(self.bt, 0.0), 0.0)
         F0 = np.where(contact, np.clip(Q0, -b0, b0), 0.0)
-        u = self.cho_solve(F0 - Q0)
+        u = self.state_for_forces(F0 - Q0)
         guess = np.where(contact, STICK, SEPARATION).astype(np.int8)
         touch_hi = contact & (Q0 >= b0)
         touch_lo = contact & (Q0 <= -b0)

@@ -32,7 +32,7 @@ class Pattern(Tangent):
     change state, and the trig triples of u and F it gives."""
 
     def __init__(self, K, f, Qt, Pt, samples, max_events, kappa=1.0):
-        self.K = K
+        self.K = self.Kt = K
         # what round-off through K_BB⁻¹ allows: relative tolerances grow with cond(K)
         self.kappa = kappa
         self.rel = max(REL, 100.0 * _EPS * kappa)
@@ -72,6 +72,7 @@ class Pattern(Tangent):
         self.fscale = np.maximum(self.fscale, 1e-300)
         kmin = float(np.min(np.diag(K)))
         self.rscale = max(fmax / kmin, 1e-300)
+        self.rate_scale = np.full(n, self.rscale)  # per node: slip-rate tolerances
         # the displacement the tangential amplitudes make (what moves u; a mean Q0 is taken out)
         self.qscale = max(float(np.max(np.hypot(Qt[:, 1], Qt[:, 2]))) / kmin, 1e-300)
         # contact arcs: P_i < 0 on (sep_i, rec_i) (mod 2π); always / never in contact
@@ -282,6 +283,16 @@ class Pattern(Tangent):
         G[:m, last] = 0.0
         self.pos[j] = -1
         self.m = last
+
+    structured = False  # cluster coordinates (lcpfric.exact.clusters) when True
+
+    def forces_at(self, theta, u):
+        """F at theta from the state u (the current pattern's state)."""
+        return value(self.Qt, theta) + self.Kmul(u)
+
+    def state_for_forces(self, rhs):
+        """The state of the displacements ``K⁻¹ rhs`` (u itself here)."""
+        return self.cho_solve(rhs)
 
     def cho_solve(self, rhs):
         import scipy.linalg as sla

@@ -11,8 +11,17 @@ __all__ = ["Tangent"]
 
 
 class Tangent:
-    """The Jacobian tracking of :class:`~lcpfric.exact.events.EventSolver` (which holds K, G,
+    """The Jacobian tracking of :class:`~lcpfric.exact.events.EventSolver` (which holds ``Kt``,
+    the operator from the state to the forces (K itself, or ``K T`` in cluster coordinates), G,
     the pattern and ``Jt``)."""
+
+    def state_triples(self):
+        """The triples of the state (u itself here), whose rows the tangent tracks."""
+        return self.U
+
+    def start_tangent(self):
+        """The tangent at θ = 0: each stuck node holds its own start state."""
+        return np.diag((self.status == 0).astype(float))
 
     def tangent_stick(self, j, theta):
         """Node j (in B) sticks at theta: its held displacement ``u_j = U_j(θ)`` depends on
@@ -22,12 +31,12 @@ class Tangent:
         m, p = self.m, self.pos[j]
         g = self.G[p, :m]
         nz = g.nonzero()[0]
-        row = -(g[nz] @ self.K[self.Bidx[nz], :])
+        row = -(g[nz] @ self.Kt[self.Bidx[nz], :])
         row[self.B] = 0.0
         k = row.nonzero()[0]
         self.Jt[j] = row[k] @ self.Jt[k] if k.size else 0.0
         if self.theta_row is not None:
-            rate = float(value(rate_of(self.U[j]), theta))
+            rate = float(value(rate_of(self.state_triples()[j]), theta))
             self.Jt[j] += rate * self.theta_row
 
     def theta_sensitivity(self, j, upper, theta):
@@ -35,13 +44,13 @@ class Tangent:
         ``-(∂g/∂u_S · J_S) / g'`` with g the margin and ``∂F_j/∂u_S = K_jS - K_jB G K_BS``."""
         m = self.m
         Bi = self.Bidx[:m]
-        s_row = self.K[j].copy()
+        s_row = self.Kt[j].copy()
         if m:
-            kj = self.K[j, Bi]
+            kj = self.Kt[j, Bi]
             nz = kj.nonzero()[0]
             w = kj[nz] @ self.G[nz, :m]
             nw = w.nonzero()[0]
-            s_row -= w[nw] @ self.K[Bi[nw], :]
+            s_row -= w[nw] @ self.Kt[Bi[nw], :]
         s_row[self.B] = 0.0
         sigma = 1.0 if upper else -1.0
         dg = float(value(self.dbt[j], theta)) - sigma * float(value(rate_of(self.Ft[j]), theta))
@@ -58,5 +67,5 @@ class Tangent:
         if m:
             Bi = self.Bidx[:m]
             S = (~self.B).nonzero()[0]
-            J[Bi] = -(self.G[:m, :m] @ self.K[np.ix_(Bi, S)]) @ self.Jt[S]
+            J[Bi] = -(self.G[:m, :m] @ self.Kt[np.ix_(Bi, S)]) @ self.Jt[S]
         return J
