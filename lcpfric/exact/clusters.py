@@ -44,7 +44,7 @@ import math
 
 import numpy as np
 
-from ..errors import SolverError
+from ..errors import InputError, SolverError
 from ..results import State
 from .events import EventSolver
 from .pattern import Pattern
@@ -55,7 +55,9 @@ __all__ = [
     "Clusters",
     "ClusterPattern",
     "ClusterEventSolver",
+    "ScaledLU",
     "CLUSTER_RATIO",
+    "DIGITS",
     "STIFF",
 ]
 
@@ -63,7 +65,8 @@ STICK, FORWARD, BACKWARD = int(State.STICK), int(State.FORWARD), int(State.BACKW
 _EPS = float(np.finfo(float).eps)
 CLUSTER_RATIO = 1e3  # a spring this much stiffer than the largest grounding ties a cluster
 STIFF = 1e-10  # eps cond(K) above which exact works in cluster coordinates
-_COND_LIMIT = 1.0 / (1e6 * _EPS)  # column-scaled condition of a pattern's matrix: beyond, error
+DIGITS = 1e-8  # eps times a pattern's scaled condition number beyond which exact refuses
+_COND_LIMIT = DIGITS / _EPS
 
 
 def spring_form(K: np.ndarray):
@@ -107,6 +110,10 @@ class Clusters:
         E = np.zeros((n, self.count))
         E[np.arange(n), self.label] = 1.0
         self.soft_sum = soft @ E
+        self.E = E
+        self.sizes = E.sum(axis=0)
+        self.Esoft = E.T @ soft  # a cluster's rows summed: the stiff springs cancel exactly
+        self.EsoftE = self.Esoft @ E
         self.canonical = self.roots(np.zeros(n, dtype=bool))
 
     def roots(self, stuck: np.ndarray) -> np.ndarray:
@@ -123,6 +130,18 @@ class Clusters:
         r = np.unique(root)
         M[:, r] = self.soft_sum[:, self.label[r]]
         return M
+
+    def summed(self, M: np.ndarray, root: np.ndarray, rows: np.ndarray):
+        """M with the rows of the roots ``rows`` replaced by their clusters' rows summed
+        (``Eᵀ K_soft T``: the equilibrium of a cluster as a whole, its stiff springs cancelled
+        exactly), and the summing operator's labels."""
+        M2 = M.copy()
+        if rows.size:
+            c = self.label[rows]
+            r = np.unique(root)
+            M2[rows] = self.Esoft[c]
+            M2[np.ix_(rows, r)] = self.EsoftE[np.ix_(c, self.label[r])]
+        return M2
 
     @staticmethod
     def to_u(X: np.ndarray, root: np.ndarray) -> np.ndarray:
@@ -160,8 +179,18 @@ class ClusterPattern(Pattern):
         self.root = self.cl.canonical
         self.X = None
         super().__init__(K, f, Qt, Pt, samples, max_events, 1.0)
-        self.KT0 = M = self.cl.KT(self.root)
-        self.kappa = max(1.0, _scaled_condition(M))
+        M = self.cl.KT(self.root)
+        r = np.unique(self.root)
+        whole = r[self.cl.sizes[self.cl.label[r]] > 1]
+        self.kappa = max(1.0, ScaledLU(self.cl.summed(M, self.root, whole)).cond)
+        if self.kappa > _COND_LIMIT:
+            raise InputError(
+                "stiffness",
+                f"cond(K) = {kappa:.3g}, and {self.cl.count} cluster(s) of stiff springs leave "
+                f"a scaled condition number {self.kappa:.3g}: exact's W could not be "
+                f"guaranteed to {DIGITS:g} (springs of many scales in one cluster, or stiff "
+                f"entries that are not springs, K_ij > 0)",
+            )
         self.rel = max(self.rel, 100.0 * _EPS * self.kappa)
         self.residual = max(self.residual, 1e3 * _EPS * self.kappa)
         # slip rates per node: a stretch rate of a stiff spring, or a stiff node's own rate
@@ -178,14 +207,22 @@ class ClusterPattern(Pattern):
         return self.cl.to_u(self.state_for_forces(rhs), self.cl.canonical)
 
     def state_for_forces(self, rhs):
-        import scipy.linalg as sla
+        """x (canonical) with ``K T x = rhs``, each cluster's rows summed into its root's."""
+        root = self.cl.canonical
+        r = np.unique(root)
+        whole = r[self.cl.sizes[self.cl.label[r]] > 1]
+        rhs = np.array(rhs, dtype=float)
+        total = np.zeros((self.cl.count,) + rhs.shape[1:])
+        np.add.at(total, self.cl.label, rhs)
+        rhs[whole] = total[self.cl.label[whole]]
+        return ScaledLU(self.cl.summed(self.cl.KT(root), root, whole)).solve(rhs)
 
-        return sla.lu_solve(sla.lu_factor(self.cl.KT(self.cl.canonical)), rhs)
-
-    def force_change(self, r):
-        """A change r of the start state as the largest change of a node's force relative to
-        its force scale."""
-        return float(np.max(np.abs(self.KT0 @ r) / self.fscale, initial=0.0))
+    def state_change(self, r, span):
+        """A change r of the start state (canonical x), relative coordinate by coordinate: a
+        root against ``span`` (the displacements' range over the cycle), an offset against
+        the stretch its node's forces make on its stiff springs (``fscale / K_ii``)."""
+        scale = np.where(self.cl.canonical == np.arange(self.n), span, self.rate_scale)
+        return float(np.max(np.abs(r) / scale, initial=0.0))
 
     def forces_at(self, theta, u):
         return value(self.Ft, theta)
@@ -217,7 +254,6 @@ class ClusterPattern(Pattern):
         self.full(status, self.u_at(theta), theta)
 
     def full(self, status, x, theta):
-        import scipy.linalg as sla
 
         n = self.n
         if self.U is not None:
@@ -242,29 +278,37 @@ class ClusterPattern(Pattern):
         Fp = sign[:, None] * self.bt
         X = np.zeros((n, 3))
         X[stuck, 0] = x[stuck]
+        # a cluster that slides whole: its root's equation is the cluster's equilibrium
+        r = np.unique(root)
+        whole = r[~stuck[r] & (self.cl.sizes[self.cl.label[r]] > 1)]
+        M2 = self.cl.summed(M, root, whole)
         if Bi.size:
-            A = M[np.ix_(Bi, Bi)]
-            cond = _scaled_condition(A)
+            lu = ScaledLU(M2[np.ix_(Bi, Bi)])
+            cond = lu.cond
             if cond > _COND_LIMIT:
                 raise SolverError(
                     f"exact: the pattern's equations in cluster coordinates have condition "
                     f"number {cond:.3g} (columns scaled) at θ = {theta:.17g}: the answer "
-                    f"could not keep 1e-6 of its digits; springs of many scales in one "
+                    f"could not be guaranteed to {DIGITS:g}; springs of many scales in one "
                     f"cluster, or stiff entries that are not springs (K_ij > 0), limit it",
                     backend="exact",
                     status="ill_conditioned",
                 )
-            rhs = Fp[Bi] - self.Qt[Bi]
-            rhs[:, 0] -= M[np.ix_(Bi, np.nonzero(stuck)[0])] @ x[stuck]
-            lu = sla.lu_factor(A)
-            X[Bi] = sla.lu_solve(lu, rhs)
+            net = Fp - self.Qt
+            if whole.size:
+                total = np.zeros((self.cl.count, 3))
+                np.add.at(total, self.cl.label, net)
+                net[whole] = total[self.cl.label[whole]]
+            rhs = net[Bi]
+            rhs[:, 0] -= M2[np.ix_(Bi, np.nonzero(stuck)[0])] @ x[stuck]
+            X[Bi] = lu.solve(rhs)
             # the tangent's G = A⁻¹ (the cycle's first pattern is set before tracking starts)
-            self.G[: Bi.size, : Bi.size] = sla.lu_solve(lu, np.eye(Bi.size))
+            self.G[: Bi.size, : Bi.size] = lu.solve(np.eye(Bi.size))
         m = Bi.size
         self.m, self.Bidx[:m] = m, Bi
         self.pos[:] = -1
         self.pos[Bi] = np.arange(m)
-        self.Kt = M
+        self.Kt = M2
         F = self.Qt + M @ X
         if Bi.size:
             res = float(np.max(np.abs(F[Bi] - Fp[Bi])) / np.max(self.fscale))
@@ -285,14 +329,38 @@ class ClusterPattern(Pattern):
         self._any_dirty = True
 
 
-def _scaled_condition(A: np.ndarray) -> float:
-    """2-norm condition number of A with its columns scaled to unit largest entry."""
-    if A.size == 0:
-        return 1.0
-    c = np.max(np.abs(A), axis=0)
-    c[c == 0.0] = 1.0
-    s = np.linalg.svd(A / c, compute_uv=False)
-    return float(s[0] / s[-1]) if s[-1] > 0 else np.inf
+class ScaledLU:
+    """LU of ``A`` with its columns equilibrated (powers of two, exact), and the 1-norm
+    condition number of the scaled matrix (LAPACK's estimate from the factors, O(m²))."""
+
+    def __init__(self, A: np.ndarray):
+        import scipy.linalg as sla
+        from scipy.linalg.lapack import dgecon
+
+        # rows are not scaled: a pivot row of another scale would mix its round-off into
+        # the offsets of a stiff cluster (partial pivoting picks stiff rows for them as is)
+        r = np.ones(A.shape[0])
+        c = _pow2(np.max(np.abs(A), axis=0))
+        As = A / c[None, :]
+        self.r, self.c = r, c
+        self.lu = sla.lu_factor(As, check_finite=False)
+        rcond, info = dgecon(self.lu[0], float(np.max(np.sum(np.abs(As), axis=0))), norm="1")
+        self.cond = 1.0 / rcond if info == 0 and rcond > 0 else np.inf
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        """A⁻¹ b (b: (m,) or (m, k))."""
+        import scipy.linalg as sla
+
+        x = sla.lu_solve(self.lu, b / (self.r if b.ndim == 1 else self.r[:, None]))
+        return x / (self.c if b.ndim == 1 else self.c[:, None])
+
+
+def _pow2(v: np.ndarray) -> np.ndarray:
+    """The power of two nearest each positive entry (1 for zeros)."""
+    out = np.ones_like(v)
+    pos = v > 0
+    out[pos] = np.exp2(np.round(np.log2(v[pos])))
+    return out
 
 
 class ClusterEventSolver(ClusterPattern, EventSolver):

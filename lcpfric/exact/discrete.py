@@ -103,6 +103,7 @@ __all__ = [
 ]
 
 STICK = int(State.STICK)
+_FREE_STEPS = 6  # Newton steps from a worse start before going back (cluster coordinates)
 _EPS = float(np.finfo(float).eps)
 
 
@@ -284,6 +285,10 @@ def exact_system_cycle(
     )
     scale = 2.0 ** round(math.log2(size)) if size > 0 and math.isfinite(size) else 1.0
     kappa = _condition(K)
+    # the round-off of Cholesky factors and their updates does not see a diagonal scaling
+    # (van der Sluis): the periodicity floor uses the condition of the scaled K
+    d = 1.0 / np.sqrt(np.diag(K))
+    kappa_scaled = _condition(d[:, None] * K * d[None, :])
     # a constant tangential load Q0 only shifts u by -K⁻¹ Q0 (F = Q + K u is unchanged): it is
     # taken out, so that displacements of a small amplitude are not computed on a large offset
     Q0 = Qt[:, 0].copy()
@@ -300,7 +305,7 @@ def exact_system_cycle(
     W_cycles, change = [], np.inf
     track, newton = False, 0
     best = None  # (change, start, its status, step) of the best start so far
-    lam = 1.0
+    lam, free = 1.0, 0
     for _ in range(max_cycles):
         u_end, status_end, W, events, series = solver.cycle(u, status, theta_s, track)
         W_cycles.append(W * scale * scale)
@@ -316,14 +321,20 @@ def exact_system_cycle(
         )
         ref = max(span, solver.qscale)
         size = max(float(np.max(np.abs(u_end), initial=0.0)), ref, solver.rscale)
-        floor = max(tol, 100.0 * _EPS * solver.kappa * size / ref)
+        floor = max(tol, 100.0 * _EPS * min(solver.kappa, kappa_scaled) * size / ref)
         if solver.structured:
-            # node by node, in forces: the nodes' displacements span many scales (cluster
-            # offsets, stiff groundings), which one displacement range would hide
-            change, floor = solver.force_change(r), max(tol, 100.0 * _EPS * solver.kappa)
+            # coordinate by coordinate: a cluster's offsets against the stretch of its springs
+            # (one displacement range would hide them), its root against the range
+            change = solver.state_change(r, ref)
+            floor = max(tol, 100.0 * _EPS * solver.kappa)
         if change <= floor:
             break
-        if best is None or change < 0.9 * best[0]:
+        progress = best is None or change < 0.9 * best[0]
+        # a stiff system's cycle map has modes that contract by 1 - O(k_g / k_c) per cycle:
+        # Newton's step along one lands where the pattern differs, a worse start at first;
+        # a few Newton steps from there are taken before going back to the best start
+        free = 0 if progress else free + 1
+        if progress or (solver.structured and track and free <= _FREE_STEPS):
             # progress: Newton's step from here (the plain cycle-map step before the Jacobian
             # is tracked)
             step = r
@@ -335,7 +346,8 @@ def exact_system_cycle(
                 else:
                     step = _newton_step(J, r, status, solver.flipped)
                 newton += 1
-            best, lam = (change, u, status, step, u_end, status_end), 1.0
+            if progress:
+                best, lam = (change, u, status, step, u_end, status_end), 1.0
             u_next, guess = u + step, status_end
         elif lam > 0.125:
             # no progress: back from the best start along a shorter step (damped Newton)
