@@ -55,6 +55,7 @@ __all__ = [
     "Clusters",
     "ClusterPattern",
     "ClusterEventSolver",
+    "stiff_hint",
     "ScaledLU",
     "CLUSTER_RATIO",
     "DIGITS",
@@ -76,6 +77,26 @@ def spring_form(K: np.ndarray):
     S = -np.array(K, dtype=float)
     np.fill_diagonal(S, 0.0)
     return g, S
+
+
+def stiff_hint(system) -> str:
+    """For an error message: how stiffly K ties nodes into clusters and which method answers
+    that ("" when it does not, or for systems too large to look at)."""
+    try:
+        if system is None or system.matrix_free or system.m > 3000:
+            return ""
+        g, S = spring_form(np.asarray(system.dense_stiffness(), dtype=float))
+    except Exception:  # a hint, never a second error
+        return ""
+    gmax = float(np.max(np.abs(g)))
+    ratio = float(np.max(S)) / gmax if gmax > 0 else np.inf
+    if not ratio > CLUSTER_RATIO:
+        return ""
+    return (
+        f"; springs up to {ratio:.2g} times the largest grounding tie nodes into nearly "
+        f"rigid clusters, whose slips this method decides node by node: 'exact' solves such "
+        f"systems in cluster coordinates (d = 1, harmonic loads)"
+    )
 
 
 class Clusters:
@@ -193,6 +214,10 @@ class ClusterPattern(Pattern):
             )
         self.rel = max(self.rel, 100.0 * _EPS * self.kappa)
         self.residual = max(self.residual, 1e3 * _EPS * self.kappa)
+        # the displacement the tangential amplitudes make on the clusters' groundings
+        ground = float(np.min(np.diag(self.cl.EsoftE)))
+        if ground > 0:
+            self.qscale = max(float(np.max(np.hypot(Qt[:, 1], Qt[:, 2]))) / ground, 1e-300)
         # slip rates per node: a stretch rate of a stiff spring, or a stiff node's own rate
         self.rate_scale = np.maximum(self.fscale / np.diag(K), 1e-300)
         self.stats["clusters"] = int(self.cl.count)
@@ -217,12 +242,15 @@ class ClusterPattern(Pattern):
         rhs[whole] = total[self.cl.label[whole]]
         return ScaledLU(self.cl.summed(self.cl.KT(root), root, whole)).solve(rhs)
 
-    def state_change(self, r, span):
-        """A change r of the start state (canonical x), relative coordinate by coordinate: a
-        root against ``span`` (the displacements' range over the cycle), an offset against
-        the stretch its node's forces make on its stiff springs (``fscale / K_ii``)."""
-        scale = np.where(self.cl.canonical == np.arange(self.n), span, self.rate_scale)
-        return float(np.max(np.abs(r) / scale, initial=0.0))
+    def state_change(self, r, x, ptp):
+        """A change r of the start state x (canonical), relative coordinate by coordinate
+        beyond its round-off (``100 eps κ |x_i|``): a root against its node's range over the
+        cycle ``ptp``, an offset (and a root at rest) against the stretch its node's forces
+        make on its stiff springs (``fscale / K_ii``)."""
+        roots = self.cl.canonical == np.arange(self.n)
+        scale = np.where(roots, np.maximum(ptp, self.rate_scale), self.rate_scale)
+        excess = np.maximum(np.abs(r) - 100.0 * _EPS * self.kappa * np.abs(x), 0.0)
+        return float(np.max(excess / scale, initial=0.0))
 
     def forces_at(self, theta, u):
         return value(self.Ft, theta)

@@ -323,10 +323,9 @@ def exact_system_cycle(
         size = max(float(np.max(np.abs(u_end), initial=0.0)), ref, solver.rscale)
         floor = max(tol, 100.0 * _EPS * min(solver.kappa, kappa_scaled) * size / ref)
         if solver.structured:
-            # coordinate by coordinate: a cluster's offsets against the stretch of its springs
-            # (one displacement range would hide them), its root against the range
-            change = solver.state_change(r, ref)
-            floor = max(tol, 100.0 * _EPS * solver.kappa)
+            # coordinate by coordinate: a cluster's offsets against the stretch of its springs,
+            # a root against its own range (one range for all would hide the stiff ones)
+            change, floor = solver.state_change(r, u_end, np.ptp(series[0], axis=0)), tol
         if change <= floor:
             break
         progress = best is None or change < 0.9 * best[0]

@@ -31,7 +31,7 @@ from ..results import SteadyState
 from ..scene import Scene, make_scene
 from .acceleration import FrictionLimits, choose
 from .assemble import assemble, is_shakedown, warn_unresolved
-from .measure import cycle_change, displacement_change, largest_limit, load_scales
+from .measure import cycle_change, displacement_change, load_scales, unit_scaled
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -274,7 +274,7 @@ def steady_state(
         u0 = _checks.finite_array("u0", u0)
         if u0.size != scene.system.m:
             raise InputError("u0", f"needs {scene.system.m} displacements (n·d), got {u0.size}")
-    work, scale = _unit_scaled(scene)
+    work, scale = unit_scaled(scene)
     state = solver.init(work, None if u0 is None else u0 / scale)
     scales = work.scales if work.system is None else load_scales(work, _compliance_scale(work))
     accelerate = choose(work, solver, history, state.u)
@@ -357,11 +357,13 @@ def steady_state(
             if loose and smallest < math.inf
             else ""
         )
+
         msg = (
             f"{_name(scene)}: no periodic steady state after {len(W_cycles)} cycles "
             f"(relative change of the cycle {change:.3g} > tol {tol:g}{at}); raise "
             f"max_cycles or loosen tol"
         )
+        msg += _stiff_hint(scene)
         result = replace(result, message=msg)
         if on_nonconvergence == "raise":
             raise ConvergenceError(msg, result)
@@ -405,6 +407,13 @@ def _compliance_scale(scene) -> float:
     return float(np.max(scene.system.compliance_diagonal()))
 
 
+def _stiff_hint(scene) -> str:
+    """What answers a system of nearly rigid clusters, for the message of a failure."""
+    from ..exact.clusters import stiff_hint
+
+    return stiff_hint(scene.system)
+
+
 def _method(method, options: dict):
     """The registry's instance for ``method``; an unknown option names the driver's and the
     method's valid ones."""
@@ -425,26 +434,3 @@ def _requested(model, steps_per_cycle, base) -> int:
         return model.steps_requested
     steps = base.default_steps if steps_per_cycle is None else steps_per_cycle
     return _checks.positive_int("steps_per_cycle", steps, 4)
-
-
-def _unit_scaled(scene: Scene) -> tuple[Scene, float]:
-    """A discrete system's scene with forces divided by s, a power of two near the largest
-    friction limit (a continuum contact's steppers scale their own tolerances: unchanged).
-
-    Steppers then see forces of order one whatever the units (loads of 1e6, or 1e-6): the
-    convex solvers' tolerances are absolute, and at P̂1 = Q̂1 = 1e6 Clarabel otherwise stops
-    "DualInfeasible". Q, f N and so u and F scale by 1/s and W by 1/s². Dividing by a power of
-    two is exact in floating point, so the closed-form steppers give the same bits either way.
-    """
-    if scene.system is None:
-        return scene, 1.0
-    # the answer F lies within ±f N: its size is the largest friction limit
-    size = largest_limit(scene)
-    if not np.isfinite(size) or size == 0.0:
-        return scene, 1.0
-    scale = float(2.0 ** np.round(np.log2(size)))
-    if scale == 1.0:
-        return scene, 1.0
-    return replace(
-        scene, Q=scene.Q / scale, N=scene.N / scale, _cache={"contact": scene.contact}
-    ), scale  # contact is scale-free

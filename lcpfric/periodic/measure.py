@@ -19,9 +19,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..scene import column_reduce
+from dataclasses import replace
 
-__all__ = ["cycle_change", "displacement_change", "load_scales", "MEASURES"]
+from ..scene import Scene, column_reduce
+
+__all__ = ["cycle_change", "displacement_change", "load_scales", "unit_scaled", "MEASURES"]
 
 MEASURES = ("cycles", "map")
 
@@ -107,3 +109,26 @@ def largest_limit(scene) -> float:
     may be :class:`~lcpfric.scene.Rows`)."""
     f = scene.system.friction
     return float(max(column_reduce(scene.N, lambda x: float(np.max(x * f, initial=0.0)))))
+
+
+def unit_scaled(scene: Scene) -> tuple[Scene, float]:
+    """A discrete system's scene with forces divided by s, a power of two near the largest
+    friction limit (a continuum contact's steppers scale their own tolerances: unchanged).
+
+    Steppers then see forces of order one whatever the units (loads of 1e6, or 1e-6): the
+    convex solvers' tolerances are absolute, and at P̂1 = Q̂1 = 1e6 Clarabel otherwise stops
+    "DualInfeasible". Q, f N and so u and F scale by 1/s and W by 1/s². Dividing by a power of
+    two is exact in floating point, so the closed-form steppers give the same bits either way.
+    """
+    if scene.system is None:
+        return scene, 1.0
+    # the answer F lies within ±f N: its size is the largest friction limit
+    size = largest_limit(scene)
+    if not np.isfinite(size) or size == 0.0:
+        return scene, 1.0
+    scale = float(2.0 ** np.round(np.log2(size)))
+    if scale == 1.0:
+        return scene, 1.0
+    return replace(
+        scene, Q=scene.Q / scale, N=scene.N / scale, _cache={"contact": scene.contact}
+    ), scale  # contact is scale-free

@@ -162,6 +162,7 @@ class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
     # -- the stepper contract ----------------------------------------------------------------
     def init(self, scene, u0=None) -> StepState:
         self.check_system(scene.system)
+        self._system = scene.system  # for the error messages
         plan = Plan(scene, self.block, self.cg_max_iter)
         state = super().init(scene, u0)
         stats = {
@@ -391,9 +392,12 @@ class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
             self._fail(int(rows[bad[0]]) - 1, {"equilibrium": float(eq[bad[0]])})
 
     def unsettled(self, k, what):
+        from ..exact.clusters import stiff_hint
+
         return SolverError(
             f"active-set: increment {k}: {what} did not settle in "
-            f"{self.max_iter} iterations; raise max_iter",
+            f"{self.max_iter} iterations; raise max_iter"
+            + stiff_hint(getattr(self, "_system", None)),
             backend=self.name,
             status="max_iter",
         )

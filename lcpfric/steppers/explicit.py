@@ -193,9 +193,12 @@ class ExplicitStepper(Stepper):
             tau = t_end
             n_events += 1
         else:
+            from ..exact.clusters import stiff_hint
+
+            hint = stiff_hint(scene.system)
             raise SolverError(
                 f"explicit stepper: more than {4 * n + 16} state changes in "
-                f"increment {k}; the loads may be inconsistent",
+                f"increment {k}" + (hint or "; the loads may be inconsistent"),
                 backend="explicit",
                 status="too_many_events",
             )

@@ -5,8 +5,8 @@ stiff springs (a random spanning tree, sometimes with a loop), ``k s_e`` with k 
 scale (a power of two from 2^20 to 2^40, about 1e6 to 1e12) and s_e in [0.5, 2]; clusters are
 joined by soft springs (0..1) and every node is grounded (0.5..2). Stiffnesses are multiples of
 1/8, so every entry of K is exact in float64 at every k: K holds its groundings exactly, and the
-merged limit is the same for every k. Loads are harmonic, each node its own amplitudes and phases, the normal loads never
-reach zero. As k grows each cluster moves as one node: the *merged* system, one node per
+merged limit is the same for every k. Loads are harmonic, each node its own amplitudes and
+phases, the normal loads never reach zero. As k grows each cluster moves as one node: the *merged* system, one node per
 cluster with the groundings and soft springs summed over its nodes (``Eᵀ K_soft E``), the friction
 limit ``Σ f_i P_i(t)`` (one harmonic, as no node separates) and the load ``Σ Q_i(t)``.
 ``W(k) = W_merged + c / k + O(1/k²)``: :func:`extrapolated` takes the c / k term out with two
