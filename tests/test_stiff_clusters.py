@@ -15,37 +15,21 @@ import numpy as np
 import pytest
 
 import lcpfric
-from lcpfric import Harmonic, SingleNode
+from lcpfric import Harmonic
 from lcpfric.errors import InputError, LcpfricError, SolverError
 from lcpfric.exact.clusters import Clusters, ScaledLU, spring_form
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from support.stiff_random import energy_scale, extrapolated, merged, random_stiff  # noqa: E402
+from support.stiff_random import (  # noqa: E402
+    chain_loads,
+    energy_scale,
+    extrapolated,
+    merged,
+    merged_chain_W,
+    random_stiff,
+)
 
 COUPLINGS = (1e2, 1e4, 1e6, 1e8, 1e10, 1e12)
-
-
-def chain_loads(n, seed):
-    """Seeded loads whose merged node slips: amplitudes and phases per node (P0 = 1, f = 1)."""
-    rng = np.random.default_rng(seed)
-    while True:
-        P1, Q1 = rng.uniform(0.0, 0.9, n), rng.uniform(1.5, 3.0, n)
-        psi, phi = rng.uniform(-0.5, 0.5, n), rng.uniform(-0.3, 0.3, n)
-        if merged_chain_W(P1, Q1, psi, phi) > 0:
-            return P1, Q1, psi, phi
-
-
-def merged_chain_W(P1, Q1, psi, phi):
-    n = len(P1)
-    zp, zq = np.sum(P1 * np.exp(1j * psi)), np.sum(Q1 * np.exp(1j * (psi + phi)))
-    node = SingleNode(
-        k11=float(n),
-        f=1.0,
-        P0=float(n),
-        normal_load=Harmonic(float(n), abs(zp), float(np.angle(zp))),
-        tangential_load=Harmonic(0.0, abs(zq), float(np.angle(zq))),
-    )
-    return lcpfric.steady_state(node, "exact").W
 
 
 def chain_at(n, kc, loads):

@@ -32,6 +32,7 @@ _ROOT = _Path(__file__).resolve().parents[2]
 _sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "tests")]
 
 from _report import results_file  # noqa: E402 (benchmarks/ on the path above)
+from support.stiff_random import chain_loads, merged_chain_W  # noqa: E402 (tests/, above)
 import argparse
 import math
 import sys
@@ -40,37 +41,9 @@ import time
 import numpy as np
 
 import lcpfric
-from lcpfric import Harmonic, SingleNode
 
 METHODS = ("exact", "active-set", "explicit")
 COUPLINGS = (1e2, 1e4, 1e6, 1e8, 1e10, 1e12)
-
-
-def loads(n: int, seed: int):
-    """Seeded loads whose merged node slips (W > 0): amplitudes and phases per node."""
-    rng = np.random.default_rng(seed)
-    while True:
-        P1 = rng.uniform(0.0, 0.9, n)
-        Q1 = rng.uniform(1.5, 3.0, n)
-        psi = rng.uniform(-0.5, 0.5, n)  # the normal loads' phases
-        phi = rng.uniform(-0.3, 0.3, n)  # Q relative to P, node by node
-        if merged_W(P1, Q1, psi, phi) > 0:
-            return P1, Q1, psi, phi
-
-
-def merged_W(P1, Q1, psi, phi) -> float:
-    """W of the merged node: stiffness n, P = Σ P_i, Q = Σ Q_i (all P0_i = 1, f = 1)."""
-    n = len(P1)
-    zp = np.sum(P1 * np.exp(1j * psi))
-    zq = np.sum(Q1 * np.exp(1j * (psi + phi)))
-    node = SingleNode(
-        k11=float(n),
-        f=1.0,
-        P0=float(n),
-        normal_load=Harmonic(float(n), abs(zp), float(np.angle(zp))),
-        tangential_load=Harmonic(0.0, abs(zq), float(np.angle(zq))),
-    )
-    return lcpfric.steady_state(node, "exact").W
 
 
 def one_ulp(system, W) -> float:
@@ -89,8 +62,8 @@ def one_ulp(system, W) -> float:
 
 def run_case(n: int, kc: float, seed: int, c: float | None) -> tuple[str, float]:
     """One row of the table, and exact's relative difference from the merged node."""
-    P1, Q1, psi, phi = loads(n, seed)
-    Wm = merged_W(P1, Q1, psi, phi)
+    P1, Q1, psi, phi = chain_loads(n, seed)
+    Wm = merged_chain_W(P1, Q1, psi, phi)
     system = lcpfric.chain(n, k_coupling=kc, P0=1.0, P1=P1, Q1=Q1, phi=phi, normal_phase=psi)
     cond = np.linalg.cond(np.array(system.stiffness, dtype=float))
     cells = [f"{n}", f"{kc:.0e}", f"{np.finfo(float).eps * cond:.1e}"]

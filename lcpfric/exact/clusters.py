@@ -337,17 +337,7 @@ class ClusterPattern(Pattern):
         self.pos[:] = -1
         self.pos[Bi] = np.arange(m)
         self.Kt = M2
-        F = self.Qt + M @ X
-        if Bi.size:
-            res = float(np.max(np.abs(F[Bi] - Fp[Bi])) / np.max(self.fscale))
-            if res > self.residual:
-                raise SolverError(
-                    f"exact: equilibrium residual {res:.3g} of the pattern at θ = {theta:.17g} "
-                    f"in cluster coordinates",
-                    backend="exact",
-                    status="residual",
-                )
-            F[Bi] = Fp[Bi]
+        F = self.prescribed(self.Qt + M @ X, Fp, Bi, theta, "in cluster coordinates")
         self.stats["refactorizations"] += 1
         self.root, self.X = root, X
         self.status, self.U, self.Ft, self.sign = status.copy(), self.cl.to_u(X, root), F, sign

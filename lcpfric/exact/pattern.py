@@ -165,17 +165,7 @@ class Pattern(Tangent):
             rhs = Fp[Bidx] - self.Qt[Bidx]
             rhs[:, 0] -= KuS[Bidx]
             U[Bidx] = self.G[:m, :m] @ rhs
-        F = self.Qt + self.Kmul(U)
-        if m:
-            res = float(np.max(np.abs(F[Bidx] - Fp[Bidx])) / np.max(self.fscale))
-            if res > self.residual:
-                raise SolverError(
-                    f"exact: equilibrium residual {res:.3g} of the pattern at "
-                    f"θ = {theta:.17g} (is K well conditioned?)",
-                    backend="exact",
-                    status="residual",
-                )
-            F[Bidx] = Fp[Bidx]
+        F = self.prescribed(self.Qt + self.Kmul(U), Fp, Bidx, theta, "(is K well conditioned?)")
         self.status, self.U, self.Ft, self.sign = status.copy(), U, F, sign
         self.B = B
         self.dirty[:] = True
@@ -285,6 +275,21 @@ class Pattern(Tangent):
         self.m = last
 
     structured = False  # cluster coordinates (lcpfric.exact.clusters) when True
+
+    def prescribed(self, F, Fp, Bidx, theta, note):
+        """F with the nodes of B on their prescribed forces Fp, once their equilibrium
+        residual is checked (an error beyond ``self.residual``, ``note`` saying where)."""
+        if Bidx.size:
+            res = float(np.max(np.abs(F[Bidx] - Fp[Bidx])) / np.max(self.fscale))
+            if res > self.residual:
+                raise SolverError(
+                    f"exact: equilibrium residual {res:.3g} of the pattern at "
+                    f"θ = {theta:.17g} {note}",
+                    backend="exact",
+                    status="residual",
+                )
+            F[Bidx] = Fp[Bidx]
+        return F
 
     def forces_at(self, theta, u):
         """F at theta from the state u (the current pattern's state)."""

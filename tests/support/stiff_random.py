@@ -6,9 +6,10 @@ scale (a power of two from 2^20 to 2^40, about 1e6 to 1e12) and s_e in [0.5, 2];
 joined by soft springs (0..1) and every node is grounded (0.5..2). Stiffnesses are multiples of
 1/8, so every entry of K is exact in float64 at every k: K holds its groundings exactly, and the
 merged limit is the same for every k. Loads are harmonic, each node its own amplitudes and
-phases, the normal loads never reach zero. As k grows each cluster moves as one node: the *merged* system, one node per
-cluster with the groundings and soft springs summed over its nodes (``Eᵀ K_soft E``), the friction
-limit ``Σ f_i P_i(t)`` (one harmonic, as no node separates) and the load ``Σ Q_i(t)``.
+phases, the normal loads never reach zero. As k grows each cluster moves as one node: the
+*merged* system, one node per cluster with the groundings and soft springs summed over its
+nodes (``Eᵀ K_soft E``), the friction limit ``Σ f_i P_i(t)`` (one harmonic, as no node
+separates) and the load ``Σ Q_i(t)``.
 ``W(k) = W_merged + c / k + O(1/k²)``: :func:`extrapolated` takes the c / k term out with two
 stiffness scales, k and 8 k.
 """
@@ -19,7 +20,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Stiff", "random_stiff", "merged", "extrapolated", "energy_scale"]
+__all__ = [
+    "Stiff",
+    "random_stiff",
+    "merged",
+    "extrapolated",
+    "energy_scale",
+    "chain_loads",
+    "merged_chain_W",
+]
 
 
 @dataclass(frozen=True)
@@ -159,3 +168,31 @@ def energy_scale(p: Stiff) -> float:
 def extrapolated(W_k: float, W_8k: float) -> float:
     """``W_merged`` from W at the scales k and 8 k, the c / k term taken out (Richardson)."""
     return W_8k + (W_8k - W_k) / 7.0
+
+
+def chain_loads(n: int, seed: int):
+    """Seeded loads of an n-node chain whose merged node slips (W > 0): per node the normal
+    amplitude P1 (P0 = 1), the tangential Q1, the normal phase ψ and Q's phase φ relative to P."""
+    rng = np.random.default_rng(seed)
+    while True:
+        P1, Q1 = rng.uniform(0.0, 0.9, n), rng.uniform(1.5, 3.0, n)
+        psi, phi = rng.uniform(-0.5, 0.5, n), rng.uniform(-0.3, 0.3, n)
+        if merged_chain_W(P1, Q1, psi, phi) > 0:
+            return P1, Q1, psi, phi
+
+
+def merged_chain_W(P1, Q1, psi, phi) -> float:
+    """W of a chain's merged node: stiffness n, P = Σ P_i, Q = Σ Q_i (P0_i = 1, f = 1)."""
+    import lcpfric
+    from lcpfric import Harmonic
+
+    n = len(P1)
+    zp, zq = np.sum(P1 * np.exp(1j * psi)), np.sum(Q1 * np.exp(1j * (psi + phi)))
+    node = lcpfric.SingleNode(
+        k11=float(n),
+        f=1.0,
+        P0=float(n),
+        normal_load=Harmonic(float(n), abs(zp), float(np.angle(zp))),
+        tangential_load=Harmonic(0.0, abs(zq), float(np.angle(zq))),
+    )
+    return lcpfric.steady_state(node, "exact").W
