@@ -360,7 +360,9 @@ def exact_system_cycle(
         # the tangent map pays O(n) per event on a chain, O(n²) on dense K: track from the
         # second cycle on unless the first already reached the orbit (a history erased by
         # separation), and then until the end
-        track = track or change > 1e3 * tol
+        # ... and not after a cycle that forgot its start (every node free at one instant):
+        # the next one repeats it, and a Jacobian would go unused
+        track = (track or change > 1e3 * tol) and not solver.erased
         u, status = solver.admissible(u_next, guess)
     else:
         raise ConvergenceError(

@@ -154,6 +154,7 @@ class EventSolver(Pattern):
         self.W = 0.0
         self.track = track
         self.flipped = np.zeros(n, dtype=bool)
+        self.erased = False
         if track:
             self.Jt = self.start_tangent()
         attempt = 0
@@ -225,6 +226,9 @@ class EventSolver(Pattern):
                     self.theta_row = self.theta_sensitivity(j, bool(touch_hi[j]), theta)
             self.decide(theta, guess, touch_lo, touch_hi, attempt, recontact)
             self.theta_row = None
+            # no node stuck: the state is the forces' alone, the start is forgotten (the
+            # cycle map is constant from here: its Jacobian is zero)
+            self.erased = self.erased or self.m == n
 
     def describe(self):
         counts = {State(s).label: int(np.sum(self.status == s)) for s in range(4)}

@@ -32,6 +32,9 @@ class Pattern(Tangent):
     change state, and the trig triples of u and F it gives."""
 
     def __init__(self, K, f, Qt, Pt, samples, max_events, kappa=1.0):
+        from . import kernels  # numba: imported by a discrete solve only (lcpfric.exact.kernels)
+
+        self.kernels = kernels
         self.K = self.Kt = K
         # what round-off through K_BB⁻¹ allows: relative tolerances grow with cond(K)
         self.kappa = kappa
@@ -81,7 +84,14 @@ class Pattern(Tangent):
         self.always = c0 - R >= 0.0
         self.normal_events = self.normal_event_list()
         self.samples = samples
-        self.stats = {"lcp_solves": 0, "degenerate": 0, "refactorizations": 0, "skipped_depth": 0.0}
+        self.stats = {
+            "lcp_solves": 0,
+            "degenerate": 0,
+            "refactorizations": 0,
+            "skipped_depth": 0.0,
+            "flips": 0,
+            "free_set_sum": 0,  # the free set's size summed over the flips (its mean: the floor)
+        }
 
     # -- normal events -----------------------------------------------------------------------
     def normal_event_list(self):
@@ -178,6 +188,8 @@ class Pattern(Tangent):
         old = int(self.status[j])
         if old == new:
             return
+        self.stats["flips"] += 1
+        self.stats["free_set_sum"] += self.m
         sgn = -1.0 if new == FORWARD else (1.0 if new == BACKWARD else 0.0)
         if old == STICK:  # j joins B with a prescribed force
             sup, zs = self.add(j)  # u response (over B) to a unit force at j
@@ -240,9 +252,9 @@ class Pattern(Tangent):
             )
         sup = g.nonzero()[0]
         if m <= _SMALL or 4 * sup.size > m:
-            G[:m, :m] += np.multiply.outer(g, g / s)
+            self.kernels.rank_one(G, m, g, g / s, 1)
         elif sup.size:
-            G[np.ix_(sup, sup)] += np.multiply.outer(g[sup], g[sup] / s)
+            self.kernels.rank_one_on(G, sup, g[sup], g[sup] / s, 1)
         G[:m, m] = G[m, :m] = -g / s
         G[m, m] = 1.0 / s
         self.Bidx[m] = j
@@ -258,9 +270,9 @@ class Pattern(Tangent):
         col = G[:m, p].copy()
         sup = col.nonzero()[0]
         if m <= _SMALL or 4 * sup.size > m:
-            G[:m, :m] -= np.multiply.outer(col, col / col[p])
+            self.kernels.rank_one(G, m, col, col / col[p], -1)
         else:
-            G[np.ix_(sup, sup)] -= np.multiply.outer(col[sup], col[sup] / col[p])
+            self.kernels.rank_one_on(G, sup, col[sup], col[sup] / col[p], -1)
         last = m - 1
         if p != last:
             G[p, :last] = G[last, :last]
