@@ -30,12 +30,21 @@ lowest-index stuck node (its lowest-index node when none is stuck), so a stuck n
 ``x_i`` exactly (the root its c, the others their offsets) and a sliding node's offset is
 solved for. Re-rooting (``w' = w - w_ρ'``, ``c' = c + w_ρ'``) moves a whole cluster by the
 rounding of ``c'`` at most: no stretch changes. The cycle map works on x in the canonical
-rooting (lowest index).
+rooting (lowest index), with the tangent carried in it (rows re-rooted with the pattern);
+periodicity is judged coordinate by coordinate (:meth:`ClusterPattern.state_change`).
+
+A cluster that slides whole has no stuck node to hold it: its root's equation is replaced by
+the cluster's equilibrium, its rows summed (``Eᵀ K_soft T``, where the stiff springs cancel
+exactly), which is what determines its rigid motion. Rows are not scaled: a pivot row of
+another scale would mix its round-off into the offsets of a stiff cluster.
 
 Each pattern is a fresh LU of ``(K T)_BB`` (``O(|B|³)``, no rank-one updates: stiff systems
 are small in practice), whose column-scaled condition number is checked: beyond
-``1 / (1e6 eps)`` the pattern is an error naming it (the springs left outside the clusters,
-or couplings of many scales in one cluster, are then what limits the digits).
+``DIGITS / eps`` (fewer than 8 digits left) the system is refused before any work, or a
+pattern mid-cycle raises, naming it (springs left outside the clusters, couplings of many
+scales in one cluster, or stiff entries that are not springs are then what limits the digits).
+The groundings are what float64 holds of K: beside a coupling k_c a grounding is known to
+``eps k_c``, and W is exact for the K as stored.
 """
 
 from __future__ import annotations
