@@ -106,8 +106,18 @@ for inputs indistinguishable from the given ones. Results in the subnormal range
 """
 
 from .api import ExactCycle, exact_cycle, exact_W_hat
-from .discrete import exact_system_cycle
 from .formulas import BACKWARD, FORWARD, MAX_AMPLITUDE, SEPARATION, STICK
+
+
+def __getattr__(name):
+    # the discrete systems' event solver is imported when it is first asked for: the single
+    # node's closed form (and the command line's start-up) does not pay for it
+    if name == "exact_system_cycle":
+        from .discrete import exact_system_cycle
+
+        return exact_system_cycle
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __all__ = [
     "exact_W_hat",
