@@ -52,17 +52,22 @@ def chain(n, sep=False, seed=0):
 
 
 def dense(n, sep=False, seed=0):
-    """K = A Aᵀ/n + I with A standard normal (dense SPD), loads as for :func:`chain`."""
+    """K = A Aᵀ/n + I with A standard normal (dense SPD, cond about 5), loads as for
+    :func:`chain`; ``sep="mixed"``: the case users have, every node its own normal amplitude
+    P1 in [0.1, 2] (about half of them separating) and phase, and its own tangential phase."""
     rng = np.random.default_rng(seed)
     A = rng.standard_normal((n, n)) / np.sqrt(n)
     K = A @ A.T + np.eye(n)
-    P1 = rng.uniform(1.2, 2.0, n) if sep else rng.uniform(0.1, 0.8, n)
+    if sep == "mixed":
+        P1, psi = rng.uniform(0.1, 2.0, n), rng.uniform(0, 2 * np.pi, n)
+    else:
+        P1, psi = (rng.uniform(1.2, 2.0, n) if sep else rng.uniform(0.1, 0.8, n)), np.zeros(n)
     Q1, phi = rng.uniform(0.5, 2.0, n), rng.uniform(0, 2 * np.pi, n)
     return ContactSystem(
         K,
         np.ones(n),
-        tuple(Harmonic(0.0, Q1[i], phi[i]) for i in range(n)),
-        IndependentSprings(tuple(Harmonic(1.0, P1[i]) for i in range(n))),
+        tuple(Harmonic(0.0, Q1[i], phi[i] + psi[i]) for i in range(n)),
+        IndependentSprings(tuple(Harmonic(1.0, P1[i], psi[i]) for i in range(n))),
     )
 
 
@@ -114,6 +119,7 @@ def main(argv=None):
         ("chain, separation", chain, 100, True),
         ("dense SPD, full contact", dense, 100, False),
         ("dense SPD, separation", dense, 100, True),
+        ("dense SPD, mixed amplitudes and phases", dense, 100, "mixed"),
     ]
     if not args.quick:
         cases += [
@@ -121,6 +127,7 @@ def main(argv=None):
             ("chain, separation", chain, 1000, True),
             ("dense SPD, full contact", dense, 1000, False),
             ("dense SPD, separation", dense, 1000, True),
+            ("dense SPD, mixed amplitudes and phases", dense, 1000, "mixed"),
         ]
     for name, make, n, sep in cases:
         r, sec = run_exact(make(n, sep))
