@@ -46,7 +46,6 @@ from ..linalg import PatternUpdate
 from ..model.continuum.halfspace import compliance, pad
 from ..model.continuum.influence import Counted
 from .newton_step import CG_TOL, ETA, NewtonSteps, column_sums, nearest_to_sticking, project_discs
-from .slip_memory import row_norms
 
 __all__ = ["HalfSpaceIncrements", "Tangential"]
 
@@ -95,6 +94,10 @@ class HalfSpaceIncrements(NewtonSteps):
         self.N, self.h, self.pos, self.cpos = model.N, model.h, model.pos, model.cpos
         self.force_scale = model.force_scale
         self.op = Counted(model.op)
+        # the compiled kernels (numba: imported by a half-space's stepper only)
+        from ..model.continuum import halfspace_kernels
+
+        self.kernels = halfspace_kernels
         self.tol = tol
         self.load_scale = load_scale
         self.stats = {
@@ -328,31 +331,9 @@ class HalfSpaceIncrements(NewtonSteps):
         """d = 2 (and d = 1 once its patterns stall): the natural map's residual at ``(F, CF =
         C F, δ)`` (``contact``: the nodes in contact): ``(Δs, z, |z|, slipping, its largest
         component, the line search's merit |F - proj(z)|² + |equilibrium|², the
-        equilibrium)`` with ``z = F - Δs/c``."""
-        ds = CF + delta
-        ds -= s0
-        z = ds / -self.c
-        z += F
-        zn = row_norms(z) if self.dims == 2 else np.abs(z[:, 0])
-        slip = zn > b
-        slip &= contact
-        scale = contact.astype(float)
-        np.divide(b, zn, out=scale, where=slip)
-        R = z * scale[:, None]
-        np.subtract(F, R, out=R)
-        eq = column_sums(F)
-        if self.k_support:
-            eq -= self.k_support * delta
-        eq += Qv
-        return (
-            ds,
-            z,
-            zn,
-            slip,
-            float(np.max(np.abs(R), initial=0.0)),
-            float(np.vdot(R, R) + eq @ eq),
-            eq,
-        )
+        equilibrium)`` with ``z = F - Δs/c`` (compiled:
+        :func:`~lcpfric.model.continuum.halfspace_kernels.natural`)."""
+        return self.kernels.natural(F, CF, delta, s0, self.c, b, contact, Qv, float(self.k_support))
 
     def _step(self, m0, F, CF, delta, dF, CdF, dd, s0, b, contact, Qv):
         """d = 2 (and d = 1 once its patterns stall): the Newton step, its length halved from

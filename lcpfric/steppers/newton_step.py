@@ -186,14 +186,13 @@ class NewtonSteps:
         buf = op.empty()
         flat = buf.reshape(-1)
 
-        def restrict(full, scale=None):
-            """The unknowns' components of a padded array (the slipping nodes' along τ)."""
-            w = full.reshape(-1)[idx]
-            t = (taub * w[ns:]).real
-            if scale is not None:
-                t *= scale
-            w[ns:] = tau * t
-            return w
+        kern = self.kernels
+        none, nonec = np.empty(0), np.empty(0, dtype=complex)
+
+        def restrict(full, scale=none, u=nonec, diag=none):
+            """The unknowns' components of a padded array (the slipping nodes' along τ, times
+            ``scale``), plus ``diag u`` on the slipping ones."""
+            return kern.restrict2(full.reshape(-1), idx, ns, tau, scale, u, diag)
 
         # the known forces and the start in one product (linearity); the residual from it
         if x0.any() or known.any():
@@ -215,14 +214,12 @@ class NewtonSteps:
         def M(x):
             nonlocal last
             u = x.view(complex)
-            flat[idx] = u
+            kern.embed(flat, idx, u, none)
             last = op.padded("tangential", buf, 1.0 / h2)
-            w = restrict(last)
-            w[ns:] += tdiag * u[ns:]
-            return w.view(float)
+            return restrict(last, none, u, tdiag).view(float)
 
         def step(alpha):
-            np.add(total, alpha * last[:N, :N], out=total)
+            kern.add_corner(total, alpha, last)
 
         # the slipping nodes' unknowns carry the diagonal term besides C (the operator there
         # is about c + tdiag, where C's inverse assumes c): the preconditioner scaled
@@ -232,7 +229,7 @@ class NewtonSteps:
         weights = np.concatenate([np.ones(ns), wL])
 
         def pre(r):
-            flat[idx] = r.view(complex) * weights
+            kern.embed(flat, idx, r.view(complex), weights)
             return restrict(op.padded("precondition", buf, h2), wL).view(float)
 
         tol = frac * c * tolF
@@ -253,7 +250,7 @@ class NewtonSteps:
         else:
 
             def project(r):
-                return r - bt(Winv @ bsum(r))
+                return kern.project2(r.view(complex), ns, tau, Winv).view(float)
 
             x, res = cg(M, None, x0, project, pre, tol, self.stats, step, res=res.view(float))
             dd = Winv @ bsum(res)

@@ -55,23 +55,18 @@ class SlipMemory:
 
     def update(self, R: np.ndarray, dv: np.ndarray, b: np.ndarray) -> None:
         """After an increment with the slips ``dv`` (flat, node-major) under the limits b:
-        ``R_i <- r p pᵀ R_i`` on every node that moved, in place."""
-        d = dv.reshape(self.n, 2)
-        mag = row_norms(d)  # |Δs|
-        moved = np.flatnonzero(mag > 0.0)
-        if not moved.size:
-            return
-        m = mag[moved]
-        c = self.c if np.ndim(self.c) == 0 else self.c[moved]
-        cb = c * b[moved]
-        rm = cb / ((cb + m) * m * m)  # r / |Δs|², with p = (-Δs_y, Δs_x) / |Δs|
-        px, py = -d[moved, 1], d[moved, 0]
-        Rm = R[moved]  # (k, 2, 2)
-        q0 = (px * Rm[:, 0, 0] + py * Rm[:, 1, 0]) * rm  # r pᵀ R / |Δs|
-        q1 = (px * Rm[:, 0, 1] + py * Rm[:, 1, 1]) * rm
-        Rm[:, 0, 0], Rm[:, 0, 1] = px * q0, px * q1
-        Rm[:, 1, 0], Rm[:, 1, 1] = py * q0, py * q1
-        R[moved] = Rm
+        ``R_i <- r p pᵀ R_i`` on every node that moved, in place (compiled:
+        :func:`~lcpfric.model.continuum.halfspace_kernels.slip_memory_update`)."""
+        from ..model.continuum import halfspace_kernels  # numba: compiled on first use
+
+        c = np.asarray(self.c, dtype=float)
+        halfspace_kernels.slip_memory_update(
+            R,
+            np.ascontiguousarray(dv, dtype=float).reshape(self.n, 2),
+            np.ascontiguousarray(b, dtype=float),
+            c.reshape(-1) if c.ndim else np.empty(0),
+            float(c) if not c.ndim else 0.0,
+        )
 
     def of_cycle(self, u: np.ndarray, b) -> np.ndarray:
         """``R`` of a recorded cycle: the slips ``u`` at its ``steps + 1`` instants (rows,

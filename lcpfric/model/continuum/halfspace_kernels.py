@@ -1,0 +1,195 @@
+"""Compiled kernels of the half-space's inner iterations (numba; ``docs/architecture.md``,
+"Compiled kernels"): the Cerruti operator's spectral product (d = 2), the natural map's
+residual of the Newton iterations, the conjugate gradients' vector updates and the slip memory's
+per-node update.
+
+Imported when a half-space's operator first multiplies (:class:`~.influence.Convolution`) or its
+stepper starts, never by ``import lcpfric``, so the command line's start-up does not pay for
+numba. Compiled on first use and cached on disk (``cache=True``).
+
+Each kernel does what the numpy expressions it replaced did, element by element with the same
+operations (no fused multiply-add, no reassociation); the sums and inner products are summed in
+order, where numpy summed pairwise or by BLAS, so they differ from those in the last bits
+(``tests/test_halfspace_kernels.py`` checks every kernel against a plain computation).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "cerruti_product",
+    "natural",
+    "slip_memory_update",
+    "embed",
+    "restrict1",
+    "restrict2",
+    "project2",
+    "add_bt",
+    "add_corner",
+]
+
+
+@njit(cache=True, nogil=True)
+def cerruti_product(Z, A, B):  # pragma: no cover - compiled
+    """``Z <- A Z + B conj(Z(−k))`` in place on the whole ``M x M`` plane (the transform of z̄
+    at the wave vector k is ``conj(Z(−k))``), each pair ``(k, −k)`` at once."""
+    M = Z.shape[0]
+    for i in range(M // 2 + 1):
+        mi = M - i if i else 0
+        self_row = mi == i  # rows 0 and M/2 pair with themselves
+        for j in range(M):
+            mj = M - j if j else 0
+            if self_row and mj < j:
+                continue  # done with its pair
+            z1 = Z[i, j]
+            z2 = Z[mi, mj]
+            Z[i, j] = A[i, j] * z1 + B[i, j] * z2.conjugate()
+            if not self_row or mj != j:
+                Z[mi, mj] = A[mi, mj] * z2 + B[mi, mj] * z1.conjugate()
+
+
+@njit(cache=True, nogil=True)
+def natural(F, CF, delta, s0, c, b, contact, Qv, ks):  # pragma: no cover - compiled
+    """The natural map's residual at ``(F, CF = C F, δ)`` (node-major ``(n, d)``): ``(Δs, z,
+    |z|, slipping, the largest component of F − proj(z), the merit |F − proj(z)|² +
+    |equilibrium|², the equilibrium)`` with ``Δs = CF + δ − s0`` and ``z = F − Δs/c``."""
+    n, d = F.shape
+    ds = np.empty((n, d))
+    z = np.empty((n, d))
+    zn = np.empty(n)
+    slip = np.zeros(n, dtype=np.bool_)
+    eq = np.zeros(d)
+    worst = 0.0
+    rr = 0.0
+    for i in range(n):
+        for k in range(d):
+            v = CF[i, k] + delta[k]
+            v -= s0[i, k]
+            ds[i, k] = v
+            w = v / -c
+            w += F[i, k]
+            z[i, k] = w
+            eq[k] += F[i, k]
+        zi = abs(z[i, 0]) if d == 1 else abs(complex(z[i, 0], z[i, 1]))
+        zn[i] = zi
+        scale = 0.0
+        if contact[i]:
+            scale = 1.0
+            if zi > b[i]:
+                slip[i] = True
+                scale = b[i] / zi
+        for k in range(d):
+            r = F[i, k] - z[i, k] * scale
+            a = abs(r)
+            if a > worst:
+                worst = a
+            rr += r * r
+    ee = 0.0
+    for k in range(d):
+        if ks != 0.0:
+            eq[k] -= ks * delta[k]
+        eq[k] += Qv[k]
+        ee += eq[k] * eq[k]
+    return ds, z, zn, slip, worst, rr + ee, eq
+
+
+@njit(cache=True, nogil=True)
+def slip_memory_update(R, dv, b, c, cscalar):  # pragma: no cover - compiled
+    """``R_i <- r p pᵀ R_i`` on every node that moved (``dv`` node-major ``(n, 2)``), in place:
+    :meth:`lcpfric.steppers.slip_memory.SlipMemory.update`. ``c``: one self-compliance per
+    node, or ``cscalar`` where c is empty."""
+    n = dv.shape[0]
+    for i in range(n):
+        dx, dy = dv[i, 0], dv[i, 1]
+        m = abs(complex(dx, dy))
+        if not m > 0.0:
+            continue
+        ci = cscalar if c.size == 0 else c[i]
+        cb = ci * b[i]
+        rm = cb / ((cb + m) * m * m)
+        px, py = -dy, dx
+        q0 = (px * R[i, 0, 0] + py * R[i, 1, 0]) * rm
+        q1 = (px * R[i, 0, 1] + py * R[i, 1, 1]) * rm
+        R[i, 0, 0], R[i, 0, 1] = px * q0, px * q1
+        R[i, 1, 0], R[i, 1, 1] = py * q0, py * q1
+
+
+@njit(cache=True, nogil=True)
+def embed(flat, idx, x, weights):  # pragma: no cover - compiled
+    """``flat[idx] = x`` (a padded array's entries; the others untouched), times ``weights``
+    where it is not empty."""
+    if weights.size:
+        for k in range(idx.size):
+            flat[idx[k]] = x[k] * weights[k]
+    else:
+        for k in range(idx.size):
+            flat[idx[k]] = x[k]
+
+
+@njit(cache=True, nogil=True)
+def restrict1(flat, idx):  # pragma: no cover - compiled
+    """d = 1: ``flat[idx]``, a new array."""
+    out = np.empty(idx.size)
+    for k in range(idx.size):
+        out[k] = flat[idx[k]]
+    return out
+
+
+@njit(cache=True, nogil=True)
+def restrict2(flat, idx, ns, tau, scale, u, diag):  # pragma: no cover - compiled
+    """d = 2: the unknowns' components of a padded complex array (``flat[idx]``; on the
+    slipping ones, ``k >= ns``, the part along their tangent τ, times ``scale`` if it is not
+    empty), plus ``diag u`` on those where ``diag`` is not empty: a new complex array."""
+    size = idx.size
+    out = np.empty(size, dtype=np.complex128)
+    for k in range(ns):
+        out[k] = flat[idx[k]]
+    for k in range(ns, size):
+        w = flat[idx[k]]
+        t = tau[k - ns]
+        v = t.real * w.real + t.imag * w.imag  # Re(τ̄ w)
+        if scale.size:
+            v *= scale[k - ns]
+        o = t * v
+        if diag.size:
+            o += diag[k - ns] * u[k]
+        out[k] = o
+    return out
+
+
+@njit(cache=True, nogil=True)
+def project2(r, ns, tau, Winv):  # pragma: no cover - compiled
+    """d = 2: ``r − Bᵀ W⁻¹ B r`` (a new complex array), B the force sums (``B r = Σ r``) and
+    ``Bᵀ λ`` λ on the sticking unknowns (``k < ns``), ``τ Re(τ̄ λ)`` on the slipping ones."""
+    sx = 0.0
+    sy = 0.0
+    for k in range(r.size):
+        sx += r[k].real
+        sy += r[k].imag
+    lx = Winv[0, 0] * sx + Winv[0, 1] * sy
+    ly = Winv[1, 0] * sx + Winv[1, 1] * sy
+    out = np.empty_like(r)
+    add_bt(out, r, ns, tau, -lx, -ly)
+    return out
+
+
+@njit(cache=True, nogil=True)
+def add_bt(out, r, ns, tau, lx, ly):  # pragma: no cover - compiled
+    """d = 2: ``out = r + Bᵀ λ`` with ``λ = (lx, ly)`` (:func:`project2`)."""
+    lam = complex(lx, ly)
+    for k in range(ns):
+        out[k] = r[k] + lam
+    for k in range(ns, r.size):
+        t = tau[k - ns]
+        out[k] = r[k] + t * (t.real * lx + t.imag * ly)
+
+
+@njit(cache=True, nogil=True)
+def add_corner(total, alpha, last):  # pragma: no cover - compiled
+    """``total += α last[:N, :N]`` in place (``total`` ``(N, N)``, ``last`` a padded array)."""
+    N = total.shape[0]
+    for i in range(N):
+        for j in range(N):
+            total[i, j] += alpha * last[i, j]
