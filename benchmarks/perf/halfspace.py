@@ -7,8 +7,12 @@ writes ``DIR/halfspace.md`` (default ``benchmarks/results``). Each validation gi
 the closed form (or the MDR model) it is judged against, their relative difference, and the
 grid and steps used. Timings are wall seconds of ``lcpfric.steady_state`` on this machine, and
 CPU seconds of this process beside them (the machine is shared: other work may run on the
-second core). The floor of a product is one FFT pair on the padded grid, timed here in the
-same run.
+second core). The floor of a product is one pure FFT pair on the padded grid (scipy.fft,
+preallocated input), timed here in the same run beside one of the solvers' products; the wall
+time is split into the time in the products and outside them.
+
+``--goals`` runs only the timing goals (the full run's grid and steps, 3 runs each) and prints
+them without writing a file.
 
 Materials and loads: two identical bodies, E = 200e3, R = 10, μ = 0.5, P0 = 100; ν = 0 where
 the classical forms are exact, ν = 0.3 with d = 2 for Cerruti's coupling. The height map
@@ -49,7 +53,7 @@ from lcpfric.model.continuum import (
     hertz_contact,
     mindlin_deresiewicz_W,
 )
-from lcpfric.model.continuum.halfspace import HalfSpace, compliance
+from lcpfric.model.continuum.halfspace import HalfSpace
 from lcpfric.steppers.newton_cg import NewtonCGStepper
 
 from _report import Report, stamp
@@ -97,19 +101,43 @@ def rel(a, b):
 
 
 def fft_floors(*models, repeats=100, batches=7):
-    """Seconds of one FFT pair of each model's tangential operator (its floor): the best of
-    ``batches`` batches of ``repeats`` pairs, the models' batches interleaved (the machine is
-    shared: one long batch caught other work in one run, 170 µs against 123)."""
-    xs = [np.random.default_rng(0).standard_normal(m.nodes * m.dims) for m in models]
-    best = [math.inf] * len(models)
+    """Per model, ``(floor, product)`` in seconds: the floor is one pure FFT pair on its padded
+    M x M grid by scipy.fft, on a preallocated input (``rfftn`` + ``irfftn`` for d = 1, the
+    complex ``fftn`` + ``ifftn`` for d = 2, whose one complex pair carries both components);
+    the product is one of the solvers' products (``Convolution.padded``: the pruned pair with
+    its spectral multiplication and its arrays). Each the best of ``batches`` batches of
+    ``repeats``, the models' batches interleaved (the machine is shared: one long batch caught
+    other work in one run, 170 µs against 123)."""
+    import scipy.fft as sfft
+
+    cases = []
+    for m in models:
+        M = m.op.M
+        x = m.op.empty()
+        rng = np.random.default_rng(0)
+        x.real[: m.N, : m.N] = rng.standard_normal((m.N, m.N))
+        if m.dims == 1:
+
+            def pair(x=x, M=M):
+                sfft.irfftn(sfft.rfftn(x), s=(M, M))
+
+        else:
+            x.imag[: m.N, : m.N] = rng.standard_normal((m.N, m.N))
+
+            def pair(x=x):
+                sfft.ifftn(sfft.fftn(x))
+
+        cases.append((pair, lambda m=m, x=x: m.op.padded("tangential", x, 1.0 / m.h**2)))
+    best = [[math.inf, math.inf] for _ in models]
     for _ in range(batches):
-        for i, (m, x) in enumerate(zip(models, xs)):
-            compliance(m, m.op, x)
-            t = time.perf_counter()
-            for _ in range(repeats):
-                compliance(m, m.op, x)
-            best[i] = min(best[i], (time.perf_counter() - t) / repeats)
-    return best
+        for i, fs in enumerate(cases):
+            for k, f in enumerate(fs):
+                f()
+                t = time.perf_counter()
+                for _ in range(repeats):
+                    f()
+                best[i][k] = min(best[i][k], (time.perf_counter() - t) / repeats)
+    return [tuple(b) for b in best]
 
 
 def split(st, seconds):
@@ -152,6 +180,9 @@ def main(argv=None):
     ap.add_argument("--no-heightmap", action="store_true", help="skip the 256 x 256 height map")
     ap.add_argument("--heightmap-only", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument(
+        "--goals", action="store_true", help="only the d = 1 / d = 2 timing goals, printed"
+    )
+    ap.add_argument(
         "--readme-figure",
         action="store_true",
         help="only draw docs/halfspace_zones.png (a 128 x 128 rough sphere, by "
@@ -176,9 +207,11 @@ def main(argv=None):
     )
     emit = lines.emit
 
-    grid = 24 if args.quick else 40
-    steps = 100 if args.quick else 400
+    grid = 24 if args.quick and not args.goals else 40
+    steps = 100 if args.quick and not args.goals else 400
 
+    if args.goals:
+        return goals(lines, grid, steps)
     # -- Hertz ---------------------------------------------------------------------------------
     emit("## Hertz: the normal problem")
     emit("")
@@ -226,119 +259,7 @@ def main(argv=None):
             emit(f"| {x:.3f} | {c / a:.4f} | {ref:.4f} | {(c / a - ref) / (m.h / a):+.2f} |")
     emit("")
 
-    # -- Mindlin-Deresiewicz and the d = 1 / d = 2 goal -----------------------------------------
-    emit("## Mindlin-Deresiewicz at constant P, and the timing goals")
-    emit("")
-    k_t0 = hz["k_t0"]
-    md = mindlin_deresiewicz_W(P0, 0.5 * MU * P0, MU, k_t0)
-    # the machine is shared: each timing is the best of REPEATS runs, d = 1 and d = 2
-    # interleaved, so a slow spell hits both alike (every run's time is listed)
-    reps = 1 if args.quick else REPEATS
-    runs = {}
-    for _ in range(reps):
-        for key, nu, dims, kw in (
-            ("d1", 0.0, 1, {}),
-            ("d2", 0.3, 2, {}),
-            ("d2_1e-6", 0.3, 2, {"tol": 1e-6}),
-            ("d1_two", 0.0, 1, {"max_cycles": 2, "on_nonconvergence": "ignore"}),
-            ("d2_two", 0.3, 2, {"max_cycles": 2, "on_nonconvergence": "ignore"}),
-        ):
-            m = sphere(Q1=0.5, grid=grid, nu=nu, dims=dims)
-            r, w, c = timed(m, steps, **kw)
-            runs.setdefault(key, []).append((w, c, r, m))
-
-    def best(key):
-        return min(runs[key], key=lambda x: x[0])
-
-    def walls(key):
-        return ", ".join(f"{x[0]:.2f}" for x in runs[key])
-
-    w1, c1, r1, m1 = best("d1")
-    w2, c2, r2, m2 = best("d2")
-    floor, floor2 = fft_floors(m1, m2)
-    emit(
-        f"x = Q*/(μP) = 0.5, ν = 0, d = 1, grid {grid} ({m1.contact_max} elements in the "
-        f"contact, {m1.N} x {m1.N} grid), {steps} steps: W = {r1.W:.8g} against "
-        f"{md:.8g} ({rel(r1.W, md):+.2e}), {r1.cycles} cycles, {w1:.2f} s wall "
-        f"({c1:.2f} s CPU; the best of {reps} run{'s' if reps > 1 else ''}: "
-        f"{walls('d1')} s). {split(r1.solver_stats, w1)}."
-    )
-    per_step = w1 / r1.solver_stats["increments"]
-    emit(
-        f"Per increment {per_step * 1e3:.2f} ms = {per_step / floor:.1f} FFT pairs "
-        f"(one pair {floor * 1e6:.0f} µs on the {m1.op.M} x {m1.op.M} padded grid)."
-    )
-    emit("")
-    md3 = mindlin_deresiewicz_W(P0, 0.5 * MU * P0, MU, hertz_contact(P0, R, E, 0.3)["k_t0"])
-    emit(
-        f"ν = 0.3, d = 2, same grid and steps: W = {r2.W:.8g} against Mindlin-Deresiewicz "
-        f"(Mindlin's approximation) {md3:.8g} ({rel(r2.W, md3):+.2e}), {r2.cycles} cycles "
-        f"({r2.solver_stats.get('extrapolations', 0)} moved starts), {w2:.2f} s wall "
-        f"({c2:.2f} s CPU; runs: {walls('d2')} s). {split(r2.solver_stats, w2)}."
-    )
-    w2b, _, r2b, _ = best("d2_1e-6")
-    emit(
-        f"With the cycle tolerance 1e-6 instead of 1e-10: {r2b.cycles} cycles, {w2b:.2f} s "
-        f"wall (runs: {walls('d2_1e-6')} s; {w2b / w1:.2f}x d = 1's time at 1e-10), W "
-        f"{rel(r2b.W, r2.W):+.1e} from the converged one."
-    )
-    # the same work for both: the virgin cycle and one more
-    two = [best("d1_two")[0], best("d2_two")[0]]
-    emit(
-        f"The first two cycles alone (the same work for both): d = 1 {two[0]:.2f} s, d = 2 "
-        f"{two[1]:.2f} s ({two[1] / two[0]:.2f}x; runs: {walls('d1_two')} and "
-        f"{walls('d2_two')} s); d = 2's other {r2.cycles - 2} cycles take "
-        f"{w2 - two[1]:.2f} s. The third cycle's W is {rel(r2.W_cycles[2], r2.W):+.1e} from "
-        f"the converged one."
-    )
-    p1, p2 = r1.solver_stats["tangential_products"], r2.solver_stats["tangential_products"]
-    emit(
-        f"Ratio d = 2 / d = 1: {w2 / w1:.2f} in all (CPU {c2 / c1:.2f}); an FFT pair costs "
-        f"{floor2 / floor:.2f} times d = 1's; tangential FFT products {p2} against {p1} "
-        f"({p2 / p1:.2f}x)."
-    )
-    # the wall time split into the FFT pairs (their count times the pair's time above) and
-    # the rest (the solvers' NumPy work, the normal problem, the driver)
-    f1, f2 = p1 * floor, p2 * floor2
-    emit(
-        f"Split: the FFT pairs take about {f1:.2f} s of d = 1's {w1:.2f} s and {f2:.2f} s of "
-        f"d = 2's {w2:.2f} s ({f2 / f1:.2f}x), the rest {w1 - f1:.2f} and {w2 - f2:.2f} s "
-        f"({(w2 - f2) / (w1 - f1):.2f}x): with no time outside the FFT pairs in either, d = 2 "
-        f"would still take {f2 / f1:.2f}x d = 1's."
-    )
-    if not args.quick:
-        # the newton-cg stepper's options that turn each off
-        for what, option in (
-            ("per-node memory of the cycles' starts (Anderson alone)", "slip_memory"),
-            ("moved starts of the cycles (neither the memory nor Anderson)", "accelerate"),
-            ("previous cycle's increments as starts", "warm_start"),
-        ):
-            m = sphere(Q1=0.5, grid=grid, nu=0.3, dims=2)
-            r, w, _ = timed(m, steps, max_cycles=80, on_nonconvergence="ignore", **{option: False})
-            st = r.solver_stats
-            emit(
-                f"d = 2 without the {what}: {r.cycles} cycles, {w:.2f} s wall "
-                f"({w / w2:.2f}x), {st['tangential_products'] / st['increments']:.1f} "
-                f"products per increment, W {rel(r.W, r2.W):+.1e} from the default one "
-                f"(converged: {r.converged})."
-            )
-        # a finer grid settles more slowly still
-        m = sphere(Q1=0.5, grid=56, nu=0.3, dims=2)
-        r, w, _ = timed(m, 200, max_cycles=200, on_nonconvergence="ignore")
-        emit(
-            f"d = 2 on grid 56 ({m.contact_max} elements in the contact), 200 steps: "
-            f"{r.cycles} cycles, {w:.1f} s wall, relative change {r.change:.1e} (converged: "
-            f"{r.converged})."
-        )
-    emit("")
-    emit(
-        f"Goals: d = 1 within 1 % of Mindlin-Deresiewicz in at most 30 s (aim 5 s): "
-        f"{abs(rel(r1.W, md)) * 100:.2f} % in {w1:.2f} s with {m1.contact_max} nodes in the "
-        f"contact. d = 2 (ν = 0.3) at most 3x d = 1: {w2 / w1:.2f}x in all, "
-        f"{two[1] / two[0]:.2f}x over the first two cycles, {w2b / w1:.2f}x to the cycle "
-        f"tolerance 1e-6."
-    )
-    emit("")
+    md_section(lines, args.quick, grid, steps)
 
     # -- against the MDR model, varying P -------------------------------------------------------
     emit("## Against the axisymmetric (MDR) model, varying P with a phase")
@@ -467,6 +388,138 @@ def main(argv=None):
     path = out / ("halfspace-quick.md" if args.quick else "halfspace.md")
     lines.write(path)
     print(f"wrote {path}")
+
+
+def goals(lines, grid, steps):
+    """``--goals``: the timing goals alone (printed as they are emitted)."""
+    md_section(lines, False, grid, steps, short=True, reps=3)
+
+
+def md_section(lines, quick, grid, steps, short=False, reps=None):
+    """Mindlin-Deresiewicz at constant P and the d = 1 / d = 2 timing goals (``short``: without
+    the runs that turn the stepper's options off)."""
+    emit = lines.emit
+    # -- Mindlin-Deresiewicz and the d = 1 / d = 2 goal -----------------------------------------
+    emit("## Mindlin-Deresiewicz at constant P, and the timing goals")
+    emit("")
+    hz = hertz_contact(P0, R, E, 0.0)
+    k_t0 = hz["k_t0"]
+    md = mindlin_deresiewicz_W(P0, 0.5 * MU * P0, MU, k_t0)
+    # the machine is shared: each timing is the best of REPEATS runs, d = 1 and d = 2
+    # interleaved, so a slow spell hits both alike (every run's time is listed)
+    reps = reps or (1 if quick else REPEATS)
+    runs = {}
+    for _ in range(reps):
+        for key, nu, dims, kw in (
+            ("d1", 0.0, 1, {}),
+            ("d2", 0.3, 2, {}),
+            ("d2_1e-6", 0.3, 2, {"tol": 1e-6}),
+            ("d1_two", 0.0, 1, {"max_cycles": 2, "on_nonconvergence": "ignore"}),
+            ("d2_two", 0.3, 2, {"max_cycles": 2, "on_nonconvergence": "ignore"}),
+        ):
+            m = sphere(Q1=0.5, grid=grid, nu=nu, dims=dims)
+            r, w, c = timed(m, steps, **kw)
+            runs.setdefault(key, []).append((w, c, r, m))
+
+    def best(key):
+        return min(runs[key], key=lambda x: x[0])
+
+    def walls(key):
+        return ", ".join(f"{x[0]:.2f}" for x in runs[key])
+
+    w1, c1, r1, m1 = best("d1")
+    w2, c2, r2, m2 = best("d2")
+    (floor, prod), (floor2, prod2) = fft_floors(m1, m2)
+    emit(
+        f"x = Q*/(μP) = 0.5, ν = 0, d = 1, grid {grid} ({m1.contact_max} elements in the "
+        f"contact, {m1.N} x {m1.N} grid), {steps} steps: W = {r1.W:.8g} against "
+        f"{md:.8g} ({rel(r1.W, md):+.2e}), {r1.cycles} cycles, {w1:.2f} s wall "
+        f"({c1:.2f} s CPU; the best of {reps} run{'s' if reps > 1 else ''}: "
+        f"{walls('d1')} s). {split(r1.solver_stats, w1)}."
+    )
+    per_step = w1 / r1.solver_stats["increments"]
+    emit(
+        f"Per increment {per_step * 1e3:.2f} ms = {per_step / floor:.1f} FFT pairs "
+        f"(the floor: one pure pair, rfftn + irfftn, {floor * 1e6:.0f} µs on the "
+        f"{m1.op.M} x {m1.op.M} padded grid; d = 2's complex fftn + ifftn "
+        f"{floor2 * 1e6:.0f} µs). One of the solvers' products (the pruned pair with its "
+        f"spectral multiplication): {prod * 1e6:.0f} µs for d = 1 ({prod / floor:.2f}x the "
+        f"floor), {prod2 * 1e6:.0f} µs for d = 2 ({prod2 / floor2:.2f}x)."
+    )
+    emit("")
+    md3 = mindlin_deresiewicz_W(P0, 0.5 * MU * P0, MU, hertz_contact(P0, R, E, 0.3)["k_t0"])
+    emit(
+        f"ν = 0.3, d = 2, same grid and steps: W = {r2.W:.8g} against Mindlin-Deresiewicz "
+        f"(Mindlin's approximation) {md3:.8g} ({rel(r2.W, md3):+.2e}), {r2.cycles} cycles "
+        f"({r2.solver_stats.get('extrapolations', 0)} moved starts), {w2:.2f} s wall "
+        f"({c2:.2f} s CPU; runs: {walls('d2')} s). {split(r2.solver_stats, w2)}."
+    )
+    w2b, _, r2b, _ = best("d2_1e-6")
+    emit(
+        f"With the cycle tolerance 1e-6 instead of 1e-10: {r2b.cycles} cycles, {w2b:.2f} s "
+        f"wall (runs: {walls('d2_1e-6')} s; {w2b / w1:.2f}x d = 1's time at 1e-10), W "
+        f"{rel(r2b.W, r2.W):+.1e} from the converged one."
+    )
+    # the same work for both: the virgin cycle and one more
+    two = [best("d1_two")[0], best("d2_two")[0]]
+    emit(
+        f"The first two cycles alone (the same work for both): d = 1 {two[0]:.2f} s, d = 2 "
+        f"{two[1]:.2f} s ({two[1] / two[0]:.2f}x; runs: {walls('d1_two')} and "
+        f"{walls('d2_two')} s); d = 2's other {r2.cycles - 2} cycles take "
+        f"{w2 - two[1]:.2f} s. The third cycle's W is {rel(r2.W_cycles[2], r2.W):+.1e} from "
+        f"the converged one."
+    )
+    p1, p2 = r1.solver_stats["tangential_products"], r2.solver_stats["tangential_products"]
+    emit(
+        f"Ratio d = 2 / d = 1: {w2 / w1:.2f} in all (CPU {c2 / c1:.2f}); an FFT pair costs "
+        f"{floor2 / floor:.2f} times d = 1's; tangential FFT products {p2} against {p1} "
+        f"({p2 / p1:.2f}x)."
+    )
+    # the wall time split into the FFT products (their count times one product's time above)
+    # and the rest (the solvers' own work, the normal problem, the driver)
+    f1, f2 = p1 * prod, p2 * prod2
+    emit(
+        f"Split: the FFT products take about {f1:.2f} s of d = 1's {w1:.2f} s and {f2:.2f} s "
+        f"of d = 2's {w2:.2f} s ({f2 / f1:.2f}x), the rest {w1 - f1:.2f} and {w2 - f2:.2f} s "
+        f"({(w2 - f2) / (w1 - f1):.2f}x): outside / inside the products "
+        f"{(w1 - f1) / f1:.2f} for d = 1 and {(w2 - f2) / f2:.2f} for d = 2. At the floor "
+        f"(the products' count times one pure pair) the pairs would take {p1 * floor:.2f} "
+        f"and {p2 * floor2:.2f} s: the wall time is {w1 / (p1 * floor):.2f}x and "
+        f"{w2 / (p2 * floor2):.2f}x that."
+    )
+    if not quick and not short:
+        # the newton-cg stepper's options that turn each off
+        for what, option in (
+            ("per-node memory of the cycles' starts (Anderson alone)", "slip_memory"),
+            ("moved starts of the cycles (neither the memory nor Anderson)", "accelerate"),
+            ("previous cycle's increments as starts", "warm_start"),
+        ):
+            m = sphere(Q1=0.5, grid=grid, nu=0.3, dims=2)
+            r, w, _ = timed(m, steps, max_cycles=80, on_nonconvergence="ignore", **{option: False})
+            st = r.solver_stats
+            emit(
+                f"d = 2 without the {what}: {r.cycles} cycles, {w:.2f} s wall "
+                f"({w / w2:.2f}x), {st['tangential_products'] / st['increments']:.1f} "
+                f"products per increment, W {rel(r.W, r2.W):+.1e} from the default one "
+                f"(converged: {r.converged})."
+            )
+        # a finer grid settles more slowly still
+        m = sphere(Q1=0.5, grid=56, nu=0.3, dims=2)
+        r, w, _ = timed(m, 200, max_cycles=200, on_nonconvergence="ignore")
+        emit(
+            f"d = 2 on grid 56 ({m.contact_max} elements in the contact), 200 steps: "
+            f"{r.cycles} cycles, {w:.1f} s wall, relative change {r.change:.1e} (converged: "
+            f"{r.converged})."
+        )
+    emit("")
+    emit(
+        f"Goals: d = 1 within 1 % of Mindlin-Deresiewicz in at most 30 s (aim 5 s): "
+        f"{abs(rel(r1.W, md)) * 100:.2f} % in {w1:.2f} s with {m1.contact_max} nodes in the "
+        f"contact. d = 2 (ν = 0.3) at most 3x d = 1: {w2 / w1:.2f}x in all, "
+        f"{two[1] / two[0]:.2f}x over the first two cycles, {w2b / w1:.2f}x to the cycle "
+        f"tolerance 1e-6."
+    )
+    emit("")
 
 
 def peak_memory_mb() -> float:
