@@ -376,6 +376,7 @@ def exact_system_cycle(
     N = np.where(solver.never, 0.0, N)
     stats = dict(
         solver.stats,
+        **solver.kernel_stats(),
         events_per_cycle=events,
         cycles=len(W_cycles),
         newton_steps=newton,

@@ -11,7 +11,7 @@ import numpy as np
 from ..errors import SolverError
 from ..results import State
 from .tangent import Tangent
-from .triples import REL, TWO_PI, multiplier, rate_of, segment_dissipation, value
+from .triples import REL, TWO_PI, multiplier, rate_of, value
 
 __all__ = ["Pattern"]
 
@@ -23,7 +23,6 @@ STICK, FORWARD, BACKWARD, SEPARATION = (
 )
 _RESIDUAL = 1e-10  # equilibrium residual of a fresh pattern above which it is an error
 _EPS = float(np.finfo(float).eps)
-_SMALL = 256  # G blocks up to this size are updated whole (cheaper than indexing)
 
 
 class Pattern(Tangent):
@@ -32,32 +31,44 @@ class Pattern(Tangent):
     change state, and the trig triples of u and F it gives."""
 
     def __init__(self, K, f, Qt, Pt, samples, max_events, kappa=1.0):
-        from . import kernels  # numba: imported by a discrete solve only (lcpfric.exact.kernels)
+        from . import kernels, loop  # numba: imported by a discrete solve only
 
-        self.kernels = kernels
-        self.K = self.Kt = K
+        self.kernels, self.loop = kernels, loop
+        self.ints = np.zeros(kernels.N_INTS, dtype=np.int64)
+        self.fl = np.zeros(kernels.N_FL)
+        self.ints[kernels.FLIPS_OK] = not self.structured
+        self.ints[kernels.MAX_EVENTS] = max_events
+        self.K = self.Kt = K = np.ascontiguousarray(K, dtype=float)
+        self.n = n = f.size
+        # K's columns, compressed, when it is mostly zeros (a chain): K z on the rows it reaches
+        if np.count_nonzero(K) <= 0.25 * n * n:
+            import scipy.sparse as sp
+
+            C = sp.csc_matrix(K)
+            self.csc = (C.indptr.astype(np.intp), C.indices.astype(np.intp), C.data)
+        else:
+            self.csc = (np.zeros(0, np.intp), np.zeros(0, np.intp), np.zeros(0))
         # what round-off through K_BB⁻¹ allows: relative tolerances grow with cond(K)
         self.kappa = kappa
         self.rel = max(REL, 100.0 * _EPS * kappa)
         self.residual = max(_RESIDUAL, 1e3 * _EPS * kappa)
-        self.n = n = f.size
         self.Kmul = multiplier(K)
         self.G = np.zeros((n, n))
         self.Bidx = np.zeros(n, dtype=np.intp)
         self.pos = np.full(n, -1, dtype=np.intp)
-        self.m = 0
-        self._since = 0
         self.U = self.Ft = self.status = None
-        self.track = False
         self.Jt = None
-        self.theta_row = None
+        self.trow = np.zeros(n)
+        self._noJ = np.zeros((1, 1))
         self.flipped = np.zeros(n, dtype=bool)
-        self.W = 0.0
         self.a_seg = np.zeros(n)
         self.t_all = np.full(2 * n, np.inf)
         self.dirty = np.ones(n, dtype=bool)
         self._any_dirty = True
         self.touched = np.ones(n, dtype=bool)
+        ii, ff, bb = np.zeros(n + 1, np.intp), np.zeros(n + 1), np.zeros(n, dtype=bool)
+        self.wk = (ii, ii[:n].copy(), ii[:n].copy(), ff, ff[:n].copy(), ff[:n].copy())
+        self.wk += (ff[:n].copy(), ff[:n].copy(), bb)
         self.f = f
         self.Qt = Qt  # (n, 3)
         self.Pt = Pt  # (n, 3)
@@ -83,15 +94,65 @@ class Pattern(Tangent):
         self.never = c0 + R <= 0.0
         self.always = c0 - R >= 0.0
         self.normal_events = self.normal_event_list()
+        ev = self.normal_events
+        self.normal = (
+            np.array([e[0] for e in ev], dtype=float),
+            np.array([e[1] for e in ev], dtype=np.intp),
+            np.array([e[2] for e in ev], dtype=np.intp),
+        )
         self.samples = samples
         self.stats = {
             "lcp_solves": 0,
             "degenerate": 0,
             "refactorizations": 0,
-            "skipped_depth": 0.0,
-            "flips": 0,
-            "free_set_sum": 0,  # the free set's size summed over the flips (its mean: the floor)
         }
+
+    # -- the compiled kernels' state (lcpfric.exact.kernels) ---------------------------------
+    def _slot(name, store="ints", kind=int):  # noqa: N805 - a property factory
+        def get(self):
+            return kind(getattr(self, store)[getattr(self.kernels, name)])
+
+        def put(self, value):
+            getattr(self, store)[getattr(self.kernels, name)] = value
+
+        return property(get, put)
+
+    m = _slot("M")
+    _since = _slot("SINCE")
+    _any_dirty = _slot("ANY_DIRTY", kind=bool)
+    track = _slot("TRACK", kind=bool)
+    erased = _slot("ERASED", kind=bool)
+    W = _slot("W", "fl", float)
+    rel = _slot("RELTOL", "fl", float)
+    del _slot
+
+    def kernel_stats(self):
+        """The counters the kernels keep: changes of state (``flips``), the free set's size
+        summed over them (its mean: the floor), the deepest dip not treated as an event."""
+        k = self.kernels
+        return {
+            "flips": int(self.ints[k.FLIPS]),
+            "free_set_sum": int(self.ints[k.FREE_SUM]),
+            "skipped_depth": float(self.fl[k.SKIPPED]),
+        }
+
+    def bundles(self):
+        """The state as the kernels take it: (lin, tri, flg, tan, wk)."""
+        lin = (self.K, *self.csc, self.G, self.Bidx, self.pos)
+        tri = (self.U, self.Ft, self.bt, self.sign, self.status, self.B, self.a_seg)
+        J = self._noJ if self.Jt is None else self.Jt
+        tan = (J, self.Kt, self.state_triples(), self.trow, self.dbt)
+        return lin, tri, (self.dirty, self.touched, self.flipped), tan, self.wk
+
+    def raise_code(self, code):
+        """The error a kernel's code < 0 stands for."""
+        if code == self.kernels.NOT_SPD:
+            j, s = int(self.ints[self.kernels.ERR_NODE]), float(self.fl[self.kernels.ERR_VALUE])
+            raise SolverError(
+                f"exact: K_BB lost positive definiteness adding node {j} (pivot {s:.3g})",
+                backend="exact",
+                status="not_spd",
+            )
 
     # -- normal events -----------------------------------------------------------------------
     def normal_event_list(self):
@@ -120,27 +181,22 @@ class Pattern(Tangent):
     def set_pattern(self, status, theta, refresh=False, u=None):
         """Triples of u and F for the pattern ``status`` at theta.
 
-        A pattern that differs from the current one in a few nodes is reached by rank-one
-        updates (:meth:`_flip`, O(n²) at most for dense K, less where K is sparse); otherwise,
-        or every max(64, |B|) updates, it is recomputed from a fresh factorization of K_BB from
-        the displacements ``u`` (default: the current ones at theta) and its equilibrium residual
-        checked."""
-        if not refresh and u is None and self._since < max(64, self.m):
-            changed = np.nonzero(self.status != status)[0]
-            if changed.size <= 4:
-                for j in changed:
-                    self.flip(int(j), int(status[j]), theta)
+        A pattern that differs from the current one in a few nodes is reached by single
+        changes of state (:meth:`flip`, O(n²) at most for dense K, less where K is sparse);
+        otherwise, or every max(64, |B|) changes, it is recomputed from a fresh factorization
+        of K_BB from the displacements ``u`` (default: the current ones at theta) and its
+        equilibrium residual checked."""
+        if not refresh and u is None:
+            code = self.loop.set_flips(status, theta, *self.bundles(), self.ints, self.fl)
+            self.raise_code(code)
+            if code == self.loop.DONE:
                 return
         self.full(status, self.u_at(theta) if u is None else u, theta)
 
     def settle(self, rows, theta):
         """Add the dissipation of ``rows`` from their segment starts to theta; restart there."""
-        sign = self.sign[rows]
-        slip = rows[sign != 0.0]
-        if slip.size:
-            a = self.a_seg[slip]
-            self.W += segment_dissipation(self.bt[slip], self.U[slip], -self.sign[slip], a, theta)
-        self.a_seg[rows] = theta
+        rows = np.asarray(rows, dtype=np.intp)
+        self.kernels.settle(rows, rows.size, theta, self.bundles()[1], self.fl)
 
     def full(self, status, u, theta):
         import scipy.linalg as sla
@@ -176,115 +232,18 @@ class Pattern(Tangent):
             rhs[:, 0] -= KuS[Bidx]
             U[Bidx] = self.G[:m, :m] @ rhs
         F = self.prescribed(self.Qt + self.Kmul(U), Fp, Bidx, theta, "(is K well conditioned?)")
-        self.status, self.U, self.Ft, self.sign = status.copy(), U, F, sign
+        self.status = np.array(status, dtype=np.int8)
+        self.U, self.Ft, self.sign = U, np.ascontiguousarray(F), sign
         self.B = B
         self.dirty[:] = True
         self.touched[:] = True
         self._any_dirty = True
 
     def flip(self, j, new, theta):
-        """Change node j's state by rank-one updates of G = K_BB⁻¹, U and F, on the rows they
-        change (all of them for dense K; the slipping cluster around j for a sparse one)."""
-        old = int(self.status[j])
-        if old == new:
-            return
-        self.stats["flips"] += 1
-        self.stats["free_set_sum"] += self.m
-        sgn = -1.0 if new == FORWARD else (1.0 if new == BACKWARD else 0.0)
-        if old == STICK:  # j joins B with a prescribed force
-            sup, zs = self.add(j)  # u response (over B) to a unit force at j
-            delta = sgn * self.bt[j] - self.Ft[j]
-        else:
-            p = self.pos[j]
-            m = self.m
-            col = self.G[:m, p]
-            nz = np.nonzero(col)[0]
-            sup, zs = self.Bidx[nz], col[nz].copy()
-            if new == STICK:  # j leaves B: u_j keeps its value at theta
-                if self.track:
-                    self.tangent_stick(j, theta)
-                du = -self.U[j].copy()
-                du[0] += float(value(self.U[j], theta))
-                delta = du / col[p]
-                self.remove(j)
-            else:  # prescribed force changes (slip <-> separation)
-                delta = sgn * self.bt[j] - self.Ft[j]
-        if 4 * sup.size > self.n:
-            z = np.zeros(self.n)
-            z[sup] = zs
-            Kz = self.Kmul(z)
-        else:
-            Kz = self.K[:, sup] @ zs
-        mask = Kz != 0.0
-        mask[sup] = True
-        rows = mask.nonzero()[0]
-        self.settle(rows, theta)
-        self.U[sup] += np.multiply.outer(zs, delta)
-        self.Ft[rows] += np.multiply.outer(Kz[rows], delta)
-        self.status[j] = new
-        self.flipped[j] = True
-        self.sign[j] = sgn
-        self.B[j] = new != STICK
-        if new == STICK:
-            self.U[j] = (float(value(self.U[j], theta)), 0.0, 0.0)
-        # the nodes of B carry their prescribed forces exactly (K z = e_j only to round-off)
-        rb = rows[self.B[rows]]
-        self.Ft[rb] = self.sign[rb, None] * self.bt[rb]
-        self.dirty[rows] = True
-        self.touched[rows] = True
-        self._any_dirty = True
-        self._since += 1
-
-    def add(self, j):
-        """Border G with node j; returns the support (nodes) and values of G's new column."""
-        m = self.m
-        Bi = self.Bidx[:m]
-        kb = self.K[j, Bi]
-        nzk = np.nonzero(kb)[0]
-        G = self.G
-        g = G[:m, nzk] @ kb[nzk] if nzk.size < m else G[:m, :m] @ kb
-        s = self.K[j, j] - kb @ g
-        if not s > 0:
-            raise SolverError(
-                f"exact: K_BB lost positive definiteness adding node {j} (pivot {s:.3g})",
-                backend="exact",
-                status="not_spd",
-            )
-        sup = g.nonzero()[0]
-        if m <= _SMALL or 4 * sup.size > m:
-            self.kernels.rank_one(G, m, g, g / s, 1)
-        elif sup.size:
-            self.kernels.rank_one_on(G, sup, g[sup], g[sup] / s, 1)
-        G[:m, m] = G[m, :m] = -g / s
-        G[m, m] = 1.0 / s
-        self.Bidx[m] = j
-        self.pos[j] = m
-        self.m = m + 1
-        cols = np.append(sup, m)
-        return self.Bidx[cols], G[cols, m].copy()
-
-    def remove(self, j):
-        """Downdate G = K_BB⁻¹ for B without node j (the last node takes its place)."""
-        m, p = self.m, self.pos[j]
-        G = self.G
-        col = G[:m, p].copy()
-        sup = col.nonzero()[0]
-        if m <= _SMALL or 4 * sup.size > m:
-            self.kernels.rank_one(G, m, col, col / col[p], -1)
-        else:
-            self.kernels.rank_one_on(G, sup, col[sup], col[sup] / col[p], -1)
-        last = m - 1
-        if p != last:
-            G[p, :last] = G[last, :last]
-            G[:last, p] = G[:last, last]
-            G[p, p] = G[last, last]
-            k = self.Bidx[last]
-            self.Bidx[p] = k
-            self.pos[k] = p
-        G[last, :m] = 0.0
-        G[:m, last] = 0.0
-        self.pos[j] = -1
-        self.m = last
+        """Change node j's state at theta (:func:`lcpfric.exact.kernels.flip`: G by bordering
+        or a rank-one downdate, U and F on the rows they change)."""
+        code = self.kernels.flip(j, new, theta, *self.bundles(), self.ints, self.fl)
+        self.raise_code(code)
 
     structured = False  # cluster coordinates (lcpfric.exact.clusters) when True
 

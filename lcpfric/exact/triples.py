@@ -90,24 +90,16 @@ def next_entry(T: np.ndarray, theta: float, tol, skipped: bool = False):
     the deepest dip not treated as an entry, as a fraction of ``tol`` times ``REL`` (the
     scale-relative depth).
     """
-    c0, cs, cc = T[:, 0], T[:, 1], T[:, 2]
-    R = np.hypot(cs, cc)
-    depth = R - c0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        h = 2.0 * np.arcsin(np.sqrt(np.minimum(depth / (2.0 * R), 1.0)))
-        x = theta + np.arctan2(cc, cs)
-        d = np.mod(x - (1.5 * math.pi - h), TWO_PI)  # angle past the entry
-        now = (d < 2.0 * h) & ((d <= h) | (c0 + R * np.sin(x) < -tol))
-        out = np.where(now | (depth >= 2.0 * R), theta, theta + (TWO_PI - d))
-        shallow = depth <= tol
-        out[shallow] = np.inf
-        if skipped:
-            skip = (
-                float(np.max(depth[shallow] / tol[shallow], initial=0.0)) * REL
-                if np.ndim(tol)
-                else float(np.max(depth[shallow], initial=0.0) / tol) * REL
-            )
-    return (out, skip) if skipped else out
+    from .kernels import entry  # compiled (numba): the event loop's own closed form
+
+    T = np.asarray(T, dtype=float)
+    tols = np.broadcast_to(np.asarray(tol, dtype=float), (T.shape[0],))
+    out = np.empty(T.shape[0])
+    deepest = 0.0
+    for i, (c0, cs, cc) in enumerate(T):
+        out[i], ratio = entry(c0, cs, cc, float(theta), float(tols[i]))
+        deepest = max(deepest, ratio)
+    return (out, deepest * REL) if skipped else out
 
 
 def segment_dissipation(b: np.ndarray, U: np.ndarray, sign: np.ndarray, a, e: float) -> float:
@@ -123,24 +115,10 @@ def segment_dissipation(b: np.ndarray, U: np.ndarray, sign: np.ndarray, a, e: fl
     each difference written with half-angles (``ΔS = 2 cos m sin h``, ...) to keep the digits of
     short segments.
     """
-    if b.shape[0] == 0:
-        return 0.0
-    a = np.asarray(a, dtype=float)
-    m, h = 0.5 * (a + e), 0.5 * (e - a)
-    sh = np.sin(h)
-    dS = 2.0 * np.cos(m) * sh
-    dC = -2.0 * np.sin(m) * sh
-    dS2 = dS * (np.sin(a) + math.sin(e)) * 0.5
-    d2 = 2.0 * np.cos(2.0 * m) * np.sin(2.0 * h)
-    b0, bs, bc = b[:, 0], b[:, 1], b[:, 2]
-    us, uc = U[:, 1], U[:, 2]
-    per = (
-        b0 * (us * dS + uc * dC)
-        + (bs * us - bc * uc) * dS2
-        + (bc * us - bs * uc) * h
-        + (bc * us + bs * uc) * (0.25 * d2)
-    )
-    return float(sign @ per)
+    from .kernels import segment  # compiled (numba): the event loop's own closed form
+
+    a = np.broadcast_to(np.asarray(a, dtype=float), (b.shape[0],))
+    return float(sum(s * segment(bi, ui, ai, e) for s, bi, ui, ai in zip(sign, b, U, a)))
 
 
 def multiplier(K):
