@@ -126,6 +126,21 @@ def test_pruned_products_equal_the_dense_influence_matrices(dims, nu):
     assert np.abs(got - want).max() <= 1e-14 * np.abs(want).max()
 
 
+@pytest.mark.parametrize("dims, nu", [(1, 0.0), (2, 0.3)])
+def test_the_public_fft_fallback_gives_the_same_products(dims, nu, monkeypatch):
+    """Where scipy's pocketfft bindings are missing or disagree (:func:`influence._agrees`),
+    the same pruned transforms through scipy.fft's public functions."""
+    from lcpfric.model.continuum import influence
+
+    N = 9
+    q = RNG.standard_normal((N, N)) if dims == 1 else RNG.standard_normal((2, N, N))
+    first = Convolution(N, 0.1, 1.0, nu, dims).tangential(q)
+    assert influence._agrees(influence._backend(), influence._Public())
+    monkeypatch.setattr(influence, "_FFT", influence._Public())
+    again = Convolution(N, 0.1, 1.0, nu, dims).tangential(q)
+    assert np.abs(again - first).max() <= 1e-14 * np.abs(first).max()
+
+
 @pytest.mark.parametrize(
     "dims, nu, tol, W",
     [
