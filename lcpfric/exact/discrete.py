@@ -36,8 +36,9 @@ rates a little after the event; an instant that still does not settle raises
 :class:`~lcpfric.errors.SolverError` naming the nodes and their states, never a hang.
 
 The inverse ``G = K_BB⁻¹`` is updated by bordering when a node joins B and by a rank-one
-downdate when it leaves (``O(|B|²)`` each), and refactorized after ``max(32, |B|)`` updates or
-whenever the equilibrium residual of the new pattern exceeds 1e-10 of the force scale.
+downdate when it leaves (``O(|B|²)`` each, compiled with the whole event loop:
+:mod:`lcpfric.exact.loop`), and refactorized after ``max(64, |B|)`` updates or whenever the
+equilibrium residual of the new pattern exceeds 1e-10 of the force scale.
 
 Tolerances
 ----------
