@@ -106,6 +106,75 @@ def test_the_newton_steps_vector_kernels():
     assert np.allclose(total, want, rtol=1e-15)
 
 
+def test_pattern_residual_of_the_d1_newton_loop():
+    n, c, ks, tolF, eps = 11, 0.7, 0.4, 1e-9, np.finfo(float).eps
+    F, CF, s0 = (RNG.standard_normal((n, 1)) for _ in range(3))
+    delta, Qv, b = RNG.standard_normal(1), RNG.standard_normal(1), RNG.random(n)
+    contact = np.arange(n) % 3 != 0
+    ds, z, lo, hi, zn, worst, eq = kern.pattern_residual(
+        F, CF, delta, s0, c, b, ks, Qv, tolF, eps, contact
+    )
+    ds_ = delta + CF - s0
+    z_ = (F - ds_ / c)[:, 0]
+    band = tolF + 64 * eps * (b + np.abs(F[:, 0]))
+    assert np.array_equal(ds, ds_) and np.array_equal(z, z_) and np.array_equal(zn, np.abs(z_))
+    assert np.array_equal(lo, -b - band) and np.array_equal(hi, b + band)
+    assert worst == np.max(np.abs(F[:, 0] - np.clip(z_, -b, b))[contact])
+    assert eq == pytest.approx(F.sum() - ks * delta + Qv, rel=1e-14)
+
+
+def test_newton2_setup_is_the_plain_computation():
+    n, c = 12, 0.6
+    F, z, ds = (RNG.standard_normal((n, 2)) for _ in range(3))
+    zn = np.hypot(z[:, 0], z[:, 1])
+    b = 0.5 * zn * RNG.random(n) + 0.3 * RNG.random(n)
+    contact = np.arange(n) % 5 != 0
+    slip = contact & (zn > b)
+    cpos = RNG.permutation(40)[:n]
+    nodes, ns, known, tau, tdiag, idx, rhs, weights, sxx, sxy, syy, ksum = kern.newton2_setup(
+        F, z, zn, ds, b, contact, slip, cpos, c
+    )
+    stick, L = np.flatnonzero(contact & ~slip), np.flatnonzero(slip)
+    assert ns == stick.size and np.array_equal(nodes, np.r_[stick, L])
+    Fc, zc = F[:, 0] + 1j * F[:, 1], z[:, 0] + 1j * z[:, 1]
+    e = zc[L] / zn[L]
+    known_ = np.where(contact, 0.0, -Fc)
+    known_[L] = e * (b[L] - (np.conj(e) * Fc[L]).real)
+    beta = b[L] / zn[L]
+    tdiag_ = c * (1 - beta) / beta
+    assert np.allclose(known, known_, rtol=1e-15, atol=0) and np.allclose(tau, 1j * e, rtol=1e-15)
+    assert np.allclose(tdiag, tdiag_, rtol=1e-15) and np.array_equal(idx, cpos[nodes])
+    rhs_ = np.r_[
+        -(ds[stick, 0] + 1j * ds[stick, 1]), 1j * e * (-c / beta) * (-1j * np.conj(e) * Fc[L]).real
+    ]
+    assert np.allclose(rhs, rhs_, rtol=1e-14, atol=1e-15)
+    assert np.allclose(weights, np.r_[np.ones(ns), np.sqrt(c / (c + tdiag_))], rtol=1e-15)
+    t = 1j * e
+    assert np.allclose([sxx, sxy, syy], [t.real @ t.real, t.real @ t.imag, t.imag @ t.imag])
+    assert ksum == pytest.approx(known_.sum(), rel=1e-14)
+    u = RNG.standard_normal(nodes.size) + 0j
+    want = known.copy()
+    want[nodes] += u
+    assert np.array_equal(kern.add_at(known, nodes, u), want)
+
+
+@pytest.mark.parametrize("d", [1, 2])
+def test_an_increments_finish_projects_and_zeroes_the_sticking_slips(d):
+    n = 10
+    F, ds, s0, CF, CFp = (RNG.standard_normal((n, d)) for _ in range(5))
+    Fp, b = RNG.standard_normal(n * d), RNG.random(n)
+    contact, slip = np.arange(n) % 4 != 0, np.arange(n) % 3 == 0
+    F0, ds0 = F.copy(), ds.copy()
+    F_end, v, dF, dCF = kern.finish(F, ds, s0, b, contact, slip, Fp, CF, CFp)
+    assert np.array_equal(F_end, F0.ravel()) and np.array_equal(dF, F0.ravel() - Fp)
+    assert np.array_equal(dCF, CF - CFp)
+    norm = np.hypot(F0[:, 0], F0[:, 1]) if d == 2 else np.abs(F0[:, 0])
+    proj = F0 * np.where(norm > b, b / np.where(norm > 0, norm, 1), 1.0)[:, None]
+    assert np.allclose(F, proj, rtol=1e-15, atol=0) and np.all(np.abs(F) <= b[:, None])
+    ds0[contact & ~slip] = 0.0
+    assert np.array_equal(ds, ds0) and np.array_equal(v, (s0 + ds0).ravel())
+
+
 @pytest.mark.parametrize("dims, nu", [(1, 0.0), (2, 0.3), (2, 0.0)])
 def test_pruned_products_equal_the_dense_influence_matrices(dims, nu):
     N = 9

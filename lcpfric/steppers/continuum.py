@@ -203,14 +203,17 @@ class ContinuumStepper(Stepper):
 def node_states(b, dv, dims: int = 1) -> np.ndarray:
     """Node states: separated (no normal force), slipping (moved in the increment; for d = 2,
     forward means along +x), sticking."""
-    s = np.full(b.shape, STICK, dtype=np.int8)
-    if dv is not None and dims == 2:
-        d2 = dv.reshape(-1, 2)
-        moved = np.hypot(d2[:, 0], d2[:, 1]) > 0.0
-        s[moved & (d2[:, 0] >= 0.0)] = FORWARD
-        s[moved & (d2[:, 0] < 0.0)] = BACKWARD
-    elif dv is not None:
-        s[dv > 0.0] = FORWARD
-        s[dv < 0.0] = BACKWARD
-    s[b <= 0.0] = SEPARATION
+    # the codes by arithmetic on the comparisons (boolean masks and scatters cost several
+    # times more on the half-space's thousands of nodes)
+    if dv is None:
+        s = np.zeros(b.shape, dtype=np.int8)
+    else:
+        if dims == 2:  # moved: |dv| > 0 (as complex numbers: hypot in one contiguous pass)
+            x = dv[0::2]
+            moved = np.abs(np.ascontiguousarray(dv, dtype=float).view(complex)) > 0.0
+            forward, backward = moved & (x >= 0.0), moved & (x < 0.0)
+        else:
+            forward, backward = dv > 0.0, dv < 0.0
+        s = forward.view(np.int8) * np.int8(FORWARD) + backward.view(np.int8) * np.int8(BACKWARD)
+    np.putmask(s, b <= 0.0, np.int8(SEPARATION))
     return s

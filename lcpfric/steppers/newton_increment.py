@@ -45,7 +45,7 @@ from ..errors import SolverError
 from ..linalg import PatternUpdate
 from ..model.continuum.halfspace import compliance, pad
 from ..model.continuum.influence import Counted
-from .newton_step import CG_TOL, ETA, NewtonSteps, column_sums, nearest_to_sticking, project_discs
+from .newton_step import CG_TOL, ETA, NewtonSteps, nearest_to_sticking
 
 __all__ = ["HalfSpaceIncrements", "Tangential"]
 
@@ -170,20 +170,20 @@ class HalfSpaceIncrements(NewtonSteps):
         damped = d == 2  # d = 1 turns to the damped steps if its patterns stall
         for it in range(limit):
             if not damped:
-                ds = delta + CF - s0
-                z = F - ds / c
-                eq = column_sums(F) - ks * delta + Qv
+                # Δs, z = F − Δs/c, the pattern's bounds, the residual and the equilibrium
+                # (compiled)
+                ds, zz, lo, hi, zn, worst, eq = self.kernels.pattern_residual(
+                    F, CF, delta, s0, c, b, ks, Qv, tolF, _EPS, contact
+                )
                 # the primal-dual active-set pattern, with Murty's rule once one repeats
-                zz = z[:, 0]
-                band = tolF + 64 * _EPS * (b + np.abs(F[:, 0]))
                 if up is None:  # the previous increment's pattern, where still in contact,
                     # and (unless restarted) the nodes the extrapolated forces put beyond
                     side = state.side if restarted else side0
                     warm = (contact & (side > 0), contact & (side < 0))
-                    up, dn = warm if restarted else updates.first(zz, -b - band, b + band, warm)
+                    up, dn = warm if restarted else updates.first(zz, lo, hi, warm)
                     fresh = True
                 else:
-                    nxt = updates.next(zz, -b - band, b + band, up, dn)
+                    nxt = updates.next(zz, lo, hi, up, dn)
                     if nxt is None and not loose:
                         break
                     fresh = nxt is not None  # else: a loose step's pattern repeats
@@ -199,8 +199,6 @@ class HalfSpaceIncrements(NewtonSteps):
                         up, restarted = None, True
                         continue
                 slip = up | dn
-                zn = np.abs(zz)
-                worst = float(np.max(np.abs(F[:, 0] - np.clip(zz, -b, b))[contact], initial=0.0))
                 z = np.where(up, 1.0, -1.0)[:, None]  # the slip nodes' sides
                 if updates.stats["single_changes"] > _SINGLE_MAX:
                     # the patterns stall (a large increment on a fine grid: thousands of
@@ -296,20 +294,14 @@ class HalfSpaceIncrements(NewtonSteps):
             self.first_right = not changed
             if damped:
                 up, dn = slip & (z[:, 0] > 0.0), slip & (z[:, 0] < 0.0)
-        F_end = F.ravel().copy()
-        project_discs(F, b)
-        stick = contact & ~slip
-        ds[stick] = 0.0
-        v = s0 + ds
-        F_flat = F.ravel()
+        # F projected onto the discs and Δs zeroed on the sticking nodes, in place (compiled)
+        F_end, v, dF, dCF = self.kernels.finish(F, ds, s0, b, contact, slip, state.F, CF, state.CF)
         side = np.zeros(n, dtype=np.int8)
         if d == 1:
             side[up] = 1
             side[dn] = -1
-        new = Tangential(
-            v.ravel(), delta, F_end, F_end - state.F, delta - state.delta, side, CF, CF - state.CF
-        )
-        return new, F_flat, ds.ravel()
+        new = Tangential(v, delta, F_end, dF, delta - state.delta, side, CF, dCF)
+        return new, F.ravel(), ds.ravel()
 
     def _tolerance_scale(self) -> float:
         """The increments' force scale: the largest limit, or, if smaller, the force that moves
@@ -324,7 +316,7 @@ class HalfSpaceIncrements(NewtonSteps):
         """The previous increment's forces and rigid displacement (no extrapolation)."""
         F = state.F.reshape(self.nodes, self.dims).copy()
         F[~contact] = 0.0
-        project_discs(F, b)
+        self.kernels.project_discs(F, b)
         return F, state.delta.copy(), self.compliance(F)
 
     def _natural(self, F, CF, delta, s0, b, contact, Qv):

@@ -14,12 +14,10 @@ import numpy as np
 
 from ..errors import SolverError
 from ..linalg.cg import cg
-from .slip_memory import row_norms
 
 __all__ = [
     "NewtonSteps",
     "nearest_to_sticking",
-    "project_discs",
     "column_sums",
     "every_node_slips",
     "CG_TOL",
@@ -112,7 +110,7 @@ class NewtonSteps:
         else:
 
             def project(r):
-                return r - r.mean()
+                return r - r.sum() / r.size  # r.mean(), without its overhead
 
             x, res = cg(M, None, x0, project, pre, tol, self.stats, step, res=res)
             dd = np.array([res.sum() / space.size])
@@ -130,34 +128,22 @@ class NewtonSteps:
         on the sticking nodes and ``τ Re(τ̄ λ)`` on the slipping ones."""
         n, ks, c, N = self.nodes, self.k_support, self.c, self.N
         op = self.op
-        Fc, zc, dsc = _complex(F), _complex(z), _complex(ds)
-        stick = np.flatnonzero(contact & ~slip)
-        L = np.flatnonzero(slip)
-        ns = stick.size
-        size = ns + L.size
-        known = np.where(contact, 0.0, -Fc)  # off the contact: no force
-        zL = zn[L]
-        e = zc[L] / zL  # the slip directions
-        FL = Fc[L]
-        known[L] = e * (b[L] - (e.conjugate() * FL).real)  # Re(ē F): F's part along e
+        kern = self.kernels
+        # the unknowns, τ, the diagonal term, the right-hand side and B Bᵀ in one pass (compiled)
+        nodes, ns, known, tau, tdiag, idx, rhs, weights, sxx, sxy, syy, ksum = kern.newton2_setup(
+            F, z, zn, ds, b, contact, slip, self.cpos, float(c)
+        )
+        size = nodes.size
         if size == 0:
             if ks <= 0.0:
                 every_node_slips()
             kn = _floats(known, n)
             return kn, (eq + column_sums(kn)) / ks, self.compliance(kn)
-        tau = 1j * e  # the tangents
-        taub = tau.conjugate()
         tx, ty = tau.real, tau.imag
-        beta = b[L] / zL
-        tdiag = c * (1.0 - beta) / beta
-        idx = np.concatenate([self.cpos[stick], self.cpos[L]])
-        rhs = np.empty(size, dtype=complex)
-        rhs[:ns] = -dsc[stick]
-        rhs[ns:] = tau * ((-c / beta) * (taub * FL).real)
-        ksum = known.sum()
+        wL = weights[ns:]
         cons = -(eq + np.array([ksum.real, ksum.imag]))
         # B Bᵀ: ns I plus the tangents' outer products
-        BBt = np.array([[ns + tx @ tx, tx @ ty], [tx @ ty, ns + ty @ ty]])
+        BBt = np.array([[ns + sxx, sxy], [sxy, ns + syy]])
 
         def bt(lam):
             """Bᵀ λ (λ: the two floats of a force sum) as the unknowns' floats."""
@@ -186,7 +172,6 @@ class NewtonSteps:
         buf = op.empty()
         flat = buf.reshape(-1)
 
-        kern = self.kernels
         none, nonec = np.empty(0), np.empty(0, dtype=complex)
 
         def restrict(full, scale=none, u=nonec, diag=none):
@@ -225,9 +210,6 @@ class NewtonSteps:
         # is about c + tdiag, where C's inverse assumes c): the preconditioner scaled
         # symmetrically by sqrt(c / (c + tdiag)) on those (M-D, grid 40: 21432 products to
         # 18894, the same cycles)
-        wL = np.sqrt(c / (c + tdiag))
-        weights = np.concatenate([np.ones(ns), wL])
-
         def pre(r):
             kern.embed(flat, idx, r.view(complex), weights)
             return restrict(op.padded("precondition", buf, h2), wL).view(float)
@@ -254,17 +236,8 @@ class NewtonSteps:
 
             x, res = cg(M, None, x0, project, pre, tol, self.stats, step, res=res.view(float))
             dd = Winv @ bsum(res)
-        u = x.view(complex)
-        dF = known.copy()
-        dF[stick] += u[:ns]
-        dF[L] += u[ns:]
+        dF = kern.add_at(known, nodes, x.view(complex))
         return _floats(dF, n), dd, _floats(total.reshape(-1), n)
-
-
-def _complex(X):
-    """Node-major ``(n, 2)`` floats as n complex numbers x + i y (a view where X is
-    contiguous)."""
-    return np.ascontiguousarray(X).view(complex)[:, 0]
 
 
 def _floats(Z, n):
@@ -347,17 +320,6 @@ class _Space:
         out = base.copy()
         out[self.stick, 0] += x
         return out
-
-
-def project_discs(F, b):
-    """Forces onto their discs (d = 1: the interval), in place."""
-    if F.shape[1] == 1:
-        np.clip(F[:, 0], -b, b, out=F[:, 0])
-        return
-    norm = row_norms(F)
-    scale = np.ones_like(norm)
-    np.divide(b, norm, out=scale, where=norm > b)
-    F *= scale[:, None]
 
 
 def column_sums(X):

@@ -28,6 +28,11 @@ __all__ = [
     "project2",
     "add_bt",
     "add_corner",
+    "pattern_residual",
+    "newton2_setup",
+    "add_at",
+    "project_discs",
+    "finish",
 ]
 
 
@@ -193,3 +198,158 @@ def add_corner(total, alpha, last):  # pragma: no cover - compiled
     for i in range(N):
         for j in range(N):
             total[i, j] += alpha * last[i, j]
+
+
+@njit(cache=True, nogil=True)
+def pattern_residual(F, CF, delta, s0, c, b, ks, Qv, tolF, eps, contact):  # pragma: no cover
+    """d = 1: what a pattern iteration of the Newton loop needs at ``(F, CF = C F, δ)``
+    (node-major ``(n, 1)``): ``(Δs, z, the pattern's lower and upper bounds −b − band and b +
+    band, |z|, the largest |F − clip(z, −b, b)| on the contact, the equilibrium)`` with ``Δs
+    = δ + CF − s0``, ``z = F − Δs/c`` and ``band = tolF + 64 eps (b + |F|)``."""
+    n = F.shape[0]
+    ds = np.empty((n, 1))
+    z = np.empty(n)
+    lo = np.empty(n)
+    hi = np.empty(n)
+    zn = np.empty(n)
+    total = 0.0
+    worst = 0.0
+    for i in range(n):
+        f = F[i, 0]
+        v = delta[0] + CF[i, 0]
+        v -= s0[i, 0]
+        ds[i, 0] = v
+        w = f - v / c
+        z[i] = w
+        zn[i] = abs(w)
+        band = tolF + 64 * eps * (b[i] + abs(f))
+        lo[i] = -b[i] - band
+        hi[i] = b[i] + band
+        total += f
+        if contact[i]:
+            p = min(max(w, -b[i]), b[i])
+            a = abs(f - p)
+            if a > worst:
+                worst = a
+    eq = np.empty(1)
+    eq[0] = total - ks * delta[0] + Qv[0]
+    return ds, z, lo, hi, zn, worst, eq
+
+
+@njit(cache=True, nogil=True)
+def newton2_setup(F, z, zn, ds, b, contact, slip, cpos, c):  # pragma: no cover - compiled
+    """d = 2: the Newton step's unknowns and constants
+    (:meth:`lcpfric.steppers.newton_step.NewtonSteps._newton2`) from the iterate (node-major
+    ``(n, 2)``): ``(nodes, ns, known, τ, the diagonal term, the padded entries, the right-hand
+    side, the preconditioner's weights, Σ τ_x², Σ τ_x τ_y, Σ τ_y², Σ known)``. ``nodes``: the
+    sticking nodes (the first ``ns``) then the slipping ones; ``known`` the forces fixed by the
+    pattern (−F off the contact, e (b − Re(ē F)) on the slipping nodes, e = z/|z|); τ = i e;
+    the diagonal term ``c (1 − β)/β`` (β = b/|z|); the right-hand side ``−Δs`` on the sticking
+    nodes and ``τ (−c/β) Re(τ̄ F)`` on the slipping ones; the weights 1 on the sticking nodes
+    and ``sqrt(c/(c + term))`` on the slipping ones."""
+    n = F.shape[0]
+    ns = 0
+    nl = 0
+    for i in range(n):
+        if slip[i]:
+            nl += 1
+        elif contact[i]:
+            ns += 1
+    size = ns + nl
+    nodes = np.empty(size, dtype=np.int64)
+    known = np.empty(n, dtype=np.complex128)
+    tau = np.empty(nl, dtype=np.complex128)
+    tdiag = np.empty(nl)
+    idx = np.empty(size, dtype=np.int64)
+    rhs = np.empty(size, dtype=np.complex128)
+    weights = np.empty(size)
+    ks = 0
+    kl = ns
+    for i in range(n):
+        if not contact[i]:
+            known[i] = complex(-F[i, 0], -F[i, 1])
+        else:
+            known[i] = 0.0
+            if not slip[i]:
+                nodes[ks] = i
+                idx[ks] = cpos[i]
+                rhs[ks] = complex(-ds[i, 0], -ds[i, 1])
+                weights[ks] = 1.0
+                ks += 1
+        if slip[i]:
+            nodes[kl] = i
+            kl += 1
+    sxx = 0.0
+    sxy = 0.0
+    syy = 0.0
+    for k in range(nl):
+        i = nodes[ns + k]
+        zl = zn[i]
+        inv = 1.0 / zl  # numpy's complex / real: times the reciprocal
+        er = z[i, 0] * inv
+        ei = z[i, 1] * inv
+        fr = F[i, 0]
+        fi = F[i, 1]
+        t = b[i] - (er * fr + ei * fi)
+        known[i] = complex(er * t, ei * t)
+        tr = -ei
+        ti = er
+        tau[k] = complex(tr, ti)
+        beta = b[i] / zl
+        td = c * (1.0 - beta) / beta
+        tdiag[k] = td
+        v = (-c / beta) * (tr * fr + ti * fi)
+        rhs[ns + k] = complex(tr * v, ti * v)
+        idx[ns + k] = cpos[i]
+        weights[ns + k] = np.sqrt(c / (c + td))
+        sxx += tr * tr
+        sxy += tr * ti
+        syy += ti * ti
+    ksum = 0j
+    for i in range(n):
+        ksum += known[i]
+    return nodes, ns, known, tau, tdiag, idx, rhs, weights, sxx, sxy, syy, ksum
+
+
+@njit(cache=True, nogil=True)
+def add_at(base, nodes, u):  # pragma: no cover - compiled
+    """``base`` with ``u[k]`` added at ``nodes[k]`` (distinct nodes): a new array."""
+    out = base.copy()
+    for k in range(nodes.size):
+        out[nodes[k]] += u[k]
+    return out
+
+
+@njit(cache=True, nogil=True)
+def project_discs(F, b):  # pragma: no cover - compiled
+    """Forces (node-major ``(n, d)``) onto their discs of radii b (d = 1: the intervals), in
+    place."""
+    n, d = F.shape
+    for i in range(n):
+        if d == 1:
+            F[i, 0] = min(max(F[i, 0], -b[i]), b[i])
+        else:
+            norm = abs(complex(F[i, 0], F[i, 1]))
+            if norm > b[i]:
+                scale = b[i] / norm
+                F[i, 0] *= scale
+                F[i, 1] *= scale
+
+
+@njit(cache=True, nogil=True)
+def finish(F, ds, s0, b, contact, slip, F_prev, CF, CF_prev):  # pragma: no cover - compiled
+    """An increment's end (node-major ``(n, d)``): ``(the forces before their projection,
+    flat; the slips v = s0 + Δs, Δs zeroed on the sticking nodes; ΔF = F − F_prev; C ΔF = CF −
+    CF_prev)``, and F projected onto the discs (d = 1: the intervals) and Δs zeroed on the
+    sticking nodes, in place."""
+    n, d = F.shape
+    F_end = F.copy().reshape(n * d)
+    dF = F_end - F_prev
+    dCF = CF - CF_prev
+    project_discs(F, b)
+    for i in range(n):
+        if contact[i] and not slip[i]:
+            for k in range(d):
+                ds[i, k] = 0.0
+    v = s0 + ds
+    return F_end, v.reshape(n * d), dF, dCF
