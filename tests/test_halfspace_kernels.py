@@ -193,6 +193,9 @@ def test_pruned_products_equal_the_dense_influence_matrices(dims, nu):
         )
     got = op.tangential(q)
     assert np.abs(got - want).max() <= 1e-14 * np.abs(want).max()
+    p = RNG.random((N, N))  # the normal product, pruned too
+    want = (op.dense("n") @ p.ravel()).reshape(N, N)
+    assert np.abs(op.normal(p) - want).max() <= 1e-14 * np.abs(want).max()
 
 
 @pytest.mark.parametrize("dims, nu", [(1, 0.0), (2, 0.3)])

@@ -166,14 +166,34 @@ class Convolution:
         pad[np.ix_(idx, idx)] = k[np.ix_(src, src)]
         return sfft.rfft2(pad)
 
-    def _forward(self, x):
-        return sfft.rfft2(x, s=(self.M, self.M))
-
-    def _back(self, X):
-        return sfft.irfft2(X, s=(self.M, self.M))[..., : self.N, : self.N]
-
     def normal(self, p):
-        return self._back(self._forward(p) * self.spectra["n"])
+        """The normal displacements ``A p`` of pressures ``(N, N)``: one pruned real FFT pair
+        (:meth:`_real`)."""
+        return self._normal_kind("normal", p)
+
+    def _normal_kind(self, kind, p):
+        N = self.N
+        rows = np.zeros((N, self.M))
+        rows[:, :N] = p
+        return self._real(rows, self._scaled(kind, 1.0)["n"])[:N, :N]
+
+    def _real(self, rows, K):
+        """The real product of the spectrum K (scaled by ``1/M²``, on the real transform's half
+        plane) with the padded array whose first N rows are ``rows`` (``(N, M)``; zero below):
+        a new ``(M, M)`` array, the answer in its first N rows. Pruned: the forward transform
+        along the rows of those N rows only, the inverse along the rows of the N rows wanted
+        only."""
+        N, M = self.N, self.M
+        fft = _backend()
+        X = np.empty((M, M // 2 + 1), dtype=complex)
+        X[N:] = 0.0
+        fft.r2c(rows, (1,), True, 0, X[:N], 1)
+        fft.c2c(X, (0,), True, 0, X, 1)
+        X *= K
+        fft.c2c(X, (0,), False, 0, X, 1)
+        out = np.empty((M, M))
+        fft.c2r(X[:N], (1,), M, False, 0, out[:N], 1)
+        return out
 
     def tangential(self, q):
         """Tangential displacements from shears ``(N, N)`` (d = 1) or ``(2, N, N)`` (d = 2,
@@ -224,15 +244,7 @@ class Convolution:
         N, M = self.N, self.M
         fft = _backend()
         if self.dims == 1:
-            X = np.empty((M, M // 2 + 1), dtype=complex)
-            X[N:] = 0.0
-            fft.r2c(buf[:N], (1,), True, 0, X[:N], 1)
-            fft.c2c(X, (0,), True, 0, X, 1)
-            X *= K["xx"]
-            fft.c2c(X, (0,), False, 0, X, 1)
-            out = np.empty((M, M))
-            fft.c2r(X[:N], (1,), M, False, 0, out[:N], 1)
-            return out
+            return self._real(buf[:N], K["xx"])
         Z = np.empty((M, M), dtype=complex)
         Z[N:] = 0.0
         fft.c2c(buf[:N], (1,), True, 0, Z[:N], 1)
@@ -252,10 +264,15 @@ class Convolution:
         """The spectra of ``kind`` times ``factor / M²`` (the inverse transform's
         normalization; cached): d = 1 ``{"xx"}`` on the real
         transform's half plane; d = 2 ``{"A", "B"}`` on the whole plane, with ``A = (xx +
-        yy)/2`` and ``B = (xx − yy)/2 + i xy`` (no ``B`` when it is round-off: ν = 0)."""
+        yy)/2`` and ``B = (xx − yy)/2 + i xy`` (no ``B`` when it is round-off: ν = 0);
+        ``"normal"`` and ``"precondition_normal"``: ``{"n"}`` on the half plane."""
         cache = self.__dict__.setdefault("_scaled_cache", {})
         key = (kind, factor)
         K = cache.get(key)
+        if K is None and kind in ("normal", "precondition_normal"):
+            src = self.spectra if kind == "normal" else self._inverse
+            K = {"n": (src["n"].real * (factor / (self.M * self.M))).astype(complex)}
+            cache[key] = K
         if K is None:
             src = (
                 self.spectra
@@ -323,7 +340,7 @@ class Convolution:
 
     def precondition_normal(self, p):
         """The (floored) inverse of the padded circulant normal operator applied to ``p``."""
-        return self._back(self._forward(p) * self._inverse["n"])
+        return self._normal_kind("precondition_normal", p)
 
     def precondition(self, q):
         """The (floored) inverse of the padded circulant tangential operator applied to ``q``:
