@@ -12,7 +12,9 @@ preallocated input), timed here in the same run beside one of the solvers' produ
 time is split into the time in the products and outside them.
 
 ``--goals`` runs only the timing goals (the full run's grid and steps, 3 runs each) and prints
-them without writing a file.
+them without writing a file; ``--heightmap-512`` only the 512 x 512 height map's goal (issue
+37: a steady state in at most 5 minutes under 6 GB; wall and CPU seconds and the peak resident
+memory), printed.
 
 Materials and loads: two identical bodies, E = 200e3, R = 10, μ = 0.5, P0 = 100; ν = 0 where
 the classical forms are exact, ν = 0.3 with d = 2 for Cerruti's coupling. The height map
@@ -179,6 +181,12 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true", help="coarser grids, fewer steps")
     ap.add_argument("--no-heightmap", action="store_true", help="skip the 256 x 256 height map")
     ap.add_argument("--heightmap-only", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("--size", type=int, default=None, help=argparse.SUPPRESS)
+    ap.add_argument(
+        "--heightmap-512",
+        action="store_true",
+        help="only the 512 x 512 height map's goal (in a child process), printed",
+    )
     ap.add_argument(
         "--goals", action="store_true", help="only the d = 1 / d = 2 timing goals, printed"
     )
@@ -193,7 +201,17 @@ def main(argv=None):
     out = Path(args.out)
     out.mkdir(exist_ok=True)
     if args.heightmap_only:
-        return heightmap(args.quick)
+        return heightmap(args.quick, args.size)
+    if args.heightmap_512:
+        proc = subprocess.run(
+            [sys.executable, __file__, "--heightmap-only", "--size", "512"],
+            capture_output=True,
+            text=True,
+        )
+        if proc.returncode != 0:
+            raise SystemExit(proc.stderr)
+        print(proc.stdout.strip())
+        return None
     if args.readme_figure:
         return readme_figure()
     lines = Report(
@@ -534,12 +552,13 @@ def peak_memory_mb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def heightmap(quick: bool):
-    """The 256 x 256 height map's steady state (in its own process, for its peak memory)."""
-    N = 64 if quick else 256
+def heightmap(quick: bool, size: int | None = None):
+    """The 256 x 256 height map's steady state, or the ``size`` x ``size`` one (in its own
+    process, for its peak memory)."""
+    N = size or (64 if quick else 256)
     steps = 100
     heights, h = rough_sphere(N)
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     m = HalfSpace(
         E,
         0.0,
@@ -551,7 +570,7 @@ def heightmap(quick: bool):
     )
     # the cycle's ends only (history=False): the peak memory is the solve's, not the record's
     r = lcpfric.steady_state(m, steps_per_cycle=steps, history=False)
-    wall = time.perf_counter() - start
+    wall, cpu = time.perf_counter() - start, time.process_time() - cpu
     peak = peak_memory_mb()
     print(f"## A {N} x {N} height map\n")
     print(
@@ -560,13 +579,55 @@ def heightmap(quick: bool):
         f"steps per cycle: W = {r.W:.8g} (W_norm {r.W_normalized:.6f}, k_t0 from the "
         f"contact's area at P0), {r.cycles} cycles, converged {r.converged}; at most "
         f"{r.contact.nodes_in_contact_max} elements in contact. Steady state in {wall:.1f} s "
-        f"wall (setup included), peak resident memory {peak:.0f} MB. "
+        f"wall ({cpu:.1f} s CPU; setup included), peak resident memory {peak:.0f} MB. "
         f"{split(r.solver_stats, wall)}."
     )
+    if size is not None:  # --heightmap-512 (or --size): the floor and the goal
+        st = r.solver_stats
+        count = st["normal_products"] + st["tangential_products"]
+        floor, product = heightmap_floor(m)
+        print(
+            f"\nThe floor: {count} FFT products ({st['normal_products']} normal, "
+            f"{st['tangential_products']} tangential; {count / st['increments']:.1f} per step), "
+            f"one pure pair (rfftn + irfftn) {floor * 1e3:.1f} ms on the {m.op.M} x {m.op.M} "
+            f"padded grid, one of the solvers' (pruned) products {product * 1e3:.1f} ms: the "
+            f"products take about {count * product:.0f} s, {count * floor:.0f} s at one pure "
+            f"pair each; the rest {wall - count * product:.0f} s."
+        )
+        print(
+            f"\nGoal (issue 37, 512 x 512): a steady state in at most 5 minutes under 6 GB: "
+            f"{N} x {N}: {wall:.1f} s "
+            f"wall ({wall / 60:.2f} min), {cpu:.1f} s CPU, peak {peak / 1024:.2f} GB."
+        )
+        return
     print(
         f"\nGoal: a steady state in at most 10 minutes under 4 GB: {wall / 60:.1f} min, "
         f"{peak / 1024:.2f} GB."
     )
+
+
+def heightmap_floor(m, repeats=5):
+    """``(floor, product)`` in seconds on a height map's padded grid: one pure real FFT pair
+    (``rfftn`` + ``irfftn``, scipy.fft, preallocated input) and one of the solvers' pruned
+    products (``Convolution.padded``), each the best of ``repeats``."""
+    import scipy.fft as sfft
+
+    M, N = m.op.M, m.N
+    x = m.op.empty()
+    x[:N, :N] = np.random.default_rng(0).standard_normal((N, N))
+    best = []
+    for f in (
+        lambda: sfft.irfftn(sfft.rfftn(x), s=(M, M)),
+        lambda: m.op.padded("tangential", x, 1.0),
+    ):
+        f()
+        times = []
+        for _ in range(repeats):
+            t = time.perf_counter()
+            f()
+            times.append(time.perf_counter() - t)
+        best.append(min(times))
+    return tuple(best)
 
 
 def readme_figure():
