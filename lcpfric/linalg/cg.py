@@ -28,7 +28,7 @@ def cg(M, g, x, project, pre, tol, stats, step=None, max_iter=None, res=None):
     else:
         res = g.copy()
     r = res if project is None else project(res)
-    if float(np.max(np.abs(r))) <= tol:
+    if float(np.abs(r).max()) <= tol:
         return x, res
     z = pre(r) if project is None else project(pre(r))
     p = z.copy()
@@ -43,7 +43,7 @@ def cg(M, g, x, project, pre, tol, stats, step=None, max_iter=None, res=None):
         x = x + alpha * p
         res = res - alpha * Mp
         r = res if project is None else project(res)
-        if float(np.max(np.abs(r))) <= tol:
+        if float(np.abs(r).max()) <= tol:
             return x, res
         z = pre(r) if project is None else project(pre(r))
         rz_new = float(r @ z)

@@ -48,6 +48,10 @@ class SlipMemory:
     def __init__(self, c, n: int):
         self.c = c
         self.n = int(n)
+        # the compiled update's form of c: one per node, or a scalar (and an empty array)
+        ca = np.asarray(c, dtype=float)
+        self._per_node = ca.reshape(-1) if ca.ndim else np.empty(0)
+        self._scalar = float(ca) if not ca.ndim else 0.0
 
     def start(self) -> np.ndarray:
         """``R`` at a cycle's start: the identity on every node, ``(n, 2, 2)``."""
@@ -59,13 +63,12 @@ class SlipMemory:
         :func:`~lcpfric.model.continuum.halfspace_kernels.slip_memory_update`)."""
         from ..model.continuum import halfspace_kernels  # numba: compiled on first use
 
-        c = np.asarray(self.c, dtype=float)
         halfspace_kernels.slip_memory_update(
             R,
             np.ascontiguousarray(dv, dtype=float).reshape(self.n, 2),
             np.ascontiguousarray(b, dtype=float),
-            c.reshape(-1) if c.ndim else np.empty(0),
-            float(c) if not c.ndim else 0.0,
+            self._per_node,
+            self._scalar,
         )
 
     def of_cycle(self, u: np.ndarray, b) -> np.ndarray:

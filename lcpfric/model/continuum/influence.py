@@ -250,9 +250,7 @@ class Convolution:
         fft.c2c(buf[:N], (1,), True, 0, Z[:N], 1)
         fft.c2c(Z, (0,), True, 0, Z, 1)
         if "B" in K:  # w = A z + B z̄: the transform of z̄ at k is conj(Z(−k))
-            from . import halfspace_kernels
-
-            halfspace_kernels.cerruti_product(Z, K["A"], K["B"])
+            K["cerruti"](Z, K["A"], K["B"])
         else:
             Z *= K["A"]
         fft.c2c(Z, (0,), False, 0, Z, 1)
@@ -264,7 +262,8 @@ class Convolution:
         """The spectra of ``kind`` times ``factor / M²`` (the inverse transform's
         normalization; cached): d = 1 ``{"xx"}`` on the real
         transform's half plane; d = 2 ``{"A", "B"}`` on the whole plane, with ``A = (xx +
-        yy)/2`` and ``B = (xx − yy)/2 + i xy`` (no ``B`` when it is round-off: ν = 0);
+        yy)/2`` and ``B = (xx − yy)/2 + i xy`` (no ``B`` when it is round-off: ν = 0; with
+        ``B``, ``"cerruti"``: the compiled product);
         ``"normal"`` and ``"precondition_normal"``: ``{"n"}`` on the half plane."""
         cache = self.__dict__.setdefault("_scaled_cache", {})
         key = (kind, factor)
@@ -291,7 +290,10 @@ class Convolution:
                 K = {"A": self._whole(0.5 * (xx + yy)).astype(complex)}
                 B = self._whole(0.5 * (xx - yy) + 1j * xy)
                 if np.max(np.abs(B)) > 1e-14 * np.max(np.abs(K["A"])):  # else round-off
+                    from . import halfspace_kernels  # numba: compiled on first use
+
                     K["B"] = B
+                    K["cerruti"] = halfspace_kernels.cerruti_product
             cache[key] = K
         return K
 
