@@ -158,6 +158,28 @@ def test_newton2_setup_is_the_plain_computation():
     assert np.array_equal(kern.add_at(known, nodes, u), want)
 
 
+def test_the_d2_newton_steps_start_and_its_residual():
+    N, M, ns = 3, 6, 2
+    known = RNG.standard_normal(N * N) + 1j * RNG.standard_normal(N * N)
+    idx = np.array([0, 7, 8, 13, 14])
+    u0 = RNG.standard_normal(5) + 1j * RNG.standard_normal(5)
+    buf = np.zeros((M, M), dtype=complex)
+    kern.start2(buf, known, N, idx, u0)
+    want = np.zeros((M, M), dtype=complex)
+    want[:N, :N] = known.reshape(N, N)
+    want.reshape(-1)[idx] += u0
+    assert np.array_equal(buf, want)
+    first = RNG.standard_normal((M, M)) + 1j * RNG.standard_normal((M, M))
+    tau = np.exp(1j * RNG.random(3))
+    rhs = RNG.standard_normal(5) + 1j * RNG.standard_normal(5)
+    tdiag = RNG.random(3)
+    res, total = kern.residual2(first, buf, N, idx, ns, tau, rhs, tdiag, u0)
+    res_ = rhs - kern.restrict2(first.reshape(-1), idx, ns, tau, np.empty(0), u0[:0], tdiag[:0])
+    res_[ns:] -= tdiag * u0[ns:]
+    assert np.array_equal(res, res_) and np.array_equal(total, first[:N, :N])
+    assert not buf[:N, :N].any() and np.array_equal(buf[N:], want[N:])
+
+
 @pytest.mark.parametrize("d", [1, 2])
 def test_an_increments_finish_projects_and_zeroes_the_sticking_slips(d):
     n = 10

@@ -181,14 +181,10 @@ class NewtonSteps:
 
         # the known forces and the start in one product (linearity); the residual from it
         if x0.any() or known.any():
-            buf[:N, :N] = known.reshape(N, N)
             u0 = x0.view(complex)
-            flat[idx] += u0
+            kern.start2(buf, known, N, idx, u0)
             first = op.padded("tangential", buf, 1.0 / h2)
-            buf[:N, :N] = 0.0
-            res = rhs - restrict(first)
-            res[ns:] -= tdiag * u0[ns:]
-            total = first[:N, :N].copy()
+            res, total = kern.residual2(first, buf, N, idx, ns, tau, rhs, tdiag, u0)
         else:
             res = rhs.copy()
             total = np.zeros((N, N), dtype=complex)

@@ -31,6 +31,8 @@ __all__ = [
     "pattern_residual",
     "newton2_setup",
     "add_at",
+    "start2",
+    "residual2",
     "project_discs",
     "finish",
 ]
@@ -309,6 +311,42 @@ def newton2_setup(F, z, zn, ds, b, contact, slip, cpos, c):  # pragma: no cover 
     for i in range(n):
         ksum += known[i]
     return nodes, ns, known, tau, tdiag, idx, rhs, weights, sxx, sxy, syy, ksum
+
+
+@njit(cache=True, nogil=True)
+def start2(buf, known, N, idx, u0):  # pragma: no cover - compiled
+    """d = 2: the known forces (N² complex, row-major) in the ``N x N`` corner of the padded
+    array ``buf`` (C-contiguous ``(M, M)``, zero elsewhere), plus the start ``u0`` at the
+    unknowns' entries ``idx``, in place."""
+    for i in range(N):
+        for j in range(N):
+            buf[i, j] = known[i * N + j]
+    flat = buf.reshape(buf.size)
+    for k in range(idx.size):
+        flat[idx[k]] += u0[k]
+
+
+@njit(cache=True, nogil=True)
+def residual2(first, buf, N, idx, ns, tau, rhs, tdiag, u0):  # pragma: no cover - compiled
+    """d = 2: after the product ``first`` of :func:`start2`'s array, the residual ``(rhs −
+    restrict2(first)) − tdiag u0`` (the last term on the slipping unknowns, ``k >= ns``) and
+    the product's ``N x N`` corner (a copy); ``buf``'s corner is zeroed again."""
+    flat = first.reshape(first.size)
+    size = idx.size
+    res = np.empty(size, dtype=np.complex128)
+    for k in range(ns):
+        res[k] = rhs[k] - flat[idx[k]]
+    for k in range(ns, size):
+        w = flat[idx[k]]
+        t = tau[k - ns]
+        v = t.real * w.real + t.imag * w.imag  # Re(τ̄ w)
+        res[k] = (rhs[k] - t * v) - tdiag[k - ns] * u0[k]
+    total = np.empty((N, N), dtype=np.complex128)
+    for i in range(N):
+        for j in range(N):
+            total[i, j] = first[i, j]
+            buf[i, j] = 0.0
+    return res, total
 
 
 @njit(cache=True, nogil=True)
