@@ -155,3 +155,17 @@ def test_sparse_and_dense_products_give_one_answer():
     finally:
         pattern.Pattern.__init__ = original
     assert W_dense == pytest.approx(W_sparse, rel=1e-13)
+
+
+def test_the_loops_cache_is_keyed_by_the_kernels_file_too():
+    """numba keys a cached function by its own file only; the loop links the kernels of
+    another file, so a change there must not load a stale loop (lcpfric.exact.loop)."""
+    import os
+
+    from lcpfric.exact import loop
+
+    index = getattr(getattr(loop.run, "_cache", None), "_cache_file", None)
+    if index is None:
+        pytest.skip("this numba lays out its cache otherwise (the loop is not cached)")
+    st = os.stat(kernels.__file__)
+    assert index._source_stamp[1] == (st.st_mtime, st.st_size)

@@ -306,6 +306,7 @@ class ClusterPattern(Pattern):
             gone = np.unique(old[old != root])
             for j in np.nonzero(self.B & (stuck | np.isin(np.arange(n), gone)))[0]:
                 self.tangent_stick(int(j), theta)
+            self.resolve_trow()
             self.Jt = self.cl.reroot(self.Jt, old, root)
         x = self.cl.reroot(np.asarray(x, dtype=float), self.cl.canonical, root)
         M = self.cl.KT(root)

@@ -44,11 +44,11 @@ M, SINCE, FLIPS, FREE_SUM, ANY_DIRTY, TRACK, HAS_TROW, ERR_NODE, FLIPS_OK, SPARS
 EVENTS, KS, KN, ATTEMPT, ERASED, PIVOT_K, BUDGET, PIVOT_CODE, MAX_EVENTS = range(10, 19)
 N_INTS = 19
 # fl slots
-W, RELTOL, SKIPPED, THETA, LAST, ERR_VALUE = range(6)
-N_FL = 6
-NOT_SPD = (
-    -1
-)  # error code: K_BB lost positive definiteness (node ints[ERR_NODE], pivot fl[ERR_VALUE])
+W, RELTOL, SKIPPED, THETA, LAST, ERR_VALUE, T_SIGMA, T_DG = range(8)
+N_FL = 8
+# error code: K_BB lost positive definiteness (node ints[ERR_NODE], pivot fl[ERR_VALUE])
+NOT_SPD = -1
+PENDING = 2  # ints[HAS_TROW]: the event angle's sensitivity waits for a node that sticks
 
 JIT_OPTIONS = dict(cache=True, nogil=True, error_model="numpy")
 
@@ -273,7 +273,7 @@ def flip(j, new, theta, lin, tri, flg, tan, wk, ints, fl):  # pragma: no cover -
                 ns += 1
         if new == STICK:  # j leaves B: u_j keeps its value at theta
             if ints[TRACK]:
-                tangent_stick(j, theta, lin, tri, tan, wk, ints)
+                tangent_stick(j, theta, lin, tri, tan, wk, ints, fl)
             s, c = math.sin(theta), math.cos(theta)
             val = U[j, 0] + U[j, 1] * s + U[j, 2] * c
             d[0] = (-U[j, 0] + val) / cp
@@ -352,7 +352,7 @@ def flip(j, new, theta, lin, tri, flg, tan, wk, ints, fl):  # pragma: no cover -
 
 # -- the tangent map --------------------------------------------------------------------------
 @njit(**JIT_OPTIONS)
-def tangent_stick(j, theta, lin, tri, tan, wk, ints):  # pragma: no cover - compiled
+def tangent_stick(j, theta, lin, tri, tan, wk, ints, fl):  # pragma: no cover - compiled
     """Node j (in B) sticks at theta: its row of the tangent, ``-(G K_BS)_j J_S``, plus its
     rate times the event angle's sensitivity ``trow`` when another node's limit stopped it
     (:meth:`lcpfric.exact.tangent.Tangent.tangent_stick`)."""
@@ -361,6 +361,7 @@ def tangent_stick(j, theta, lin, tri, tan, wk, ints):  # pragma: no cover - comp
     Jt, Kt, Xs, trow, dbt = tan
     sup, rows, idx, zs, Kz, g, y, tmp, mark = wk
     n = status.size
+    resolve_trow(tan, ints, fl)
     m, p = ints[M], pos[j]
     row = np.zeros(n)
     for k in range(m):
@@ -384,7 +385,7 @@ def tangent_stick(j, theta, lin, tri, tan, wk, ints):  # pragma: no cover - comp
 
 
 @njit(**JIT_OPTIONS)
-def theta_sensitivity(j, upper, theta, lin, tri, tan, ints):  # pragma: no cover - compiled
+def theta_sensitivity(j, upper, theta, lin, tri, tan, ints, fl):  # pragma: no cover - compiled
     """d(event angle)/d(start state) into ``trow`` for stuck node j reaching its upper (or
     lower) limit: ``-(∂g/∂u_S · J_S) / g'``, ``∂F_j/∂u_S = K_jS - K_jB G K_BS``. Sets
     ``ints[HAS_TROW]`` (0 when the margin is not falling)."""
@@ -413,13 +414,29 @@ def theta_sensitivity(j, upper, theta, lin, tri, tan, ints):  # pragma: no cover
     ints[HAS_TROW] = 0
     if not dg < 0.0:
         return
-    trow[:] = 0.0
+    # the product with the tangent's rows waits until a node sticks at this event (most
+    # events have none): those rows (of nodes stuck before it) change only when one does
     for k in range(n):
-        if s_row[k] != 0.0 and not B[k]:
-            sk = s_row[k]
+        trow[k] = 0.0 if B[k] else s_row[k]
+    fl[T_SIGMA], fl[T_DG] = sigma, dg
+    ints[HAS_TROW] = PENDING
+
+
+@njit(**JIT_OPTIONS)
+def resolve_trow(tan, ints, fl):  # pragma: no cover - compiled
+    """The event angle's sensitivity ``sigma (s_row · J_S) / g'`` from the row ``s_row`` that
+    :func:`theta_sensitivity` left pending in ``trow`` (before the tangent's rows change)."""
+    if ints[HAS_TROW] != PENDING:
+        return
+    Jt, Kt, Xs, trow, dbt = tan
+    acc = np.zeros(trow.size)
+    for k in range(trow.size):
+        if trow[k] != 0.0:
+            sk = trow[k]
             Jk = Jt[k]
-            for c in range(trow.size):
-                trow[c] += sk * Jk[c]
-    for c in range(trow.size):
-        trow[c] = sigma * trow[c] / dg
+            for c in range(acc.size):
+                acc[c] += sk * Jk[c]
+    sigma, dg = fl[T_SIGMA], fl[T_DG]
+    for c in range(acc.size):
+        trow[c] = sigma * acc[c] / dg
     ints[HAS_TROW] = 1

@@ -241,7 +241,7 @@ def run(theta_s, samples, normal, ev, lin, tri, flg, tan, wk, scales, t_all, int
         if ints[TRACK] and hit == 0:
             for i in range(n):
                 if touch_hi[i] or touch_lo[i]:
-                    theta_sensitivity(i, touch_hi[i], theta, lin, tri, tan, ints)
+                    theta_sensitivity(i, touch_hi[i], theta, lin, tri, tan, ints, fl)
                     break
         if ints[ATTEMPT] == 0:
             budget = 4
@@ -262,3 +262,27 @@ def run(theta_s, samples, normal, ev, lin, tri, flg, tan, wk, scales, t_all, int
                 ints[ERASED] = 1
         else:
             return DECIDE
+
+
+def _depend_on_kernels():
+    """Numba keys a cached function by its own file's stamp only: :func:`run` and the others
+    here link the kernels of :mod:`lcpfric.exact.kernels`, so a change there must recompile
+    them too. Their cache key gets that file's stamp as well (numba's cache index; where a numba
+    lays it out otherwise, they are not cached rather than loaded stale)."""
+    import os
+
+    from numba.core.caching import NullCache
+
+    from . import kernels
+
+    st = os.stat(kernels.__file__)
+    stamp = (st.st_mtime, st.st_size)
+    for dispatcher in (next_event, violation, set_flips, pivots, run):
+        try:
+            index = dispatcher._cache._cache_file
+            index._source_stamp = (index._source_stamp, stamp)
+        except AttributeError:  # pragma: no cover - another numba
+            dispatcher._cache = NullCache()
+
+
+_depend_on_kernels()

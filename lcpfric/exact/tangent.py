@@ -29,7 +29,13 @@ class Tangent:
         reaching its limit at theta (then that angle's own sensitivity, computed at the event:
         :func:`lcpfric.exact.kernels.theta_sensitivity`)."""
         lin, tri, _flg, tan, wk = self.bundles()
-        self.kernels.tangent_stick(j, theta, lin, tri, tan, wk, self.ints)
+        self.kernels.tangent_stick(j, theta, lin, tri, tan, wk, self.ints, self.fl)
+
+    def resolve_trow(self):
+        """Complete a pending event-angle sensitivity before the tangent's rows change outside
+        the kernels (:func:`lcpfric.exact.kernels.resolve_trow`)."""
+        if self.Jt is not None:
+            self.kernels.resolve_trow(self.bundles()[3], self.ints, self.fl)
 
     def jacobian(self):
         """The cycle map's Jacobian d u(2π) / d u(0) (after a tracked cycle): stuck nodes carry
