@@ -180,6 +180,50 @@ def test_the_d2_newton_steps_start_and_its_residual():
     assert not buf[:N, :N].any() and np.array_equal(buf[N:], want[N:])
 
 
+@pytest.mark.parametrize("precondition", [True, False])
+def test_the_normal_problems_iteration_kernels(precondition):
+    from lcpfric.model.continuum import normal_kernels as nk
+
+    N, P, area = 8, 2.0, 0.3
+    g0, u, At, zz0 = (RNG.standard_normal((N, N)) for _ in range(4))
+    p = np.maximum(RNG.standard_normal((N, N)), 0.0)
+    t = RNG.standard_normal((N, N))
+    S = p > 0
+    zz = np.empty((N, N))
+    g = nk.gaps(g0, u, p, zz)
+    g_ = g0 + u
+    g_ -= g_[S].mean()
+    assert np.allclose(g, g_, rtol=0, atol=1e-15) and np.array_equal(zz, np.where(S, g, 0.0))
+    z = (zz0[S] - zz0[S].mean()) if precondition else g[S]
+    t_ = t.copy()
+    t_[S] = z + (g[S] @ z / 0.7) * t[S]
+    t_[~S] = 0.0
+    G = nk.direction(g, zz0, p, t, 0.7, False, precondition)
+    assert G == pytest.approx(g[S] @ z, rel=1e-13) and np.allclose(t, t_, rtol=1e-13, atol=1e-15)
+    # the step: p's update, the clipping, the entering elements and the load; then a step
+    # that keeps the contact (u follows by linearity)
+    for p, t in ((p, t), (1.0 + RNG.random((N, N)), 1e-3 * RNG.standard_normal((N, N)))):
+        S = p > 0
+        At = t * (2.0 + RNG.random((N, N)))  # a positive curvature along t
+        p_, u_ = p.copy(), u.copy()
+        tau = (g[S] @ t[S]) / ((At - At[S].mean())[S] @ t[S])
+        p_[S] -= tau * t[S]
+        clipped = p_ < 0.0
+        p_[clipped] = 0.0
+        enter = (p_ == 0.0) & (g < 0.0)
+        p_[enter] -= tau * g[enter]
+        factor = P / (area * p_.sum())
+        p_ *= factor
+        status, change, restart, fresh = nk.update(At, g, p_old := p.copy(), t, u, P, area)
+        assert status == 1 and np.allclose(p_old, p_, rtol=1e-12, atol=1e-14)
+        assert restart == enter.any() and fresh == (enter.any() or clipped.any())
+        assert change == pytest.approx(area * np.abs(p_ - p).sum() / P, rel=1e-12)
+        if not fresh:
+            assert np.allclose(u, (u_ - tau * At) * factor, rtol=1e-12)
+        else:
+            assert np.array_equal(u, u_)
+
+
 @pytest.mark.parametrize("d", [1, 2])
 def test_an_increments_finish_projects_and_zeroes_the_sticking_slips(d):
     n = 10

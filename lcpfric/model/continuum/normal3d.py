@@ -73,32 +73,20 @@ def normal_contact(
     G_old, restart = 1.0, True
     scale = float(np.ptp(g0)) or 1.0
     u = None
+    from . import normal_kernels as kern  # numba: compiled on first use
+
     for it in range(1, max_iter + 1):
         if u is None or it % _FRESH == 0:
             u = op.normal(p)
-        g = g0 + u
-        S = p > 0.0
-        gbar = float(g[S].mean())
-        g -= gbar
+        zz = np.empty_like(g0)
+        g = kern.gaps(g0, u, p, zz)  # the gaps less their mean on the contact; zz: on it
         if precondition:
-            zz = np.zeros_like(g0)
-            zz[S] = g[S]
             zz = op.precondition_normal(zz)
-            z = zz[S] - zz[S].mean()
-        else:
-            z = g[S]
-        G = float(np.dot(g[S], z))
-        if restart:
-            t[S] = z
-        else:
-            t[S] = z + (G / G_old) * t[S]
-        t[~S] = 0.0
+        G = kern.direction(g, zz, p, t, G_old, restart, precondition)
         G_old = G
         At = op.normal(t)
-        r = At - At[S].mean()
-        denom = float(np.dot(r[S], t[S]))
-        p_old = p.copy()
-        if denom <= 0.0:  # the set's pressures are exact: bring in the penetrating elements
+        status, change, restart, fresh = kern.update(At, g, p, t, u, P, area)
+        if status == 0:  # the set's pressures are exact: bring in the penetrating elements
             enter = (p == 0.0) & (g < 0.0)
             if not enter.any():
                 break
@@ -106,20 +94,11 @@ def normal_contact(
             p *= P / (area * p.sum())
             restart, u = True, None
             continue
-        tau = float(np.dot(g[S], t[S])) / denom
-        p[S] -= tau * t[S]
-        clipped = p < 0.0
-        p[clipped] = 0.0
-        enter = (p == 0.0) & (g < 0.0)
-        restart = bool(enter.any())
-        if restart:
-            p[enter] -= tau * g[enter]
-        factor = P / (area * p.sum())
-        p *= factor
-        # the displacements follow by linearity (A p - τ A t, rescaled) unless elements left
-        # or entered the contact; recomputed every _FRESH iterations against round-off
-        u = None if restart or clipped.any() else (u - tau * At) * factor
-        change = area * float(np.abs(p - p_old).sum()) / P
+        # the displacements follow by linearity (A p - τ A t, rescaled: done in place) unless
+        # elements left or entered the contact; recomputed every _FRESH iterations against
+        # round-off
+        if fresh:
+            u = None
         if change < tol:
             break
     else:
