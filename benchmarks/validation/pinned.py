@@ -1315,6 +1315,10 @@ def main(argv=None):
         action="append",
         help="run only the cases whose name contains this substring (repeatable)",
     )
+    p.add_argument(
+        "--changes",
+        help="with --check: write the values that differ as a markdown table to this file",
+    )
     p.add_argument("--list", action="store_true", help=argparse.SUPPRESS)
     args = p.parse_args(argv)
 
@@ -1377,6 +1381,19 @@ def main(argv=None):
         f"\n{same} identical, {len(differ)} differ, {len(missing)} missing, "
         f"{len(extra)} new (of {len(expected)} expected)"
     )
+    if args.changes:
+        rows = [
+            f"| {n} | {float.fromhex(ref[n])!r} | {float.fromhex(hexed[n])!r} "
+            f"| {_reldiff(float.fromhex(ref[n]), float.fromhex(hexed[n]))} |"
+            for n in differ
+        ]
+        with open(args.changes, "w") as fh:
+            fh.write(
+                "| value | pinned | now | relative difference |\n|---|---|---|---|\n"
+                + "\n".join(rows)
+                + "\n"
+            )
+        print(f"wrote {len(rows)} changed values to {args.changes}")
     ok = not differ and not missing and not problems
     print("OK: every value bit-identical" if ok else "MISMATCH")
     return 0 if ok else 1
