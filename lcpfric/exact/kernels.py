@@ -11,9 +11,10 @@ file, or numba's user-wide cache when the package directory is not writable).
 State is passed in and out explicitly, as arrays the caller owns and the kernels update in
 place, grouped in tuples:
 
-* ``lin = (K, cptr, cidx, cval, G, Bidx, pos)``: K, its columns as compressed sparse
-  (``cptr`` empty when K is dense), ``G = K_BB⁻¹`` in its leading m x m block, the nodes of B
-  in G's order and each node's position there (-1 when stuck);
+* ``lin = (K, KT, cptr, cidx, cval, G, Bidx, pos)``: K, its transpose (K itself when
+  symmetric), its columns as compressed sparse (``cptr`` empty when K is dense),
+  ``G = K_BB⁻¹`` in its leading m x m block, the nodes of B in G's order and each node's
+  position there (-1 when stuck);
 * ``tri = (U, Ft, bt, sign, status, B, a_seg)``: the triples of u and F, the friction limit's,
   each node's slip sign (F = sign f P on B), state, membership of B and segment start;
 * ``flg = (dirty, touched, flipped)``: rows whose event angles are stale, rows changed at this
@@ -153,7 +154,7 @@ def settle(rows, k, theta, tri, fl):  # pragma: no cover - compiled
 def _add(j, lin, wk, ints, fl):  # pragma: no cover - compiled
     """Border G with node j; G's new column on its support in ``sup``/``zs``; returns its
     size (or NOT_SPD)."""
-    K, cptr, cidx, cval, G, Bidx, pos = lin
+    K, KT, cptr, cidx, cval, G, Bidx, pos = lin
     sup, rows, idx, zs, Kz, g, y, tmp, mark = wk
     m = ints[M]
     nk = 0
@@ -164,16 +165,15 @@ def _add(j, lin, wk, ints, fl):  # pragma: no cover - compiled
             tmp[nk] = v
             nk += 1
     s = K[j, j]
+    # g = G kb, as a sum of G's rows (G = K_BB⁻¹ is symmetric: rows for columns), which the
+    # compiler vectorizes where a dot product per row would be a serial reduction
     for i in range(m):
-        acc = 0.0
-        Gi = G[i]
-        if nk == m:  # dense K: the row as it lies
-            for q in range(m):
-                acc += Gi[q] * tmp[q]
-        else:
-            for q in range(nk):
-                acc += Gi[idx[q]] * tmp[q]
-        g[i] = acc
+        g[i] = 0.0
+    for q in range(nk):
+        kq = tmp[q]
+        Gb = G[idx[q]]
+        for i in range(m):
+            g[i] += kq * Gb[i]
     for q in range(nk):
         s -= tmp[q] * g[idx[q]]
     if not s > 0.0:
@@ -207,7 +207,7 @@ def _add(j, lin, wk, ints, fl):  # pragma: no cover - compiled
 @njit(**JIT_OPTIONS)
 def _remove(j, lin, wk, ints):  # pragma: no cover - compiled
     """Downdate G for B without node j (the last node takes its place)."""
-    K, cptr, cidx, cval, G, Bidx, pos = lin
+    K, KT, cptr, cidx, cval, G, Bidx, pos = lin
     sup, rows, idx, zs, Kz, g, y, tmp, mark = wk
     m, p = ints[M], pos[j]
     ns = 0
@@ -244,7 +244,7 @@ def flip(j, new, theta, lin, tri, flg, tan, wk, ints, fl):  # pragma: no cover -
     """Change node j's state to ``new`` at theta: G by bordering or a rank-one downdate, U on
     G's column, F on the stuck rows K couples to it (``K z`` there only: on B it is ``e_j``);
     settles the rows it changes. Returns 0, or NOT_SPD."""
-    K, cptr, cidx, cval, G, Bidx, pos = lin
+    K, KT, cptr, cidx, cval, G, Bidx, pos = lin
     U, Ft, bt, sign, status, B, a_seg = tri
     dirty, touched, flipped = flg
     sup, rows, idx, zs, Kz, g, y, tmp, mark = wk
@@ -302,19 +302,21 @@ def flip(j, new, theta, lin, tri, flg, tan, wk, ints, fl):  # pragma: no cover -
                     nr += 1
                     Kz[r] = 0.0
                 Kz[r] += cval[e] * z
-    else:
+    else:  # dense K: the product on every row as a sum of K's columns (vectorized), kept
+        # on the stuck rows
         for r in range(n):
-            if B[r] or r == j:
+            Kz[r] = 0.0
+        for q in range(ns):
+            z = zs[q]
+            Ks = KT[sup[q]]
+            for r in range(n):
+                Kz[r] += z * Ks[r]
+        for r in range(n):
+            if B[r] or r == j or Kz[r] == 0.0:
                 continue
-            acc = 0.0
-            Kr = K[r]
-            for q in range(ns):
-                acc += Kr[sup[q]] * zs[q]
-            if acc != 0.0:
-                mark[r] = True
-                rows[nr] = r
-                nr += 1
-                Kz[r] = acc
+            mark[r] = True
+            rows[nr] = r
+            nr += 1
     settle(rows, nr, theta, tri, fl)
     for q in range(ns):
         r = sup[q]
@@ -356,7 +358,7 @@ def tangent_stick(j, theta, lin, tri, tan, wk, ints, fl):  # pragma: no cover - 
     """Node j (in B) sticks at theta: its row of the tangent, ``-(G K_BS)_j J_S``, plus its
     rate times the event angle's sensitivity ``trow`` when another node's limit stopped it
     (:meth:`lcpfric.exact.tangent.Tangent.tangent_stick`)."""
-    K, cptr, cidx, cval, G, Bidx, pos = lin
+    K, KT, cptr, cidx, cval, G, Bidx, pos = lin
     U, Ft, bt, sign, status, B, a_seg = tri
     Jt, Kt, Xs, trow, dbt = tan
     sup, rows, idx, zs, Kz, g, y, tmp, mark = wk
@@ -389,7 +391,7 @@ def theta_sensitivity(j, upper, theta, lin, tri, tan, ints, fl):  # pragma: no c
     """d(event angle)/d(start state) into ``trow`` for stuck node j reaching its upper (or
     lower) limit: ``-(∂g/∂u_S · J_S) / g'``, ``∂F_j/∂u_S = K_jS - K_jB G K_BS``. Sets
     ``ints[HAS_TROW]`` (0 when the margin is not falling)."""
-    K, cptr, cidx, cval, G, Bidx, pos = lin
+    K, KT, cptr, cidx, cval, G, Bidx, pos = lin
     U, Ft, bt, sign, status, B, a_seg = tri
     Jt, Kt, Xs, trow, dbt = tan
     n = status.size

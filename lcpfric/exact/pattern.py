@@ -39,6 +39,7 @@ class Pattern(Tangent):
         self.ints[kernels.FLIPS_OK] = not self.structured
         self.ints[kernels.MAX_EVENTS] = max_events
         self.K = self.Kt = K = np.ascontiguousarray(K, dtype=float)
+        self.KT = K if np.array_equal(K, K.T) else np.ascontiguousarray(K.T)
         self.n = n = f.size
         # K's columns, compressed, when it is mostly zeros (a chain): K z on the rows it reaches
         if np.count_nonzero(K) <= 0.25 * n * n:
@@ -138,7 +139,7 @@ class Pattern(Tangent):
 
     def bundles(self):
         """The state as the kernels take it: (lin, tri, flg, tan, wk)."""
-        lin = (self.K, *self.csc, self.G, self.Bidx, self.pos)
+        lin = (self.K, self.KT, *self.csc, self.G, self.Bidx, self.pos)
         tri = (self.U, self.Ft, self.bt, self.sign, self.status, self.B, self.a_seg)
         J = self._noJ if self.Jt is None else self.Jt
         tan = (J, self.Kt, self.state_triples(), self.trow, self.dbt)
