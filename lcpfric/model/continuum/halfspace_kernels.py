@@ -58,6 +58,13 @@ def cerruti_product(Z, A, B):  # pragma: no cover - compiled
 
 
 @njit(cache=True, nogil=True)
+def _length(x, y):  # pragma: no cover - compiled
+    """``|(x, y)|`` as ``sqrt(x² + y²)``: within an ulp or so of ``hypot`` (the forces and
+    slips are far from overflow), at a sixth of its cost (libm's hypot: 9 ns)."""
+    return np.sqrt(x * x + y * y)
+
+
+@njit(cache=True, nogil=True)
 def natural(F, CF, delta, s0, c, b, contact, Qv, ks):  # pragma: no cover - compiled
     """The natural map's residual at ``(F, CF = C F, δ)`` (node-major ``(n, d)``): ``(Δs, z,
     |z|, slipping, the largest component of F − proj(z), the merit |F − proj(z)|² +
@@ -79,7 +86,7 @@ def natural(F, CF, delta, s0, c, b, contact, Qv, ks):  # pragma: no cover - comp
             w += F[i, k]
             z[i, k] = w
             eq[k] += F[i, k]
-        zi = abs(z[i, 0]) if d == 1 else abs(complex(z[i, 0], z[i, 1]))
+        zi = abs(z[i, 0]) if d == 1 else _length(z[i, 0], z[i, 1])
         zn[i] = zi
         scale = 0.0
         if contact[i]:
@@ -110,7 +117,7 @@ def slip_memory_update(R, dv, b, c, cscalar):  # pragma: no cover - compiled
     n = dv.shape[0]
     for i in range(n):
         dx, dy = dv[i, 0], dv[i, 1]
-        m = abs(complex(dx, dy))
+        m = _length(dx, dy)
         if not m > 0.0:
             continue
         ci = cscalar if c.size == 0 else c[i]
@@ -367,7 +374,7 @@ def project_discs(F, b):  # pragma: no cover - compiled
         if d == 1:
             F[i, 0] = min(max(F[i, 0], -b[i]), b[i])
         else:
-            norm = abs(complex(F[i, 0], F[i, 1]))
+            norm = _length(F[i, 0], F[i, 1])
             if norm > b[i]:
                 scale = b[i] / norm
                 F[i, 0] *= scale
