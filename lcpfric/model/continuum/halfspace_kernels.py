@@ -1,7 +1,9 @@
 """Compiled kernels of the half-space's inner iterations (numba; ``docs/architecture.md``,
 "Compiled kernels"): the Cerruti operator's spectral product (d = 2), the natural map's
-residual of the Newton iterations, the conjugate gradients' vector updates and the slip memory's
-per-node update.
+residual of the Newton iterations (d = 1: the pattern iteration's residual and bounds), the
+d = 2 Newton step's setup (its unknowns, tangents, diagonal term, right-hand side and weights)
+and its first product's array and residual, the conjugate gradients' vector updates, the
+increment's end (the disc projection, the slips) and the slip memory's per-node update.
 
 Imported when a half-space's operator first multiplies (:class:`~.influence.Convolution`) or its
 stepper starts, never by ``import lcpfric``, so the command line's start-up does not pay for
