@@ -11,7 +11,8 @@ numba. Compiled on first use and cached on disk (``cache=True``).
 
 Each kernel does what the numpy expressions it replaced did, element by element with the same
 operations (no fused multiply-add, no reassociation); the sums and inner products are summed in
-order, where numpy summed pairwise or by BLAS, so they differ from those in the last bits
+order, where numpy summed pairwise or by BLAS, and a node's length ``|(x, y)|`` is ``sqrt(x² +
+y²)`` where numpy took ``hypot`` (within an ulp), so they differ from those in the last bits
 (``tests/test_halfspace_kernels.py`` checks every kernel against a plain computation).
 """
 
