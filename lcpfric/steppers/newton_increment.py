@@ -164,8 +164,9 @@ class HalfSpaceIncrements(NewtonSteps):
         restarted = loose = fresh = changed = False
         close = 0  # damped steps begun within ten times the tolerance
         # d = 1: Murty's rule changes one node per iteration, so allow one per node
-        limit = _MAX_NEWTON + (int(contact.sum()) if d == 1 else 0)
-        eq_tol = tolF * max(1, int(contact.sum()))
+        in_contact = int(np.count_nonzero(contact))
+        limit = _MAX_NEWTON + (in_contact if d == 1 else 0)
+        eq_tol = tolF * max(1, in_contact)
         ev = None  # d = 2: the residual at the iterate, if the line search has it
         damped = d == 2  # d = 1 turns to the damped steps if its patterns stall
         for it in range(limit):
@@ -216,13 +217,13 @@ class HalfSpaceIncrements(NewtonSteps):
                     ev = self._natural(F, CF, delta, s0, b, contact, Qv)
                 ds, z, zn, slip, worst, merit, eq = ev
                 ev = None
-                if worst <= tolF and float(np.max(np.abs(eq))) <= eq_tol:
+                if worst <= tolF and float(np.abs(eq).max()) <= eq_tol:
                     break
                 if it == 2 * _RESTART and not restarted:  # as for d = 1 below
                     F, delta, CF = self._safe_start(state, b, contact)
                     restarted = True
                     continue
-            if ks <= 0.0 and np.any(contact) and not np.any(contact & ~slip):
+            if ks <= 0.0 and in_contact and not (contact & ~slip).any():
                 # an iterate with every node slipping has no equilibrium: unless the load
                 # exceeds every limit (gross sliding), the nodes nearest to sticking stick,
                 # as many as can carry what the others' slip forces leave of the load
