@@ -9,7 +9,9 @@
 (with ``OPENBLAS_NUM_THREADS=1``, as every benchmark)
 
 ``benchmarks/results/pinned.json`` holds the values lcpfric 0.1 gave (written by this script's
-0.1 twin, the same cases through 0.1's API). The three cases that compare a contact's own
+0.1 twin, the same cases through 0.1's API), but for the 44 that issue 37's compiled kernels
+moved at round-off and that were re-pinned then (``benchmarks/results/pinned-changes.md``: each
+with 0.1's value, the new one and why). The three cases that compare a contact's own
 stepper with the discrete methods on its ContactSystem solve the contact on a fresh model:
 0.1's models kept the normal problem's warm starts from solve to solve, so there a model's W
 depended on what had been solved on it before (by up to 1e-11 relative). Expect "471
