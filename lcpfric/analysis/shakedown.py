@@ -42,6 +42,11 @@ class Shakedown:
         A valid shift c in units of f P0 (the middle of the admissible range), or None.
     margin : float
         ``min(Q̂ + P̂) - max(Q̂ - P̂)``: the width of the admissible range of c (< 0: no shakedown).
+    state : ndarray or None, optional
+        For a discrete system (:func:`~lcpfric.analysis.safe_state.system_shakedown`): a safe
+        displacement, or None.
+    margins : ndarray or None, optional
+        For a discrete system: every node's margin.
 
     Attributes
     ----------
@@ -51,11 +56,17 @@ class Shakedown:
         A valid shift c in units of f P0 (the middle of the admissible range), or None.
     margin : float
         ``min(Q̂ + P̂) - max(Q̂ - P̂)``: the width of the admissible range of c (< 0: no shakedown).
+    state : ndarray or None
+        A discrete system's safe displacement, or None.
+    margins : ndarray or None
+        A discrete system's margins, node by node.
     """
 
     shakedown: bool
     shift: float | None
     margin: float
+    state: np.ndarray | None = None
+    margins: np.ndarray | None = None
 
     def as_dict(self) -> dict:
         """The outcome as a JSON-serializable dict.
@@ -63,9 +74,14 @@ class Shakedown:
         Returns
         -------
         dict
-            ``{"shakedown": bool, "shift": float or None, "margin": float}``.
+            ``{"shakedown": bool, "shift": float or None, "margin": float}``, and for a
+            discrete system ``"state"`` and ``"margins"`` (lists).
         """
-        return {"shakedown": self.shakedown, "shift": self.shift, "margin": self.margin}
+        out = {"shakedown": self.shakedown, "shift": self.shift, "margin": self.margin}
+        if self.margins is not None:
+            out["state"] = None if self.state is None else [float(x) for x in self.state]
+            out["margins"] = [float(x) for x in self.margins]
+        return out
 
 
 def shakedown_margin(P1, Q1, phi):
@@ -86,21 +102,24 @@ def shakedown(
     """Decide shakedown exactly.
 
     Call as ``shakedown(P1, Q1, phi)`` with normalized parameters, or ``shakedown(model=node)``
-    (or ``shakedown(node)``) for a :class:`~lcpfric.model.SingleNode` with any periodic loads.
+    (or ``shakedown(node)``) for a :class:`~lcpfric.model.SingleNode` with any periodic loads,
+    or ``shakedown(system)`` for a :class:`~lcpfric.model.ContactSystem` (d = 1: the safe
+    state node by node, :func:`lcpfric.analysis.safe_state.system_shakedown`).
     Harmonic loads of one frequency are decided in closed form (module docstring); other
     periodic loads by the extrema of ``Q̂ - P̂`` and ``Q̂ + P̂`` over a cycle, sampled and
     polished (:meth:`lcpfric.model.loads.Load.extrema`).
 
     Parameters
     ----------
-    P1 : float or SingleNode, optional
-        Normalized normal amplitude P̂1 = P1/P0, >= 0; or the node itself, as ``model``.
+    P1 : float, SingleNode or ContactSystem, optional
+        Normalized normal amplitude P̂1 = P1/P0, >= 0; or the node (or system) itself, as
+        ``model``.
     Q1 : float, optional
         Normalized tangential amplitude Q̂1 = Q1/(f P0), >= 0.
     phi : float, optional
         Phase φ of Q relative to P, radians (finite).
-    model : SingleNode, optional
-        The node to decide; its parameters replace ``P1``, ``Q1`` and ``phi``.
+    model : SingleNode or ContactSystem, optional
+        The node (or system) to decide; its parameters replace ``P1``, ``Q1`` and ``phi``.
 
     Returns
     -------
@@ -113,10 +132,14 @@ def shakedown(
         Without a model: ``P1`` or ``Q1`` missing, negative, not finite or over 1e300
         (:data:`~lcpfric.exact.MAX_AMPLITUDE`), or ``phi`` not finite.
     """
-    from ..model import SingleNode
+    from ..model import ContactSystem, SingleNode
 
-    if isinstance(P1, SingleNode):
+    if isinstance(P1, (SingleNode, ContactSystem)):
         model, P1 = P1, None
+    if isinstance(model, ContactSystem):
+        from .safe_state import system_shakedown
+
+        return system_shakedown(model)
     if model is not None:
         if model.is_harmonic:
             P1, Q1, phi = model.normalized_parameters()
