@@ -5,6 +5,8 @@ import warnings
 import numpy as np
 import pytest
 
+from lcpfric.errors import InputError
+
 import lcpfric
 from lcpfric import ConvergenceError, ConvergenceWarning, SingleNode, steady_state
 from lcpfric.exact import exact_W_hat
@@ -126,9 +128,11 @@ def test_nonconvergence_is_reported_never_hidden():
     assert r.W_cycles[-1] == r.W
 
 
-def test_driver_reports_every_cycle_and_starts_anywhere():
+def test_driver_reports_every_cycle_and_starts_anywhere_admissible():
     node = SingleNode.normalized(0.5, 2.0, 0.6 * np.pi)
-    r = steady_state(node, "explicit", 1000, u0=[5.0])
+    with pytest.raises(InputError, match="u0.*node.*0"):  # |F(0)| > f N(0): not a start
+        steady_state(node, "explicit", 1000, u0=[5.0])
+    r = steady_state(node, "explicit", 1000, u0=[-1.0])
     assert r.converged and r.cycles >= 2
     assert r.W_hat_cycles[-1] == r.W_hat
     assert r.W_hat == pytest.approx(steady_state(node, "explicit", 1000).W_hat, rel=1e-10)

@@ -72,7 +72,9 @@ def test_small_matrix_free_with_convex_backends_and_start():
     a = lcpfric.steady_state(free, "osqp", 150, tol=1e-12)
     b = lcpfric.steady_state(dense, "osqp", 150, tol=1e-12)
     assert a.W == pytest.approx(b.W, rel=1e-10)
-    u0 = np.linspace(-0.3, 0.4, 12)
+    # a start admissible at t = 0 (the driver checks it): forces inside the cone, varied
+    Q0, b = dense.tangential(0.0), dense.normal.reactions(0.0)
+    u0 = dense.solve(np.linspace(-0.6, 0.7, 12) * b - Q0)
     a = lcpfric.steady_state(
         free, "active-set", 150, tol=1e-12, u0=u0, max_cycles=1, on_nonconvergence="ignore"
     )

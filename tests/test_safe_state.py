@@ -68,12 +68,66 @@ def test_a_node_that_separates_has_no_safe_state():
 
 
 def test_d2_and_other_models_are_refused_by_name():
-    from lcpfric.analysis.safe_state import system_shakedown
+    from lcpfric.analysis.safe_state import safe_band
 
     with pytest.raises(InputError, match="model"):
-        system_shakedown(lcpfric.SingleNode.normalized(0.5, 0.5, 0.0))
+        safe_band(lcpfric.SingleNode.normalized(0.5, 0.5, 0.0))
     d2 = lcpfric.chain(2, P1=0.5, Q1=0.4, phi=0.3, dims=2)
     with pytest.raises(InputError, match="dims"):
         lcpfric.shakedown(d2)
     with pytest.raises(InputError, match="samples"):
-        system_shakedown(_chain([0.3], [0.2], [0.1]), samples=3)
+        safe_band(_chain([0.3], [0.2], [0.1]), samples=3)
+
+
+# -- the start as an input (issue 38, item 3): exact follows it, every method checks it ----------
+def test_exact_from_a_safe_start_stays_there():
+    """Where the system shakes down its steady state is the start's own: from a safe
+    displacement nothing slips, and ``exact`` keeps it (it ignored the start before)."""
+    system = _chain([0.3, 0.5, 0.2], [0.4, 0.6, 0.3], [0.2, 2.0, 4.0])
+    sd = lcpfric.shakedown(system)
+    r = lcpfric.steady_state(system, "exact", u0=sd.state)
+    assert r.W == 0.0
+    np.testing.assert_allclose(r.v, np.broadcast_to(sd.state, r.v.shape), rtol=0, atol=1e-14)
+    other = lcpfric.steady_state(system, "exact")
+    assert np.max(np.abs(other.v[0] - sd.state)) > 1e-3  # another start, another steady state
+
+
+def test_exact_and_explicit_reach_the_same_state_from_one_start():
+    system = _chain([0.3, 0.5, 0.2], [0.4, 0.6, 0.3], [0.2, 2.0, 4.0])
+    Q0, b = system.tangential(0.0), system.friction * system.normal.reactions(0.0)
+    u0 = system.solve(np.array([0.9, -0.95, 0.5]) * b - Q0)
+    ex = lcpfric.steady_state(system, "exact", u0=u0)
+    st = lcpfric.steady_state(system, "explicit", 4000, u0=u0)
+    assert np.max(np.abs(ex.v[0] - st.v[0])) < 1e-3 * np.max(np.abs(u0))
+    assert ex.W == 0.0 and abs(st.W) < 1e-12
+
+
+def test_the_start_does_not_change_an_uncoupled_systems_steady_w():
+    system = _chain([0.3, 0.5, 0.2, 0.6], [0.4, 1.9, 0.3, 0.2], [0.2, 2.0, 4.0, 1.0])
+    Q0, b = system.tangential(0.0), system.friction * system.normal.reactions(0.0)
+    u0 = system.solve(np.array([0.9, -0.95, 0.5, 0.0]) * b - Q0)
+    W = lcpfric.steady_state(system, "exact").W
+    assert lcpfric.steady_state(system, "exact", u0=u0).W == pytest.approx(W, rel=1e-10)
+
+
+def test_the_single_node_from_a_start():
+    node = lcpfric.SingleNode.normalized(0.5, 0.7, 0.3 * np.pi)  # shakes down
+    safe = lcpfric.shakedown(node.system()).state
+    r = lcpfric.steady_state(node, u0=safe)
+    assert r.W == 0.0 and np.all(r.v == safe[0]) and r.v.shape == r.t.shape
+    slipping = lcpfric.SingleNode.normalized(0.5, 1.7, 0.3 * np.pi)
+    closed = lcpfric.steady_state(slipping)
+    system = slipping.system()
+    u0 = system.solve(0.3 * system.normal.reactions(0.0) - system.tangential(0.0))
+    started = lcpfric.steady_state(slipping, u0=u0)
+    assert started.W == pytest.approx(closed.W, rel=1e-12)
+    assert started.W_hat == pytest.approx(closed.W_hat, rel=1e-12)
+
+
+@pytest.mark.parametrize("method", ["exact", "explicit", "active-set"])
+def test_a_start_the_friction_law_does_not_admit_is_refused_naming_the_nodes(method):
+    system = _chain([0.3, 0.5, 0.2], [0.4, 0.6, 0.3], [0.2, 2.0, 4.0])
+    with pytest.raises(InputError, match=r"u0.*node\(s\) 0 .*, 1 \("):
+        lcpfric.steady_state(system, method, 200, u0=[0.0, 5.0, 0.0])
+    with pytest.raises(InputError, match="u0.*needs 3"):
+        lcpfric.steady_state(system, method, 200, u0=[0.0, 0.0])

@@ -28,7 +28,7 @@ import numpy as np
 from .. import _checks
 from ..errors import InputError
 
-__all__ = ["system_shakedown"]
+__all__ = ["safe_band"]
 
 
 def _extreme(values: np.ndarray, kind: str) -> np.ndarray:
@@ -47,8 +47,9 @@ def _extreme(values: np.ndarray, kind: str) -> np.ndarray:
     return -best if kind == "max" else best
 
 
-def system_shakedown(system, samples: int = 4096):
-    """Shakedown of a :class:`~lcpfric.model.ContactSystem` (module docstring).
+def safe_band(system, samples: int = 4096):
+    """The safe state of a :class:`~lcpfric.model.ContactSystem` (module docstring), as
+    :func:`lcpfric.shakedown` reports it.
 
     Parameters
     ----------
@@ -60,11 +61,15 @@ def system_shakedown(system, samples: int = 4096):
 
     Returns
     -------
-    lcpfric.analysis.shakedown.Shakedown
-        ``shakedown``: whether a safe state exists; ``margin``: the narrowest node's band
-        ``hi_i - lo_i`` in units of its mean friction limit ``f_i mean(N_i)`` (< 0: none);
-        ``state``: a safe displacement v (each node's force in the middle of its band), or
-        None; ``margins``: every node's margin; ``shift``: None (the single node's).
+    shakedown : bool
+        Whether a safe state exists.
+    margin : float
+        The narrowest node's band ``hi_i - lo_i`` in units of its mean friction limit
+        ``f_i mean(N_i)`` (< 0: none).
+    state : ndarray or None
+        A safe displacement v (each node's force in the middle of its band), or None.
+    margins : ndarray
+        Every node's margin.
 
     Raises
     ------
@@ -72,7 +77,6 @@ def system_shakedown(system, samples: int = 4096):
         Not a ContactSystem, d = 2, or ``samples`` out of range.
     """
     from ..model import ContactSystem
-    from .shakedown import Shakedown
 
     if not isinstance(system, ContactSystem):
         raise InputError("model", f"expected a ContactSystem, got {type(system).__name__}")
@@ -93,4 +97,4 @@ def system_shakedown(system, samples: int = 4096):
         margins = np.where(limit > 0, (hi - lo) / limit, -np.inf)
     ok = bool(np.all(margins >= 0.0))
     state = system.solve(0.5 * (lo + hi)) if ok else None
-    return Shakedown(ok, None, float(np.min(margins)), state=state, margins=margins)
+    return ok, float(np.min(margins)), state, margins

@@ -43,7 +43,7 @@ class Shakedown:
     margin : float
         ``min(Q̂ + P̂) - max(Q̂ - P̂)``: the width of the admissible range of c (< 0: no shakedown).
     state : ndarray or None, optional
-        For a discrete system (:func:`~lcpfric.analysis.safe_state.system_shakedown`): a safe
+        For a discrete system (:func:`~lcpfric.analysis.safe_state.safe_band`): a safe
         displacement, or None.
     margins : ndarray or None, optional
         For a discrete system: every node's margin.
@@ -104,7 +104,7 @@ def shakedown(
     Call as ``shakedown(P1, Q1, phi)`` with normalized parameters, or ``shakedown(model=node)``
     (or ``shakedown(node)``) for a :class:`~lcpfric.model.SingleNode` with any periodic loads,
     or ``shakedown(system)`` for a :class:`~lcpfric.model.ContactSystem` (d = 1: the safe
-    state node by node, :func:`lcpfric.analysis.safe_state.system_shakedown`).
+    state node by node, :func:`lcpfric.analysis.safe_state.safe_band`).
     Harmonic loads of one frequency are decided in closed form (module docstring); other
     periodic loads by the extrema of ``Q̂ - P̂`` and ``Q̂ + P̂`` over a cycle, sampled and
     polished (:meth:`lcpfric.model.loads.Load.extrema`).
@@ -137,9 +137,10 @@ def shakedown(
     if isinstance(P1, (SingleNode, ContactSystem)):
         model, P1 = P1, None
     if isinstance(model, ContactSystem):
-        from .safe_state import system_shakedown
+        from .safe_state import safe_band
 
-        return system_shakedown(model)
+        ok, margin, state, margins = safe_band(model)
+        return Shakedown(ok, None, margin, state=state, margins=margins)
     if model is not None:
         if model.is_harmonic:
             P1, Q1, phi = model.normalized_parameters()

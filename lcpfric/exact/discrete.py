@@ -214,6 +214,7 @@ def exact_system_cycle(
     tol: float = 1e-12,
     max_cycles: int = 200,
     max_events: int | None = None,
+    u0=None,
 ) -> DiscreteCycle:
     """The exact periodic steady state of a :class:`~lcpfric.model.ContactSystem`.
 
@@ -240,6 +241,10 @@ def exact_system_cycle(
     max_events : int, optional
         Cap on the events of one cycle (default 200 n + 1000); reaching it raises
         :class:`~lcpfric.errors.SolverError` naming the state.
+    u0 : (n,) array_like, optional
+        The displacements at θ = 0 (admissible: ``|Q(0) + K u0| <= f N(0)``, as
+        :func:`lcpfric.steady_state` checks); the nodes in contact stick from there unless
+        a limit is reached at θ = 0. Default: the forces ``clip(Q(0), -f N, f N)``.
 
     Returns
     -------
@@ -301,7 +306,14 @@ def exact_system_cycle(
     solver = Solver(K, f, Qt / scale, Pt / scale, samples, max_events or 200 * n + 1000, kappa)
     u_static = -solver.cho_solve(Q0) if np.any(Q0) else np.zeros(n)
     theta_s = np.linspace(0.0, TWO_PI, samples + 1)
-    u, status = solver.initial_state()
+    if u0 is None:
+        u, status = solver.initial_state()
+    else:  # Q0 taken out (u_static) and forces scaled, as the solver holds them
+        x = (np.asarray(u0, dtype=float).ravel() - u_static) / scale
+        if solver.structured:  # cluster coordinates: a root's u, the others' offsets from it
+            root = solver.cl.canonical
+            x = np.where(root == np.arange(n), x, x - x[root])
+        u, status = solver.admissible(x, np.full(n, STICK, dtype=np.int8))
     floor = tol
     W_cycles, change = [], np.inf
     track, newton = False, 0

@@ -9,6 +9,8 @@ not affect W).
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import time
 
 import numpy as np
@@ -63,20 +65,35 @@ class ExactSolver:
         return model
 
     def steady_state(
-        self, model, steps_per_cycle: int = 2000, max_cycles: int = 100
+        self, model, steps_per_cycle: int = 2000, max_cycles: int = 100, u0=None
     ) -> SteadyState:
         """The exact steady state, its time series sampled at ``steps_per_cycle + 1`` instants.
 
         ``max_cycles`` caps the cycles of a discrete system (its steady state is found by
         Newton's method on the cycle map, periodic to 1e-12: see :mod:`lcpfric.exact.discrete`);
-        the single node's orbit is entered directly, in one cycle."""
+        the single node's orbit is entered directly, in one cycle. ``u0``: an admissible start
+        (checked by the driver, :func:`lcpfric.steady_state`), followed event by event; the
+        single node from a start is solved as its one-node system (where it shakes down its
+        steady state is the start's own)."""
         from . import exact_cycle
 
         start = time.perf_counter()
         model = self.check(model)
         samples = _checks.positive_int("steps_per_cycle", steps_per_cycle, 4)
         if isinstance(model, ContactSystem):
-            return self._system_steady_state(model, samples, start, max_cycles)
+            return self._system_steady_state(model, samples, start, max_cycles, u0)
+        if u0 is not None:
+            res = self._system_steady_state(model.system(), samples, start, max_cycles, u0)
+            norm = model.normalization()
+            return replace(
+                res,
+                v=res.v[:, 0],
+                F=res.F[:, 0],
+                N=res.N[:, 0],
+                state=res.state[:, 0],
+                normalization=norm,
+                W_hat_cycles=res.W_cycles / norm.W,
+            )
         P1, Q1, phi = model.normalized_parameters()
         cyc = exact_cycle(P1, Q1, phi)
         t = np.linspace(0.0, model.period, samples + 1)
@@ -107,10 +124,10 @@ class ExactSolver:
             W_hat_cycles=W_hat,
         )
 
-    def _system_steady_state(self, system, samples, start, max_cycles) -> SteadyState:
+    def _system_steady_state(self, system, samples, start, max_cycles, u0=None) -> SteadyState:
         from .discrete import exact_system_cycle
 
-        cyc = exact_system_cycle(system, samples, max_cycles=max_cycles)
+        cyc = exact_system_cycle(system, samples, max_cycles=max_cycles, u0=u0)
         t = cyc.theta / cyc.omega
         stats = dict(cyc.stats)
         return SteadyState(

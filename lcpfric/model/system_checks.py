@@ -18,7 +18,7 @@ from ..errors import InputError
 if TYPE_CHECKING:
     from scipy.sparse.linalg import LinearOperator
 
-__all__ = ["check_stiffness", "check_inverse", "check_compliance_operator"]
+__all__ = ["check_stiffness", "check_inverse", "check_compliance_operator", "admissible_start"]
 
 
 def check_stiffness(K, m: int):
@@ -156,3 +156,28 @@ def check_compliance_operator(compliance, m: int) -> LinearOperator:
     if not (x @ Cx > 0 and y @ Cy > 0):
         raise InputError("compliance", "must be positive definite: xᵀCx <= 0 for a random x")
     return op
+
+
+def admissible_start(system, u0) -> np.ndarray:
+    """``u0`` as m finite displacements that the friction law admits at t = 0:
+    ``||F_i(0)|| <= f_i N_i(0)`` for every node in contact, ``F = Q(0) + K u0`` (a node out of
+    contact at t = 0 carries no force, and its displacement is not part of the state), or
+    :class:`InputError` naming the nodes that violate it."""
+    u0 = _checks.finite_array("u0", u0).ravel()
+    if u0.size != system.m:
+        raise InputError("u0", f"needs {system.m} displacements (n·d), got {u0.size}")
+    F = (system.tangential(0.0) + system.stiffness_times(u0)).reshape(system.n, system.dims)
+    force = np.sqrt(np.sum(F * F, axis=1))
+    limit = system.friction * system.normal.reactions(0.0)
+    scale = float(np.max(np.abs(F), initial=0.0)) + float(np.max(limit, initial=0.0))
+    bad = np.nonzero((limit > 0) & (force > limit + 1e-12 * scale))[0]
+    if bad.size:
+        show = ", ".join(f"{i} (|F| = {force[i]:.6g} > f N = {limit[i]:.6g})" for i in bad[:5])
+        more = f" and {bad.size - 5} more" if bad.size > 5 else ""
+        raise InputError(
+            "u0",
+            f"is not an admissible start: at t = 0 the friction law is violated at node(s) "
+            f"{show}{more}; give displacements with |Q(0) + K u0| <= f N(0) at every node in "
+            f"contact",
+        )
+    return u0

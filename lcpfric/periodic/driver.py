@@ -27,6 +27,7 @@ from .. import _checks, memory
 from ..errors import ConvergenceError, ConvergenceWarning, InputError
 from ..methods import CLOSED_FORM, get_stepper
 from ..model import ContactSystem, SingleNode
+from ..model.system_checks import admissible_start
 from ..results import SteadyState
 from ..scene import Scene, make_scene
 from .acceleration import FrictionLimits, choose
@@ -145,8 +146,13 @@ def steady_state(
         Step placement (see :mod:`lcpfric.scene`); "contact" (a discrete system's default)
         spends no steps where every node is separated; a contact's steps are uniform.
     u0 : array_like, optional
-        A discrete system's initial tangential displacement, m = n·d finite values (default
-        zero; ignored for a continuum contact).
+        A discrete system's (or the single node's) initial tangential displacement, m = n·d
+        finite values, admissible at t = 0 (``||Q_i(0) + (K u0)_i|| <= f_i N_i(0)`` at every
+        node in contact; checked); default: the loads' own start (zero displacement for the
+        time steppers, the forces clipped into the cone for ``exact``). Ignored for a
+        continuum contact. ``exact`` follows it event by event; where the steady state does
+        not depend on the start (no shakedown, or uncoupled systems' W) the result is the
+        same.
     history : bool
         Keep every instant of the last cycle in the result (default). ``False`` keeps its
         first and last instants only (``t``, ``v``, ``F``, ``N``, ``state`` then have two rows),
@@ -254,8 +260,10 @@ def steady_state(
             "steps_per_cycle",
             f"a steady state with {steps} steps per cycle",
         )
+    if u0 is not None and isinstance(model, (SingleNode, ContactSystem)):
+        u0 = admissible_start(model if isinstance(model, ContactSystem) else model.system(), u0)
     if solver.kind == CLOSED_FORM:
-        return solver.steady_state(model, steps, max_cycles=max_cycles)
+        return solver.steady_state(model, steps, max_cycles=max_cycles, u0=u0)
     scene = (
         model
         if isinstance(model, Scene)
@@ -270,10 +278,8 @@ def steady_state(
             f"cycles' increments are solved to a tenth of it, and they hold "
             f"about 1e-13 at best; give tol >= {_TOL_MIN:g}",
         )
-    if u0 is not None and scene.system is not None:
-        u0 = _checks.finite_array("u0", u0)
-        if u0.size != scene.system.m:
-            raise InputError("u0", f"needs {scene.system.m} displacements (n·d), got {u0.size}")
+    if u0 is not None and scene.system is not None and not isinstance(u0, np.ndarray):
+        u0 = admissible_start(scene.system, u0)
     work, scale = unit_scaled(scene)
     state = solver.init(work, None if u0 is None else u0 / scale)
     scales = work.scales if work.system is None else load_scales(work, _compliance_scale(work))
