@@ -131,3 +131,18 @@ def test_a_start_the_friction_law_does_not_admit_is_refused_naming_the_nodes(met
         lcpfric.steady_state(system, method, 200, u0=[0.0, 5.0, 0.0])
     with pytest.raises(InputError, match="u0.*needs 3"):
         lcpfric.steady_state(system, method, 200, u0=[0.0, 0.0])
+
+
+@pytest.mark.parametrize("k_coupling", [3.0, 1e9])
+def test_exact_started_on_its_own_steady_state_stays_there(k_coupling):
+    """A start on the steady orbit is its own steady state: the same W and displacements, in
+    the plain coordinates and in the stiff clusters' (k_coupling = 1e9)."""
+    system = lcpfric.chain(
+        4, k_coupling=k_coupling, P1=0.6, Q1=np.array([1.5, 0.4, 0.9, 1.2]), phi=1.1
+    )
+    ref = lcpfric.steady_state(system, "exact")
+    again = lcpfric.steady_state(system, "exact", u0=ref.v[0])
+    assert again.W == pytest.approx(ref.W, rel=1e-10)
+    scale = np.max(np.ptp(ref.v, axis=0)) + 1e-300
+    assert np.max(np.abs(again.v - ref.v)) <= 1e-9 * scale
+    assert ref.solver_stats["structured"] == (k_coupling > 1e6)

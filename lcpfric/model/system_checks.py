@@ -160,8 +160,9 @@ def check_compliance_operator(compliance, m: int) -> LinearOperator:
 
 def admissible_start(system, u0) -> np.ndarray:
     """``u0`` as m finite displacements that the friction law admits at t = 0:
-    ``||F_i(0)|| <= f_i N_i(0)`` for every node in contact, ``F = Q(0) + K u0`` (a node out of
-    contact at t = 0 carries no force, and its displacement is not part of the state), or
+    ``||F_i(0)|| <= f_i N_i(0)`` for every node in contact, ``F = Q(0) + K u0``, to round-off
+    (1e-12 of the force scale, and 1e-13 of the terms K u0 sums); a node out of contact at
+    t = 0 carries no force, and its displacement is not part of the state. Else
     :class:`InputError` naming the nodes that violate it."""
     u0 = _checks.finite_array("u0", u0).ravel()
     if u0.size != system.m:
@@ -170,7 +171,12 @@ def admissible_start(system, u0) -> np.ndarray:
     force = np.sqrt(np.sum(F * F, axis=1))
     limit = system.friction * system.normal.reactions(0.0)
     scale = float(np.max(np.abs(F), initial=0.0)) + float(np.max(limit, initial=0.0))
-    bad = np.nonzero((limit > 0) & (force > limit + 1e-12 * scale))[0]
+    # round-off: of the loads, and of K u0's sums (a stiff K sums large terms to a small force)
+    slack = 1e-12 * scale
+    if system.stiffness is not None:
+        terms = (abs(system.stiffness) @ np.abs(u0)).reshape(system.n, system.dims)
+        slack = slack + 1e-13 * np.sqrt(np.sum(terms * terms, axis=1))
+    bad = np.nonzero((limit > 0) & (force > limit + slack))[0]
     if bad.size:
         show = ", ".join(f"{i} (|F| = {force[i]:.6g} > f N = {limit[i]:.6g})" for i in bad[:5])
         more = f" and {bad.size - 5} more" if bad.size > 5 else ""
