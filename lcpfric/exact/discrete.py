@@ -190,6 +190,8 @@ def check_system(system):
             "'exact' for a ContactSystem handles d = 1; for d = 2 use "
             "'clarabel' or 'cvxpy:CLARABEL'",
         )
+    if system.coupling is not None:
+        raise InputError("coupling", "'exact' solves uncoupled systems (no coupling block) only")
     if not isinstance(system.normal, IndependentSprings):
         raise InputError(
             "normal",

@@ -73,6 +73,11 @@ class ContactSystem:
         Without it, C is computed from K on first use (:meth:`compliance_matrix`). With
         ``stiffness=None`` it is the system's only operator: its products must be finite,
         symmetric and positive (checked on two random vectors).
+    coupling : (n, n) array_like, optional
+        The normal-tangential coupling block B of a coupled system, ``N = P(t) + B u`` in
+        contact (d = 1; :mod:`lcpfric.model.coupling`): checked well posed (Klarbring's
+        condition) on construction. ``lcpfric.shakedown`` decides such a system's safe state;
+        the steady-state methods do not solve coupled systems yet and say so.
     _cache : dict, optional
         Internal: what the system computes once (its period, factorizations, C); set by the
         system itself, not to be given.
@@ -92,6 +97,8 @@ class ContactSystem:
     compliance : ndarray, LinearOperator or None
         C as given (a dense array once checked against K; the operator of a matrix-free
         system).
+    coupling : ndarray or None
+        The coupling block B as checked, or None (an uncoupled system).
     n, m : int
         Nodes and tangential unknowns (m = n·d).
     period : float
@@ -106,7 +113,9 @@ class ContactSystem:
         lacks a member of :class:`~lcpfric.model.normal.NormalModel` or has another number of
         nodes; K not finite, not m x m, not symmetric or not positive definite; not m loads,
         or loads of different periods; a compliance that is not K⁻¹, or (matrix-free) not a
-        finite, symmetric, positive m x m operator; neither stiffness nor compliance.
+        finite, symmetric, positive m x m operator; neither stiffness nor compliance; a
+        coupling block that is not n x n and finite, with d = 2 or without K, or not well
+        posed (:func:`lcpfric.model.coupling.check_coupling`).
     """
 
     #: the driver's defaults (:func:`lcpfric.steady_state`)
@@ -121,6 +130,7 @@ class ContactSystem:
     normal: NormalModel
     dims: int = 1
     compliance: object = None
+    coupling: object = None
     _cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self):
@@ -158,6 +168,20 @@ class ContactSystem:
         object.__setattr__(self, "_cache", {"period": period})
         if self.compliance is not None and K is not None:
             object.__setattr__(self, "compliance", check_inverse(K, self.compliance, m))
+        if self.coupling is not None:
+            from .coupling import check_coupling
+
+            from .normal import IndependentSprings
+
+            if self.dims != 1 or K is None or not isinstance(self.normal, IndependentSprings):
+                raise InputError(
+                    "coupling",
+                    "a coupling block needs d = 1, a stiffness matrix K and prescribed normal "
+                    "loads (IndependentSprings: N = P(t) + B u)",
+                )
+            object.__setattr__(
+                self, "coupling", check_coupling(self.coupling, self.dense_stiffness(), f)
+            )
 
     @property
     def matrix_free(self) -> bool:

@@ -260,6 +260,12 @@ def steady_state(
             "steps_per_cycle",
             f"a steady state with {steps} steps per cycle",
         )
+    if isinstance(model, ContactSystem) and model.coupling is not None:
+        raise InputError(
+            "coupling",
+            "no method solves a coupled system's steady state yet (N = P + B v: issue 38); "
+            "lcpfric.shakedown(system) decides whether it has a safe state",
+        )
     if u0 is not None and isinstance(model, (SingleNode, ContactSystem)):
         u0 = admissible_start(model if isinstance(model, ContactSystem) else model.system(), u0)
     if solver.kind == CLOSED_FORM:
