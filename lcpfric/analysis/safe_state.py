@@ -34,20 +34,28 @@ from ..errors import InputError
 __all__ = ["safe_band"]
 
 
-def _extreme(values: np.ndarray, kind: str) -> np.ndarray:
-    """Per column, the minimum (``kind="min"``) or maximum of periodic samples (rows), refined
-    by the parabola through the extreme sample and its two neighbours (kept only where it lies
-    beyond the sample, between them)."""
-    g = -values if kind == "max" else values
+def _parabola(g: np.ndarray):
+    """Per column of periodic samples g (rows): the smallest sample's row, the vertex of the
+    parabola through it and its two neighbours as an offset in samples (|offset| <= 1/2), and
+    the vertex's value (the sample's where the parabola does not open upwards)."""
     k = np.argmin(g, axis=0)
     cols = np.arange(g.shape[1])
     s = g.shape[0]
     a, b, c = g[(k - 1) % s, cols], g[k, cols], g[(k + 1) % s, cols]
     curv = a - 2.0 * b + c
+    up = curv > 0
     with np.errstate(divide="ignore", invalid="ignore"):
-        vertex = b - (c - a) ** 2 / (8.0 * curv)
-    best = np.where((curv > 0) & (vertex <= b) & (vertex >= b - np.abs(c - a)), vertex, b)
-    return -best if kind == "max" else best
+        offset = np.where(up, 0.5 * (a - c) / curv, 0.0)
+        value = np.where(up, b - (c - a) ** 2 / (8.0 * curv), b)
+    return k, offset, value
+
+
+def _extreme(values: np.ndarray, kind: str) -> np.ndarray:
+    """Per column, the minimum (``kind="min"``) or maximum of periodic samples (rows), refined
+    by the parabola through the extreme sample and its two neighbours."""
+    if kind == "max":
+        return -_parabola(-values)[2]
+    return _parabola(values)[2]
 
 
 def safe_band(system, samples: int = 4096):
@@ -108,14 +116,8 @@ def safe_band(system, samples: int = 4096):
 def _vertex_times(g: np.ndarray, t: np.ndarray, dt: float) -> np.ndarray:
     """Per column of periodic samples g (rows at the instants t, spacing dt), the instant of
     the parabola's vertex through the smallest sample and its neighbours."""
-    k = np.argmin(g, axis=0)
-    cols = np.arange(g.shape[1])
-    s = g.shape[0]
-    a, b, c = g[(k - 1) % s, cols], g[k, cols], g[(k + 1) % s, cols]
-    curv = a - 2.0 * b + c
-    with np.errstate(divide="ignore", invalid="ignore"):
-        shift = np.where(curv > 0, 0.5 * (a - c) / curv, 0.0)
-    return t[k] + np.clip(shift, -1.0, 1.0) * dt
+    k, offset, _ = _parabola(g)
+    return t[k] + offset * dt
 
 
 def _coupled(system, samples: int):

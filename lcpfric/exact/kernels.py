@@ -151,6 +151,20 @@ def settle(rows, k, theta, tri, fl):  # pragma: no cover - compiled
 
 # -- G = K_BB⁻¹ -------------------------------------------------------------------------------
 @njit(**JIT_OPTIONS)
+def _sum_rows(out, size, M, rows, w, k):  # pragma: no cover - compiled
+    """``out[:size] = Σ_q w[q] M[rows[q], :size]`` (q < k): a product as a sum of rows, which
+    the compiler vectorizes where a dot product per output entry would be a serial
+    reduction."""
+    for i in range(size):
+        out[i] = 0.0
+    for q in range(k):
+        wq = w[q]
+        Mq = M[rows[q]]
+        for i in range(size):
+            out[i] += wq * Mq[i]
+
+
+@njit(**JIT_OPTIONS)
 def _add(j, lin, wk, ints, fl):  # pragma: no cover - compiled
     """Border G with node j; G's new column on its support in ``sup``/``zs``; returns its
     size (or NOT_SPD)."""
@@ -165,15 +179,8 @@ def _add(j, lin, wk, ints, fl):  # pragma: no cover - compiled
             tmp[nk] = v
             nk += 1
     s = K[j, j]
-    # g = G kb, as a sum of G's rows (G = K_BB⁻¹ is symmetric: rows for columns), which the
-    # compiler vectorizes where a dot product per row would be a serial reduction
-    for i in range(m):
-        g[i] = 0.0
-    for q in range(nk):
-        kq = tmp[q]
-        Gb = G[idx[q]]
-        for i in range(m):
-            g[i] += kq * Gb[i]
+    # g = G kb, as a sum of G's rows (G = K_BB⁻¹ is symmetric: rows for columns)
+    _sum_rows(g, m, G, idx, tmp, nk)
     for q in range(nk):
         s -= tmp[q] * g[idx[q]]
     if not s > 0.0:
@@ -304,13 +311,7 @@ def flip(j, new, theta, lin, tri, flg, tan, wk, ints, fl):  # pragma: no cover -
                 Kz[r] += cval[e] * z
     else:  # dense K: the product on every row as a sum of K's columns (vectorized), kept
         # on the stuck rows
-        for r in range(n):
-            Kz[r] = 0.0
-        for q in range(ns):
-            z = zs[q]
-            Ks = KT[sup[q]]
-            for r in range(n):
-                Kz[r] += z * Ks[r]
+        _sum_rows(Kz, n, KT, sup, zs, ns)
         for r in range(n):
             if B[r] or r == j or Kz[r] == 0.0:
                 continue
