@@ -146,3 +146,12 @@ def test_exact_started_on_its_own_steady_state_stays_there(k_coupling):
     scale = np.max(np.ptp(ref.v, axis=0)) + 1e-300
     assert np.max(np.abs(again.v - ref.v)) <= 1e-9 * scale
     assert ref.solver_stats["structured"] == (k_coupling > 1e6)
+
+
+def test_a_scene_given_directly_checks_its_start_too():
+    from lcpfric.scene import make_scene
+
+    system = _chain([0.3, 0.5, 0.2], [0.4, 0.6, 0.3], [0.2, 2.0, 4.0])
+    scene = make_scene(system, 200)
+    with pytest.raises(InputError, match="u0.*admissible"):
+        lcpfric.steady_state(scene, "explicit", u0=np.array([0.0, 5.0, 0.0]))

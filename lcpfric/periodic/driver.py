@@ -266,7 +266,8 @@ def steady_state(
             "no method solves a coupled system's steady state yet (N = P + B v: issue 38); "
             "lcpfric.shakedown(system) decides whether it has a safe state",
         )
-    if u0 is not None and isinstance(model, (SingleNode, ContactSystem)):
+    checked = u0 is not None and isinstance(model, (SingleNode, ContactSystem))
+    if checked:
         u0 = admissible_start(model if isinstance(model, ContactSystem) else model.system(), u0)
     if solver.kind == CLOSED_FORM:
         return solver.steady_state(model, steps, max_cycles=max_cycles, u0=u0)
@@ -284,7 +285,7 @@ def steady_state(
             f"cycles' increments are solved to a tenth of it, and they hold "
             f"about 1e-13 at best; give tol >= {_TOL_MIN:g}",
         )
-    if u0 is not None and scene.system is not None and not isinstance(u0, np.ndarray):
+    if u0 is not None and scene.system is not None and not checked:
         u0 = admissible_start(scene.system, u0)
     work, scale = unit_scaled(scene)
     state = solver.init(work, None if u0 is None else u0 / scale)
