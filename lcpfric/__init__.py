@@ -57,6 +57,7 @@ _LAZY = {
     "W_hat_from_W": "lcpfric.model",
     "chain": "lcpfric.model",
     "block_diagonal": "lcpfric.model",
+    "load_system": "lcpfric.model.files",
     "available_methods": "lcpfric.methods",
     "get_stepper": "lcpfric.methods",
     "get_method": "lcpfric.methods",

@@ -71,7 +71,7 @@ def test_bad_coupling_blocks_are_refused_by_name():
     d2 = lcpfric.chain(2, P1=0.5, Q1=0.4, phi=0.3, dims=2)
     with pytest.raises(InputError, match="coupling.*d = 1"):
         ContactSystem(
-            d2.stiffness, d2.friction, d2.tangential_loads, d2.normal, 2, coupling=np.zeros((2, 2))
+            d2.stiffness, d2.friction, d2.tangential_loads, d2.normal, 2, coupling=0.1 * np.eye(2)
         )
 
 
@@ -87,11 +87,16 @@ def test_no_method_returns_a_coupled_steady_state_yet(method):
 def test_the_linear_program_with_b_zero_is_the_uncoupled_closed_form(Q1):
     s = lcpfric.chain(3, k_coupling=3.0, P1=np.array([0.3, 0.5, 0.2]), Q1=np.array(Q1),
                       phi=np.array([0.2, 2.0, 4.0]))  # fmt: skip
+    from lcpfric.analysis.safe_state import _coupled
+
     coupled = ContactSystem(s.stiffness, s.friction, s.tangential_loads, s.normal,
                             coupling=np.zeros((3, 3)))  # fmt: skip
-    a, b = lcpfric.shakedown(s), lcpfric.shakedown(coupled)
-    assert a.shakedown == b.shakedown
-    assert b.margin == pytest.approx(a.margin, rel=1e-10)
+    assert coupled.coupling is None  # B = 0 is the uncoupled system
+    object.__setattr__(coupled, "coupling", np.zeros((3, 3)))  # the linear program on it
+    a = lcpfric.shakedown(s)
+    ok, margin, state, margins = _coupled(coupled, 4096)
+    assert ok == a.shakedown
+    assert margin == pytest.approx(a.margin, rel=1e-10)
 
 
 @pytest.mark.parametrize("seed", range(10))

@@ -76,8 +76,9 @@ class ContactSystem:
     coupling : (n, n) array_like, optional
         The normal-tangential coupling block B of a coupled system, ``N = P(t) + B u`` in
         contact (d = 1; :mod:`lcpfric.model.coupling`): checked well posed (Klarbring's
-        condition) on construction. ``lcpfric.shakedown`` decides such a system's safe state;
-        the steady-state methods do not solve coupled systems yet and say so.
+        condition) on construction; a zero block is the uncoupled system (``coupling``
+        None). ``lcpfric.shakedown`` decides a coupled system's safe state; the steady-state
+        methods do not solve coupled systems yet and say so.
     _cache : dict, optional
         Internal: what the system computes once (its period, factorizations, C); set by the
         system itself, not to be given.
@@ -170,7 +171,6 @@ class ContactSystem:
             object.__setattr__(self, "compliance", check_inverse(K, self.compliance, m))
         if self.coupling is not None:
             from .coupling import check_coupling
-
             from .normal import IndependentSprings
 
             if self.dims != 1 or K is None or not isinstance(self.normal, IndependentSprings):
@@ -179,9 +179,9 @@ class ContactSystem:
                     "a coupling block needs d = 1, a stiffness matrix K and prescribed normal "
                     "loads (IndependentSprings: N = P(t) + B u)",
                 )
-            object.__setattr__(
-                self, "coupling", check_coupling(self.coupling, self.dense_stiffness(), f)
-            )
+            B = check_coupling(self.coupling, self.dense_stiffness(), f)
+            # B = 0 is the uncoupled system itself (today's path, bit for bit)
+            object.__setattr__(self, "coupling", B if np.any(B) else None)
 
     @property
     def matrix_free(self) -> bool:
