@@ -178,6 +178,13 @@ def _coupled(system, samples: int):
         if new.size == 0:
             break
         ts = np.unique(np.concatenate([ts, new]))
+    else:
+        raise SolverError(
+            f"shakedown: the safe-state linear program still violates its constraints between "
+            f"its {ts.size} instants after 60 refinements",
+            backend="highs",
+            status="not_refined",
+        )
     least = []
     for side, g in enumerate(slacks(t_fine, y, 0.0)):
         tv = np.mod(_vertex_times(g, t_fine, dt), period)

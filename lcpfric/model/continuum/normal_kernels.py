@@ -42,21 +42,25 @@ def gaps(g0, u, p, zz):  # pragma: no cover - compiled
 
 
 @njit(cache=True, nogil=True)
+def _contact_mean(x, p):  # pragma: no cover - compiled
+    """The mean of x over the contact (the elements where p > 0), summed row by row."""
+    s = 0.0
+    count = 0
+    for i in range(p.shape[0]):
+        for j in range(p.shape[1]):
+            if p[i, j] > 0.0:
+                s += x[i, j]
+                count += 1
+    return s / count
+
+
+@njit(cache=True, nogil=True)
 def direction(g, zz, p, t, G_old, restart, precondition):  # pragma: no cover - compiled
     """The search direction t on the contact (zero elsewhere; in place) from the
     preconditioned gaps z (``zz`` less its mean over the contact; the gaps themselves without
     ``precondition``), conjugate to the last one unless ``restart``: returns ``G = g · z``."""
     n0, n1 = g.shape
-    zbar = 0.0
-    if precondition:
-        s = 0.0
-        count = 0
-        for i in range(n0):
-            for j in range(n1):
-                if p[i, j] > 0.0:
-                    s += zz[i, j]
-                    count += 1
-        zbar = s / count
+    zbar = _contact_mean(zz, p) if precondition else 0.0
     G = 0.0
     for i in range(n0):
         for j in range(n1):
@@ -84,14 +88,7 @@ def update(At, g, p, t, u, P, area):  # pragma: no cover - compiled
     whether u must be recomputed (elements left or entered the contact), else u becomes
     ``(u − τ At) × factor`` in place."""
     n0, n1 = p.shape
-    s = 0.0
-    count = 0
-    for i in range(n0):
-        for j in range(n1):
-            if p[i, j] > 0.0:
-                s += At[i, j]
-                count += 1
-    mean = s / count
+    mean = _contact_mean(At, p)
     denom = 0.0
     num = 0.0
     for i in range(n0):
