@@ -15,7 +15,9 @@ statistics); :class:`NewtonCGStepper` is the stepper around them: its options, t
 cycle starts and restarts from, the guesses kept from cycle to cycle, and the slip memory and
 loose early cycles it asks of the driver.
 
-Nodes out of contact carry no force and no unknown. d = 1 with ν > 0 takes the tractions along
+Two different materials with Dundurs' β ≠ 0: each increment alternates the tangential and the
+normal problems (:mod:`.coupled_halfspace`). Nodes out of contact carry no force and no
+unknown. d = 1 with ν > 0 takes the tractions along
 the load with the x-x Cerruti coefficient (Mindlin's approximation); d = 2 adds the
 transverse tractions and the coupling.
 
@@ -84,7 +86,13 @@ class NewtonCGStepper(ContinuumStepper):
         self.loose_cycles = _checks.boolean("loose_cycles", loose_cycles)
 
     def context(self, scene):
-        return HalfSpaceIncrements(scene.model, self.increment_tol, scene.scales[0])
+        model = scene.model
+        inner = HalfSpaceIncrements(model, self.increment_tol, scene.scales[0])
+        if model.coupling is None:  # β = 0: the uncoupled increments, bit for bit
+            return inner
+        from .coupled_halfspace import CoupledIncrements
+
+        return CoupledIncrements(inner, scene.limits[0] / (model.mu * model.h**2))
 
     def copy_context(self, context):
         return context.copy()

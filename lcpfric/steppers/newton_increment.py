@@ -83,6 +83,9 @@ class HalfSpaceIncrements(NewtonSteps):
     counted), the increments' tolerance and the loads' displacement scale, the statistics and
     (d = 1) whether the last increment's first pattern held."""
 
+    #: slips added to ``C F`` in the state's ``CF`` (None: none; :meth:`_safe_start`)
+    offset = None
+
     def __init__(self, model, tol: float, load_scale: float):
         self.model = model
         self.nodes, self.dims, self.k_support, self.c = (
@@ -314,11 +317,14 @@ class HalfSpaceIncrements(NewtonSteps):
         return min(self.force_scale, u / self.c) if u > 0.0 else self.force_scale
 
     def _safe_start(self, state, b, contact):
-        """The previous increment's forces and rigid displacement (no extrapolation)."""
+        """The previous increment's forces and rigid displacement (no extrapolation); their
+        ``C F`` plus :attr:`offset` (the slips that are not C F's: the pressures' with
+        dissimilar materials, :mod:`.coupled_halfspace`), if any."""
         F = state.F.reshape(self.nodes, self.dims).copy()
         F[~contact] = 0.0
         self.kernels.project_discs(F, b)
-        return F, state.delta.copy(), self.compliance(F)
+        CF = self.compliance(F)
+        return F, state.delta.copy(), CF if self.offset is None else CF + self.offset
 
     def _natural(self, F, CF, delta, s0, b, contact, Qv):
         """d = 2 (and d = 1 once its patterns stall): the natural map's residual at ``(F, CF =

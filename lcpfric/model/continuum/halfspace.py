@@ -1,20 +1,21 @@
-r"""The three-dimensional contact of two identical elastic bodies by boundary elements on the
-half-space: any surface on a square grid, tangential tractions along the load (d = 1) or in the
-plane (d = 2, the full Cerruti coupling).
-
-The bodies (each E, ν) touch over a square grid of N x N square elements of side h carrying
-uniform tractions; the nodes are the elements' centres. The surface is the gap at zero approach
-``g0`` (``(N, N)``): a sphere (:meth:`HalfSpace.sphere`), a flat punch with rounded edges
-(:meth:`HalfSpace.punch`) or a user height map (:class:`HalfSpace` itself). The loads are the
-total normal force P(t) and the tangential force Q(t) along x.
+r"""The three-dimensional contact of two elastic bodies by boundary elements on the half-space:
+any surface on a square grid, tangential tractions along the load (d = 1) or in the plane (d =
+2, the full Cerruti coupling). Different materials (``E2``, ``nu2``; a rigid base): composite
+moduli, and for Dundurs' β ≠ 0 the pressure coupled with the shear (:mod:`.dissimilar`; the
+coupled increments: :mod:`lcpfric.steppers.coupled_halfspace`). The bodies (E, ν) touch
+over a grid of N x N square elements of side h carrying uniform tractions; the nodes are the
+elements' centres. The surface is the gap at zero approach ``g0`` (``(N, N)``): a sphere
+(:meth:`HalfSpace.sphere`), a flat punch with rounded edges (:meth:`HalfSpace.punch`) or a user
+height map (:class:`HalfSpace` itself). The loads are the total normal force P(t) and the
+tangential force Q(t) along x.
 
 Influence coefficients and products: :mod:`.influence` (Love's rectangle solutions, products by
 zero-padded FFT; no matrix is formed); the compliance's on the grid: :mod:`.halfspace_compliance`.
 
 The normal problem
 ------------------
-At each instant, frictionless contact under P(t) (uncoupled from the shear: identical bodies),
-by constrained conjugate gradients (:mod:`.normal3d`), each instant started from the previous
+At each instant, frictionless contact under P(t) (uncoupled from the shear where β = 0), by
+constrained conjugate gradients (:mod:`.normal3d`), each instant started from the previous
 one's pressures. The friction limits are ``b_i = μ p_i h²``.
 
 The tangential problem, each increment's problem (P), is the ``newton-cg`` stepper's
@@ -31,7 +32,8 @@ import numpy as np
 from ... import _checks, memory
 from ...errors import InputError
 from .base import ContactModel
-from .closed_forms import hertz_contact, moduli
+from .closed_forms import moduli
+from .dissimilar import attach, pair
 from .halfspace_compliance import apply, compliance, compliance_springs, nodes, pad  # noqa: F401
 from .influence import Convolution
 from .normal3d import NormalProblem
@@ -73,6 +75,9 @@ class HalfSpace(ContactModel):
         Tangential directions: 1 (tractions along the load) or 2 (in the plane).
     k_support : float
         Tangential support stiffness in parallel with the contact (0: pure load control).
+    E2, nu2 : float or None, optional
+        Body 2 (the base), if it differs from body 1 (E, ν, the loaded body); ``E2 = inf``: a
+        rigid base. None: identical bodies (:func:`.dissimilar.pair`).
     _a0 : float or None, optional
         Internal (:meth:`sphere`): the contact radius at P0 for the normalization.
     geometry : str, optional
@@ -94,6 +99,8 @@ class HalfSpace(ContactModel):
     pos, cpos : ndarray
         Each node's first component in the FFT's padded layout (flat), and (d = 2) its complex
         entry.
+    beta, coupling : float, Coupling or None
+        Dundurs' β and, where β ≠ 0, the coupled products (:mod:`.dissimilar`).
     force_scale : float
         The largest friction limit of an element, ``μ max p h²`` at P_max.
     normal_seed : (dict, ndarray)
@@ -131,6 +138,8 @@ class HalfSpace(ContactModel):
         k_support: float = 0.0,
         _a0: float | None = None,
         geometry: str = "heightmap",
+        E2: float | None = None,
+        nu2: float | None = None,
     ) -> None:
         if np.ma.isMaskedArray(heights):
             if np.ma.count_masked(heights):
@@ -157,7 +166,8 @@ class HalfSpace(ContactModel):
         self.N, self.dims, self.geometry = N, int(dims), geometry
         self.g0 = g0 - g0.min()
         self._check_memory()
-        self.op = Convolution(N, self.h, self.E, self.nu, self.dims)
+        second = attach(self, E2, nu2)  # moduli, beta, coupling, E2, nu2
+        self.op = Convolution(N, self.h, self.E, self.nu, self.dims, second)
         self.c = self.op.diagonal("xx") / self.h**2
         M = self.op.M
         # each node's first component in the FFT's padded layout (Convolution.view, flat)
@@ -208,6 +218,8 @@ class HalfSpace(ContactModel):
         grid: int = 40,
         dims: int = 1,
         k_support: float = 0.0,
+        E2: float | None = None,
+        nu2: float | None = None,
     ) -> HalfSpace:
         """Two spheres (effective radius R): ``g0 = r²/(2R)``.
 
@@ -223,7 +235,7 @@ class HalfSpace(ContactModel):
             As for :class:`HalfSpace`.
         grid : int, optional
             Elements across the largest contact diameter, >= 8 (<= 2048 with the margins).
-        dims, k_support : optional
+        dims, k_support, E2, nu2 : optional
             As for :class:`HalfSpace`.
 
         Returns
@@ -240,8 +252,8 @@ class HalfSpace(ContactModel):
         """
         R = _checks.positive("R", R)
         probe = ContactModel(E, nu, mu, P, Q, k_support, 1)
-        a_max = hertz_contact(probe.P_max, R, E, nu)["a"]
-        a0 = hertz_contact(probe.P0, R, E, nu)["a"]
+        Es = (pair(probe.E, probe.nu, E2, nu2) or probe.moduli)["E*"]
+        a_max, a0 = ((3.0 * x * R / (4.0 * Es)) ** (1.0 / 3.0) for x in (probe.P_max, probe.P0))
         g, N, h = cls._grid(grid, a_max)
         r2 = g[:, None] ** 2 + g[None, :] ** 2
         model = cls(
@@ -256,6 +268,8 @@ class HalfSpace(ContactModel):
             k_support=k_support,
             _a0=a0,
             geometry="sphere",
+            E2=E2,
+            nu2=nu2,
         )
         model.R, model.a_max, model.grid_across = R, a_max, grid
         return model
@@ -274,6 +288,8 @@ class HalfSpace(ContactModel):
         grid: int = 40,
         dims: int = 1,
         k_support: float = 0.0,
+        E2: float | None = None,
+        nu2: float | None = None,
     ) -> HalfSpace:
         """A flat punch of radius ``radius`` with edges rounded to the radius R.
 
@@ -285,7 +301,7 @@ class HalfSpace(ContactModel):
         ----------
         R, radius : float
             Radius of the rounded edges and of the flat face, > 0.
-        E, nu, mu, P, Q, grid, dims, k_support
+        E, nu, mu, P, Q, grid, dims, k_support, E2, nu2
             As for :meth:`sphere`.
 
         Returns
@@ -305,7 +321,8 @@ class HalfSpace(ContactModel):
         R, b = _checks.positive("R", R), _checks.positive("radius", radius)
         probe = ContactModel(E, nu, mu, P, Q, k_support, 1)
         shape = Axisymmetric(lambda r: np.maximum(r - b, 0.0) / R)
-        a_max = float(np.max(shape.radius(probe.P_max, moduli(E, nu)["E*"])))
+        Es = (pair(probe.E, probe.nu, E2, nu2) or moduli(E, nu))["E*"]
+        a_max = float(np.max(shape.radius(probe.P_max, Es)))
         g, N, h = cls._grid(grid, a_max)
         r = np.hypot(g[:, None], g[None, :])
         model = cls(
@@ -319,6 +336,8 @@ class HalfSpace(ContactModel):
             dims=dims,
             k_support=k_support,
             geometry="punch",
+            E2=E2,
+            nu2=nu2,
         )
         model.R, model.flat_radius, model.a_max, model.grid_across = R, b, a_max, grid
         return model

@@ -55,13 +55,17 @@ def element_integrals(x, y, h):
     return tuple(out)
 
 
-def kernels(N: int, h: float, E: float, nu: float, dims: int = 1) -> dict:
+def kernels(N: int, h: float, E: float, nu: float, dims: int = 1, second=None) -> dict:
     """The influence coefficients at every offset ``(i, j) h``, ``|i|, |j| < N``, as arrays of
     shape ``(2N − 1, 2N − 1)`` indexed by ``(i + N − 1, j + N − 1)`` (i along x): ``"n"``
-    (normal), ``"xx"`` (and with ``dims = 2`` and ν > 0, ``"xy"`` and ``"yy"``)."""
+    (normal), ``"xx"`` (and with ``dims = 2`` and ν > 0, ``"xy"`` and ``"yy"``). ``second``:
+    body 2's ``(E2, ν2)`` if it differs (``E2 = inf``: rigid), each body's Boussinesq and
+    Cerruti terms summed (:mod:`.dissimilar`); None: two bodies (E, ν)."""
     k = np.arange(-(N - 1), N) * h
     X, Y = np.meshgrid(k, k, indexing="ij")
     I1, Ixx, Ixy = element_integrals(X, Y, h)
+    if second is not None:
+        return _kernels_pair(I1, Ixx, Ixy, ((E, nu), second), dims)
     G = E / (2.0 * (1.0 + nu))
     Estar = E / (2.0 * (1.0 - nu * nu))
     out = {"n": I1 / (math.pi * Estar), "xx": ((1.0 - nu) * I1 + nu * Ixx) / (math.pi * G)}
@@ -69,6 +73,25 @@ def kernels(N: int, h: float, E: float, nu: float, dims: int = 1) -> dict:
         if nu != 0.0:
             out["xy"] = nu * Ixy / (math.pi * G)
         out["yy"] = out["xx"].T.copy()
+    return out
+
+
+def _kernels_pair(I1, Ixx, Ixy, bodies, dims):
+    """:func:`kernels` of two different bodies: each one's half-space terms (a rigid one,
+    ``E = inf``, none), ``1/(2π G_k)`` in place of ``1/(π G)``."""
+    n, xx, xy = 0.0, 0.0, 0.0
+    for E, nu in bodies:
+        if math.isinf(E):
+            continue
+        G = E / (2.0 * (1.0 + nu))
+        n = n + (1.0 - nu) * I1 / (2.0 * math.pi * G)
+        xx = xx + ((1.0 - nu) * I1 + nu * Ixx) / (2.0 * math.pi * G)
+        xy = xy + nu * Ixy / (2.0 * math.pi * G)
+    out = {"n": n, "xx": xx}
+    if dims == 2:
+        if np.any(xy):
+            out["xy"] = xy
+        out["yy"] = xx.T.copy()
     return out
 
 
@@ -143,12 +166,13 @@ class Convolution:
     shears ``(N, N)`` (d = 1, along x) or ``(2, N, N)`` (d = 2) to tangential displacements of
     the same shape. ``dense(name)`` forms one influence matrix (small grids only: tests and the
     cross-checks with the convex backends). The operator holds no count of its products: a
-    solve counts its own through :class:`Counted`."""
+    solve counts its own through :class:`Counted`. ``second``: body 2's ``(E2, ν2)`` where it
+    differs from body 1 (:func:`kernels`)."""
 
-    def __init__(self, N: int, h: float, E: float, nu: float, dims: int = 1):
+    def __init__(self, N: int, h: float, E: float, nu: float, dims: int = 1, second=None):
         self.N, self.h, self.dims = int(N), float(h), int(dims)
         self.M = self.padded_size(self.N)
-        self.kernel = kernels(self.N, self.h, E, nu, self.dims)
+        self.kernel = kernels(self.N, self.h, E, nu, self.dims, second)
         self.spectra = {name: self._spectrum(k) for name, k in self.kernel.items()}
         self.coupled = "xy" in self.spectra
 
