@@ -511,6 +511,19 @@ TABLE = [
     ("figures", "--max-memory", ("--max-memory", "0G"), RANGE, 2, "--max-memory"),
     _memory_overflow("figures"),
     ("figures", "--contact", ("--contact", "yes"), UNKNOWN, 2, "yes"),
+    # -- contact: a second body (--E2 --nu2, or --rigid; issue 38, item 6)
+    ("contact", "--E2", ("--E2", "abc", "--nu2", "0.3"), NOT_NUMBER, 2, "--E2"),
+    ("contact", "--E2", ("--E2", "-1", "--nu2", "0.3", *HALFSPACE), RANGE, 2, "--E2"),
+    ("contact", "--E2", ("--nu2", "0.3"), REQUIRED, 2, "--E2"),
+    ("contact", "--E2", ("--E2", "70e3", "--nu2", "0.33"), NO_APPLY, 2, "--E2"),  # mdr, beta != 0
+    ("contact", "--E2", ("--geometry", "cylinder", "--E2", "1", "--nu2", "0"), NO_APPLY, 2, "--E2"),
+    ("contact", "--nu2", ("--E2", "70e3"), REQUIRED, 2, "--nu2"),
+    ("contact", "--nu2", ("--E2", "70e3", "--nu2", "0.5", *HALFSPACE), RANGE, 2, "--nu2"),
+    ("contact", "--nu2", ("--E2", "70e3", "--nu2", "abc"), NOT_NUMBER, 2, "--nu2"),
+    ("contact", "--nu2", ("--E2", "200e3", "--nu2", "0.2"), NO_APPLY, 2, "--nu2"),  # mdr
+    ("contact", "--rigid", ("--rigid", "--E2", "1e5"), CONFLICT, 2, "--rigid"),
+    ("contact", "--rigid", ("--rigid",), NO_APPLY, 2, "--rigid"),  # mdr: beta != 0
+    ("contact", "--rigid", ("--geometry", "cylinder", "--rigid"), NO_APPLY, 2, "--rigid"),
     # -- options whose default is the only value that applies are refused when given
     ("contact", "--dims", ("--dims", "1"), NO_APPLY, 2, "--dims"),
     ("contact", "--geometry", ("--geometry", "sphere", *HEIGHTMAP), CONFLICT, 2, "--geometry"),
@@ -524,6 +537,7 @@ EXEMPT = {
     ("shakedown", "--json"): "a flag: it has no value to be wrong",
     ("contact", "--json"): "a flag: it has no value to be wrong",
     ("contact", "--no-progress"): "a flag: it has no value to be wrong",
+    ("contact", "--rigid"): "a flag: its conflicts have rows",
     ("methods", "--names"): "a flag: it has no value to be wrong",
     ("methods", "--json"): "a flag: it has no value to be wrong",
     ("map", "--restart"): "a flag: it has no value to be wrong",

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import json
 
-from . import _common
+from . import _common, _materials
 
 HELP = "W per cycle of a continuum contact (sphere, cylinder, punch, height map)"
 DESCRIPTION = (
@@ -21,7 +21,8 @@ DESCRIPTION = (
     "k_t0/(mu^2 P0^2) (3-D) or W pi E*/(mu^2 P0^2) (cylinder). With --k-support 0 "
     "(pure "
     "load control) loads with |Q| > mu P at some instant (gross sliding, or Q during "
-    "complete separation) have no equilibrium and are refused."
+    "complete separation) have no equilibrium and are refused. Another material below "
+    "(--E2 --nu2, or --rigid): the half-space couples pressure and shear (Dundurs' beta)."
 )
 #: the models of each geometry (the first is the default)
 MODELS = {
@@ -40,6 +41,8 @@ OPTIONS = {
     "Q": "--Q1",
     "heights": "--heightmap",
     "spacing": "--spacing",
+    "E2": "--E2",
+    "nu2": "--nu2",
 }
 #: fewest springs across the largest contact radius that resolve it (the models' ``min_nodes``)
 MIN_NODES = 10
@@ -80,6 +83,7 @@ def configure(p) -> None:
         ("Q1", "tangential load amplitude"),
     ):
         p.add_argument(f"--{name}", required=True, metavar="X", help=text)
+    _materials.add_options(p)
     p.add_argument(
         "--phi",
         default="0",
@@ -199,6 +203,7 @@ def _run(args) -> int:
             f"--model {' or '.join(MODELS[geometry])}",
         )
     method = _method(args.method, model_name)
+    second = _materials.second(args, model_name, num, _scaled)
     steps = _checks.positive_int("--steps", args.steps, MIN_STEPS)
     if not num["P0"] > 0:
         raise InputError("--P0", f"the mean normal load must be > 0, got {num['P0']:g}")
@@ -216,7 +221,7 @@ def _run(args) -> int:
             raise InputError("--dims", f"applies to --model halfspace only, not {model_name}")
     P, Q = Harmonic(num["P0"], num["P1"]), Harmonic(0.0, num["Q1"], phi)
     if model_name == "halfspace":
-        model = _halfspace(args, geometry, num, P, Q, ks, steps)
+        model = _halfspace(args, geometry, num, P, Q, ks, steps, second)
     else:
         if args.R is None:
             raise InputError("--R", f"the {geometry} needs its effective radius")
@@ -227,7 +232,7 @@ def _run(args) -> int:
         if nodes > kind.max_nodes:
             raise InputError("--nodes", f"must be at most {kind.max_nodes}, got {nodes}")
         _scene_memory(args, nodes, 1, steps, False, "--nodes")
-        model = kind(R, num["E"], num["nu"], num["mu"], P, Q, k_support=ks, nodes=nodes)
+        model = kind(R, num["E"], num["nu"], num["mu"], P, Q, k_support=ks, nodes=nodes, **second)
     record = model_name == "halfspace" and (args.figures or args.animation) is not None
     if model_name == "halfspace" and model.N**2 * steps > 4e6:  # seconds of normal solves
         args.reporter.stage(f"{model.N} x {model.N} grid: the normal problem at every instant")
@@ -249,6 +254,8 @@ def _run(args) -> int:
     }
     if c.k_t0 is not None:
         out["k_t0"] = c.k_t0
+    if second:
+        out.update(E2=second["E2"], nu2=second.get("nu2"), beta=getattr(model, "beta", 0.0))
     if model_name == "halfspace":
         st = r.solver_stats
         out.update(
@@ -278,7 +285,7 @@ def _run(args) -> int:
     return 0
 
 
-def _halfspace(args, geometry, num, P, Q, ks, steps):
+def _halfspace(args, geometry, num, P, Q, ks, steps, second=None):
     """The half-space model of the options, every option checked before any work."""
     from .. import _checks
     from ..model.continuum.halfspace import HalfSpace
@@ -295,7 +302,7 @@ def _halfspace(args, geometry, num, P, Q, ks, steps):
     args.fractions = _fractions(args.instants or "0,0.25,0.5,0.75")
     if args.animation is not None:
         output_file(args.animation, "--animation", ".gif")
-    common = dict(dims=dims, k_support=ks)
+    common = dict(dims=dims, k_support=ks, **(second or {}))
     if geometry == "heightmap":
         for option in ("grid", "radius", "R"):
             if getattr(args, option) is not None:

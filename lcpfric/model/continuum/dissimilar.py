@@ -65,7 +65,7 @@ def pair(E: float, nu: float, E2=None, nu2=None) -> dict | None:
     -------
     dict or None
         ``{"E*", "G*", "G", "eta", "beta", "second"}``: composite moduli, body 1's G, ``G*/E*``,
-        Dundurs' β, and ``second = (E2, nu2)`` (``(inf, nan)`` when rigid).
+        Dundurs' β (0 below 1e-12: round-off), and ``second = (E2, nu2)`` (``(inf, nan)`` when rigid).
 
     Raises
     ------
@@ -99,6 +99,8 @@ def pair(E: float, nu: float, E2=None, nu2=None) -> dict | None:
     Es = 1.0 / sum(t[0] for t in terms)
     Gs = 1.0 / sum(t[1] for t in terms)
     beta = Es * sum(t[2] for t in terms)
+    if abs(beta) < 1e-12:  # round-off of a pair with (1 − 2ν1)/G1 = (1 − 2ν2)/G2: uncoupled
+        beta = 0.0
     return {"E*": Es, "G*": Gs, "G": G1, "eta": Gs / Es, "beta": beta, "second": (E2, nu2)}
 
 

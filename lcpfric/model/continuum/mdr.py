@@ -57,6 +57,7 @@ import numpy as np
 from ... import _checks
 from ...errors import InputError
 from .base import ContactModel
+from .dissimilar import pair
 from .profiles import Sphere
 
 if TYPE_CHECKING:
@@ -96,6 +97,14 @@ class MDRSphere(ContactModel):
         Another axisymmetric body in place of the sphere of radius R (module docstring): any
         object with the methods ``g(x)``, ``G(x)`` and ``radius(P, Estar)`` of
         :mod:`lcpfric.model.continuum.profiles`.
+    E2, nu2 : float or None, optional
+        A second body of another material (``E2 = inf``: rigid): accepted only where Dundurs' β
+        is 0 (composite moduli, :func:`~lcpfric.model.continuum.dissimilar.pair`). For β ≠ 0
+        the reduction has no consistent form: the pressure couples with the shear through a
+        long-range kernel odd in x, the contact loses its axial symmetry under Q (the stick
+        zone shifts, the pressure tilts) and even the normal loading slips radially (Spence),
+        none of which independent springs on a bar can carry; use
+        :class:`~lcpfric.model.continuum.halfspace.HalfSpace` (docs/validation.md).
 
     Attributes
     ----------
@@ -118,7 +127,8 @@ class MDRSphere(ContactModel):
     ------
     InputError
         A parameter out of range (:class:`~lcpfric.model.continuum.base.ContactModel`); no R
-        and no profile; a profile that lacks ``g``, ``G`` or ``radius``.
+        and no profile; a profile that lacks ``g``, ``G`` or ``radius``; a second body with
+        β ≠ 0 (named ``E2``, or ``nu2`` if only ν differs).
     """
 
     max_nodes = MAX_NODES
@@ -137,8 +147,21 @@ class MDRSphere(ContactModel):
         k_support: float = 0.0,
         nodes: int = 2000,
         profile: Sphere | PowerLaw | Axisymmetric | None = None,
+        E2: float | None = None,
+        nu2: float | None = None,
     ) -> None:
         super().__init__(E, nu, mu, P, Q, k_support, nodes)
+        materials = pair(self.E, self.nu, E2, nu2)
+        if materials is not None:
+            if materials["beta"] != 0.0:
+                raise InputError(
+                    "nu2" if E2 == self.E else "E2",
+                    f"the second body makes Dundurs' beta = {materials['beta']:.4g} (not 0): "
+                    "the pressure then couples with the shear and the contact loses its axial "
+                    "symmetry, which the MDR's independent springs cannot represent; use "
+                    "HalfSpace.sphere(..., E2=..., nu2=...) (or rigid: E2=inf)",
+                )
+            self.moduli = materials
         self.R = None if R is None else _checks.positive("R", R)
         if profile is None:
             if self.R is None:
