@@ -62,8 +62,10 @@ class CoupledIncrements:
     p, Dp : ndarray
         The current pressures ``(N²,)`` and the slips ``D p`` they cause, node-major ``(n, d)``.
     stats : dict
-        The inner increments' statistics with ``coupling_iterations`` (total alternations),
-        ``coupling_max`` (the most in one increment) and ``coupling_normal_products``.
+        The inner increments' statistics (``increments`` counts their solves, one per
+        alternation) with ``coupling_increments`` (the coupled increments),
+        ``coupling_iterations`` (their alternations), ``coupling_max`` (the most in one) and
+        ``coupling_normal_products`` (the normal solves' FFT products).
     """
 
     def __init__(self, inner, p_start, tol: float = 1e-9, max_iter: int = MAX_ITER):
@@ -73,7 +75,8 @@ class CoupledIncrements:
         self.Dp = self.Dp0 = self._slip(self.p)
         self.nop = Counted(self.model.op)
         self.stats = inner.stats
-        for key in ("coupling_iterations", "coupling_max", "coupling_normal_products"):
+        keys = ("coupling_increments", "coupling_iterations", "coupling_max")
+        for key in (*keys, "coupling_normal_products"):
             self.stats.setdefault(key, 0)
 
     @property
@@ -141,6 +144,7 @@ class CoupledIncrements:
                 backend="halfspace",
                 status="coupling",
             )
+        self.stats["coupling_increments"] += 1
         self.stats["coupling_iterations"] += k
         self.stats["coupling_max"] = max(self.stats["coupling_max"], k)
         self.p, self.Dp = p, Dp
@@ -148,7 +152,13 @@ class CoupledIncrements:
 
 
 def first_loading(
-    model, Q: float, *, steps: int = 1, start: str = "undeformed", tol: float = 1e-10
+    model,
+    Q: float,
+    *,
+    steps: int = 1,
+    start: str = "undeformed",
+    tol: float = 1e-10,
+    max_iter: int = MAX_ITER,
 ) -> dict:
     """A first loading at the model's mean normal load P0, Q from 0 to ``Q`` (d = 1 or 2).
 
@@ -165,6 +175,8 @@ def first_loading(
         problem); ``"normal"``: P alone first, then Q in ``steps`` increments.
     tol : float
         The tangential increments' tolerance.
+    max_iter : int
+        Most alternations per increment (:class:`CoupledIncrements`).
 
     Returns
     -------
@@ -191,7 +203,7 @@ def first_loading(
     b = model.mu * h2 * model.pressure(P)
     inner = HalfSpaceIncrements(model, tol, abs(Q) / model.k_t0 if Q else 0.0)
     coupled = model.coupling is not None
-    context = CoupledIncrements(inner, np.zeros(n)) if coupled else inner
+    context = CoupledIncrements(inner, np.zeros(n), max_iter=max_iter) if coupled else inner
     zero = np.zeros((n, d))
     state = Tangential(
         np.zeros(n * d),
