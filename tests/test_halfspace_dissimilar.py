@@ -276,3 +276,11 @@ def test_tamaas_agrees_on_a_coarse_grid():
 @pytest.mark.slow
 def test_tamaas_agrees_on_a_finer_grid():
     _agree(24, 8)
+
+
+def test_a_coupled_contact_is_no_contact_system():
+    Q = Harmonic(0.0, 0.3 * 0.3 * P)
+    m = HalfSpace.sphere(R, E, 0.3, 0.3, P, Q, grid=12, E2=math.inf, k_support=1.0)
+    with pytest.raises(InputError) as exc:
+        m.system()
+    assert exc.value.parameter == "method" and "beta" in exc.value.detail

@@ -51,6 +51,14 @@ class SupportedCompliance(LinearOperator):
 def contact_system(model) -> ContactSystem:
     """The model as a matrix-free :class:`~lcpfric.model.ContactSystem` (module docstring); its
     normal reactions are the model's (:class:`~lcpfric.model.continuum.base.LevelNormal`)."""
+    if getattr(model, "coupling", None) is not None:
+        raise InputError(
+            "method",
+            f"the two materials couple the pressure with the shear (Dundurs' beta = "
+            f"{model.beta:.4g}), which a ContactSystem (its normal reactions given in "
+            f"advance) cannot carry: solve the model itself with newton-cg "
+            f"(lcpfric.steady_state(model))",
+        )
     ks = model.k_support
     if ks <= 0.0:
         raise InputError(
