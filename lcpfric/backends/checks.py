@@ -34,7 +34,10 @@ import math
 
 import numpy as np
 
-__all__ = ["residuals", "scalar_residuals", "scalar_worst", "worst"]
+__all__ = ["residuals", "scalar_residuals", "scalar_worst", "worst", "separating_slips_agree"]
+
+#: a wrong-way slip of a separating node up to this (times ``c s_F``) is round-off
+SLIP_TOL = 1e-10
 
 
 def residuals(
@@ -117,3 +120,45 @@ def scalar_worst(F, g, b, c, scale) -> float:
     if r1 != r1 or r2 != r2 or r3 != r3:
         return math.nan
     return max(r1, r2, r3)
+
+
+def separating_slips_agree(
+    F_start: np.ndarray,
+    du: np.ndarray,
+    separating: np.ndarray | None,
+    fscale: float,
+    cscale: float,
+) -> bool:
+    """Whether the nodes that separate at the end of a (sub-)increment slip against their force
+    at its start (d = 1): the part of the straight path's admissibility that
+    :func:`~lcpfric.steppers.rates.path_is_exact` does not see.
+
+    A node that separates at t_{k+1} leaves problem (P): its force is zero at the end and its
+    displacement free. On the straight path its force goes from the limit it is on at the start,
+    ``F_i = ±f_i N_i``, to zero along that limit (``f_i N_i`` is linear too), which is
+    admissible only if the node slips the other way all along, ``F_i Δu_i <= 0``. When its slip
+    reverses inside the increment (the node stops, then crosses to its other limit as ``N_i``
+    goes to zero, and a neighbour's slip rate jumps with it), the projection's end state is not
+    the exact one: the neighbours' slips before the reversal are missed.
+
+    Parameters
+    ----------
+    F_start : (n,) ndarray
+        The forces at the start of the (sub-)increment.
+    du : (n,) ndarray
+        The slips over it, as the projection returned them.
+    separating : (n,) bool ndarray or None
+        The nodes that separate at its end (None: none).
+    fscale, cscale : float
+        Force and compliance scales (``s_F`` and ``c``): a wrong-way slip up to
+        :data:`SLIP_TOL` ``c s_F`` is taken for round-off.
+
+    Returns
+    -------
+    bool
+        True when every separating node slips against its start force (or does not slip).
+    """
+    if separating is None or not separating.any():
+        return True
+    wrong = np.sign(F_start[separating]) * du[separating]
+    return bool(np.all(wrong <= SLIP_TOL * cscale * fscale))

@@ -17,7 +17,7 @@ from ..errors import SolverError
 from ..results import State
 from ..steppers.dissipation import increment_dissipation
 from ..steppers.rates import first_event, path_is_exact
-from .checks import worst
+from .checks import separating_slips_agree, worst
 from .refine import accept
 from .status import advice
 
@@ -46,7 +46,7 @@ class Increments:
             or limit is None
             or plan.dims != 1
             or plan.diagonal
-            or path_is_exact(F, plan.bound[k], F1, limit, plan.separating[k + 1], plan.force_scale)
+            or self._exact_path(plan, k, F, plan.bound[k], u1 - u, F1, limit)
         ):
             return u1, F1, 0.0
         # split at the events: the first one from the rates at the start, solve to it, and
@@ -66,12 +66,24 @@ class Increments:
             W += increment_dissipation(Fa, Fb, ub - ua)
             a, ua, Fa = tau, ub, Fb
             u1, F1, limit = self._project(data, scene, k, ua, stats)
-            if limit is None or path_is_exact(
-                Fa, f * (Nk + a * dN), F1, limit, plan.separating[k + 1], plan.force_scale
+            if limit is None or self._exact_path(
+                plan, k, Fa, f * (Nk + a * dN), u1 - ua, F1, limit
             ):
                 break
         W += increment_dissipation(Fa, F1, u1 - ua)
         return u1, F1, W - increment_dissipation(F, F1, u1 - u)
+
+    @staticmethod
+    def _exact_path(plan, k, Fa, ba, du, F1, limit):
+        """Whether the projection's answer from ``Fa`` (limits ``ba``) to t_{k+1}, slips ``du``,
+        is the exact end state: the end pattern is admissible from the start
+        (:func:`~lcpfric.steppers.rates.path_is_exact`) and every node separating at t_{k+1}
+        slips against its start force (:func:`~lcpfric.backends.checks.separating_slips_agree`).
+        """
+        sep = plan.separating[k + 1]
+        return path_is_exact(Fa, ba, F1, limit, sep, plan.force_scale) and separating_slips_agree(
+            Fa, du, sep, plan.force_scale, plan.compliance_scale
+        )
 
     def _project(self, data, scene, k, u, stats, frac=None):
         """Solve, refine and check (P) from ``u`` to t_{k+1} (or, with ``frac``, to the instant
