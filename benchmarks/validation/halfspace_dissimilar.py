@@ -174,11 +174,16 @@ def main(argv=None) -> int:
         ):
             results.append(case(rep, grid, nu, mu, x, 4 if quick else 8))
     rep.emit("")
-    rep.emit("## Discretization and the periodic cell (ν = 0.3, μ = 0.3, Q = 0.5 μP)")
+    rep.emit("## Discretization and the periodic cell (ν = 0.3, μ = 0.3, Q = 0.5 and 0.8 μP)")
     rep.emit("")
     rep.emit(HEAD)
-    for grid, fac in ((16, 4), (24, 4), (24, 8)) if quick else ((24, 4), (40, 8), (64, 4)):
-        case(rep, grid, 0.3, 0.3, 0.5, fac, paths=False)
+    runs = (
+        ((16, 4, 0.5), (24, 4, 0.5), (24, 8, 0.5), (24, 4, 0.8))
+        if quick
+        else ((24, 4, 0.5), (40, 4, 0.5), (64, 4, 0.5), (24, 4, 0.8), (40, 4, 0.8), (64, 4, 0.8))
+    )
+    for grid, fac, x in runs:
+        case(rep, grid, 0.3, 0.3, x, fac, paths=False)
     rep.emit("")
     rep.emit("## d = 1 (tractions along x only) against tamaas's full problem (grid 40)")
     rep.emit("")
