@@ -80,7 +80,8 @@ class CoupledIncrements:
             self.stats.setdefault(key, 0)
 
     @property
-    def increment_tol(self):
+    def increment_tol(self) -> float:
+        """The tangential increments' tolerance (the inner increments')."""
         return self.inner.tol
 
     def copy(self) -> CoupledIncrements:

@@ -10,6 +10,8 @@
                   FFT (``influence``; the tangential compliance's on the grid:
                   ``halfspace_compliance``), the normal problem by constrained conjugate
                   gradients (``normal3d``)
+``dissimilar``    two bodies of different materials on the half-space: composite moduli,
+                  Dundurs' β and the coupled influence coefficients (``HalfSpace(E2=, nu2=)``)
 ``bridge``        a contact as a matrix-free :class:`~lcpfric.model.ContactSystem`
 ``closed_forms``  the classical closed forms they are validated against
 
