@@ -78,7 +78,7 @@ from dataclasses import replace
 import numpy as np
 
 from .._checks import boolean, positive, positive_int
-from ..backends.checks import residuals, worst
+from ..backends.checks import residuals, separating_slips_agree, worst
 from ..errors import InputError, SolverError
 from ..linalg import PatternUpdate
 from ..results import State, StepState
@@ -247,7 +247,7 @@ class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
             return du, F1, Fc, s, dW
         leaving = ck & ~contact
         separating = leaving if leaving.any() else None
-        if path_is_exact(F, bk, F1, limit, separating, plan.force_scale):
+        if self._exact_path(plan, F, bk, du, F1, limit, separating):
             return du, F1, Fc, s, dW
         f = plan.friction
         dN = Nj - Nk
@@ -273,9 +273,18 @@ class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
                 plan, Fca + (1.0 - a) * dQ, b, contact, stats, k, _on_limits(Fb, bt)
             )
             F1, s = self._finish(plan, du, Fc, b, contact, stats, k)
-            if path_is_exact(Fa, f * (Nk + a * dN), F1, limit, separating, plan.force_scale):
+            if self._exact_path(plan, Fa, f * (Nk + a * dN), du, F1, limit, separating):
                 break
         return moved + du, F1, Fc, s, dW + increment_dissipation(Fa, F1, du)
+
+    @staticmethod
+    def _exact_path(plan, Fa, ba, du, F1, limit, separating):
+        """Whether a projection from ``Fa`` (limits ``ba``), slips ``du``, is the exact end state:
+        :func:`~lcpfric.steppers.rates.path_is_exact` and the separating nodes slipping against
+        their start forces (:func:`~lcpfric.backends.checks.separating_slips_agree`)."""
+        return path_is_exact(
+            Fa, ba, F1, limit, separating, plan.force_scale
+        ) and separating_slips_agree(Fa, du, separating, plan.force_scale, plan.compliance_scale)
 
     def _rate_function(self, plan, stats, k):
         """The rate problem at an instant inside increment k, for

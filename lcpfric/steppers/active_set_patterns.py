@@ -16,6 +16,21 @@ __all__ = ["BoxPatterns"]
 _EPS = np.finfo(float).eps
 
 
+def _through_stick(updates, up, dn, nup, ndn):
+    """The next pattern, a node going from one bound to the other passing through stick once
+    Murty's single changes are in force (``updates.single``): a node on its lower bound whose
+    natural map lies above its upper one first sticks. Jumping straight across can cycle
+    between two patterns (met on a 3-node chain with k_coupling = 19: the least-index node
+    flipping between its bounds for ever); one bound at a time, as the least-index rule moves
+    a node of the box problem written as an LCP in the split slips."""
+    if not updates.single:
+        return nup, ndn
+    across = (up & ndn) | (dn & nup)
+    if not across.any():
+        return nup, ndn
+    return nup & ~across, ndn & ~across
+
+
 class BoxPatterns:
     """The d = 1 iterations of :class:`~lcpfric.steppers.active_set.ActiveSetStepper`."""
 
@@ -54,7 +69,7 @@ class BoxPatterns:
             nxt = updates.next(F - delta * kd, lo, hi, up, dn)
             if nxt is None:
                 return delta, F, (up, dn)
-            nup, ndn = nxt
+            nup, ndn = _through_stick(updates, up, dn, *nxt)
         raise self.unsettled(k, "the pattern")
 
     def operator_pattern(self, plan, F_tr, lo, hi, free_always, stats, k, warm=None):
@@ -86,7 +101,7 @@ class BoxPatterns:
             nxt = updates.next(F - delta * kd, lo, hi, up, dn)
             if nxt is None:
                 return delta, F, (up, dn)
-            nup, ndn = nxt
+            nup, ndn = _through_stick(updates, up, dn, *nxt)
         raise self.unsettled(k, "the pattern")
 
     @staticmethod
