@@ -39,8 +39,9 @@ def configure(p) -> None:
         "--coupled",
         action="store_true",
         help="the coupled d = 1 cases (chains with k_coupling = 10, a dense SPD K, a "
-        "100-node chain) against method 'exact', with a Richardson check; "
-        "default methods exact, explicit, clarabel, osqp, qpsolvers:proxqp, "
+        "separating node reversing, a 100-node chain) against method 'exact', with a "
+        "Richardson check; "
+        "default methods exact, explicit, clarabel, osqp, active-set, qpsolvers:proxqp, "
         "cvxpy:CLARABEL (those installed), steps 100 to 12800, budget 40 s",
     )
     p.add_argument(

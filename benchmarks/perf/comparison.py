@@ -213,12 +213,32 @@ def _chain100():
     )
 
 
+def _separation_reversal():
+    """3 nodes, k_coupling = 19: node 0 starts to slip about 1e-4 of a cycle before node 1
+    separates; node 1 stops and crosses to its other limit, node 2 stops (issue 38, item 2)."""
+    from lcpfric.model import chain
+
+    return chain(
+        3,
+        k_coupling=19.00222,
+        friction=(0.393073, 0.687262, 0.843258),
+        P1=(0.770597, 1.446758, 0.565331),
+        Q1=(1.963212, 1.552373, 1.410178),
+        phi=(5.486, 0.560708, 3.784577),
+    )
+
+
 COUPLED_CASES = (
     CoupledCase("chain-contact", "3-node chain, k_coupling = 10, full contact", _chain3_contact),
     CoupledCase(
         "chain-separation", "3-node chain, k_coupling = 10, 2 nodes separate", _chain3_separation
     ),
     CoupledCase("dense-spd", "dense random SPD K, 5 nodes, 2 separate", _dense_spd),
+    CoupledCase(
+        "separation-reversal",
+        "3-node chain, k_coupling = 19, a separating node reverses as its neighbour starts",
+        _separation_reversal,
+    ),
     CoupledCase(
         "chain-100", "100-node chain, k_coupling = 10, random loads", _chain100, max_steps=1600
     ),
@@ -227,7 +247,15 @@ COUPLED_CASES = (
 COUPLED_STEPS = (100, 200, 400, 800, 1600, 3200, 6400, 12800)
 COUPLED_QUICK_STEPS = (100, 200, 400, 800, 1600)
 #: the methods run on the coupled cases by default (those installed)
-COUPLED_METHODS = ("exact", "explicit", "clarabel", "osqp", "qpsolvers:proxqp", "cvxpy:CLARABEL")
+COUPLED_METHODS = (
+    "exact",
+    "explicit",
+    "clarabel",
+    "osqp",
+    "active-set",
+    "qpsolvers:proxqp",
+    "cvxpy:CLARABEL",
+)
 
 
 def _closed_form(method: str) -> bool:
