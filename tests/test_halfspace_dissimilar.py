@@ -85,7 +85,7 @@ def test_coupling_integrals_against_quadrature(x, y):
     assert float(coupling_integrals(0.0, 0.0, h)[0]) == 0.0
 
 
-def _point_force_fields(bodies, field, source, h):
+def _point_force_fields(bodies, field, source, h, axis=0):
     """Independent: the relative gap from a unit shear traction along x on the element at
     ``source`` (on body 1; body 2 takes the opposite) and the relative slip along x from a unit
     pressure there, at ``field``, by integrating each body's point-force solution (Cerruti:
@@ -96,18 +96,19 @@ def _point_force_fields(bodies, field, source, h):
     fx, fy = field
     sx, sy = source
 
-    def kernel(v, u):  # u, v: the source point
+    def kernel(v, u):  # u, v: the source point; the component ``axis`` of the offset
         dx, dy = fx - u, fy - v
-        return dx / (dx * dx + dy * dy)
+        return (dx, dy)[axis] / (dx * dx + dy * dy)
 
     integral = dblquad(kernel, sx - h / 2, sx + h / 2, sy - h / 2, sy + h / 2)[0]
     gap = k1 * integral + k2 * (-integral)  # body 2: the opposite traction, its own inward
-    slip = -k1 * integral - (-k2 * integral)  # u_x1 − u_x2, each towards the load
+    slip = -k1 * integral - (-k2 * integral)  # u_1 − u_2 along the axis, each towards the load
     return gap, slip
 
 
+@pytest.mark.parametrize("axis", [0, 1])
 @pytest.mark.parametrize("second", [(70.0, 0.33), (math.inf, None)])
-def test_coupling_products_against_point_force_quadrature(second):
+def test_coupling_products_against_point_force_quadrature(second, axis):
     E1, nu1 = 210.0, 0.3
     m = pair(E1, nu1, *second)
     N, h = 6, 0.5
@@ -119,13 +120,13 @@ def test_coupling_products_against_point_force_quadrature(second):
         bodies.append((math.inf, 0.0))  # rigid: no displacement
     src = (2, 3)
     tau = np.zeros((2, N, N))
-    tau[0][src] = 1.0
+    tau[axis][src] = 1.0
     p = np.zeros((N, N))
     p[src] = 1.0
-    gap, slip = op.gap(tau), op.slip(p)[0]
+    gap, slip = op.gap(tau), op.slip(p)[axis]
     for field in [(0, 0), (3, 3), (5, 1), (2, 5)]:
         pos = lambda ij: ((ij[0] - (N - 1) / 2) * h, (ij[1] - (N - 1) / 2) * h)  # noqa: E731
-        g, s = _point_force_fields(bodies, pos(field), pos(src), h)
+        g, s = _point_force_fields(bodies, pos(field), pos(src), h, axis)
         assert gap[field] == pytest.approx(g, rel=1e-9, abs=1e-14)
         assert slip[field] == pytest.approx(s, rel=1e-9, abs=1e-14)
 
