@@ -190,8 +190,6 @@ def check_system(system):
             "'exact' for a ContactSystem handles d = 1; for d = 2 use "
             "'clarabel' or 'cvxpy:CLARABEL'",
         )
-    if system.coupling is not None:
-        raise InputError("coupling", "'exact' solves uncoupled systems (no coupling block) only")
     if not isinstance(system.normal, IndependentSprings):
         raise InputError(
             "normal",
@@ -273,6 +271,13 @@ def exact_system_cycle(
     samples = _checks.positive_int("samples", samples, 4)
     tol = _checks.positive("tol", tol)
     max_cycles = _checks.positive_int("max_cycles", max_cycles)
+    if system.coupling is not None:  # N = P + B u: the physical iteration (lcpfric.exact.coupled)
+        from .coupled import coupled_system_cycle
+
+        return DiscreteCycle(**coupled_system_cycle(
+            system, Qt, Pt, omega, samples, tol=tol, u0=u0, max_events=max_events,
+            max_cycles=max_cycles,
+        ))  # fmt: skip
     f = system.friction
     n = f.size
     from .. import memory

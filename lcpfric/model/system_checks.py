@@ -169,7 +169,19 @@ def admissible_start(system, u0) -> np.ndarray:
         raise InputError("u0", f"needs {system.m} displacements (n·d), got {u0.size}")
     F = (system.tangential(0.0) + system.stiffness_times(u0)).reshape(system.n, system.dims)
     force = np.sqrt(np.sum(F * F, axis=1))
-    limit = system.friction * system.normal.reactions(0.0)
+    coupling = getattr(system, "coupling", None)
+    if coupling is None:
+        limit = system.friction * system.normal.reactions(0.0)
+    else:  # N = P(0) + B u0 must be a compression at every node (no separation modelled)
+        N = np.asarray(system.normal.loads_at(0.0), dtype=float) + coupling @ u0
+        if np.any(N <= 0):
+            i = int(np.argmin(N))
+            raise InputError(
+                "u0",
+                f"is not an admissible start: node {i}'s normal reaction P(0) + (B u0) = "
+                f"{N[i]:.6g} is not a compression (a coupled node must stay in contact)",
+            )
+        limit = system.friction * N
     scale = float(np.max(np.abs(F), initial=0.0)) + float(np.max(limit, initial=0.0))
     # round-off: of the loads, and of K u0's sums (a stiff K sums large terms to a small force)
     slack = 1e-12 * scale

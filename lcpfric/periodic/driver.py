@@ -234,7 +234,9 @@ def steady_state(
     start = time.perf_counter()
     base = _base(model)
     method = base.default_method if method is None else method
-    max_cycles = base.default_max_cycles if max_cycles is None else max_cycles
+    coupled = isinstance(model, ContactSystem) and model.coupling is not None
+    if max_cycles is None:  # a coupled system's cycles run as they happen: more of them
+        max_cycles = 1000 if coupled else base.default_max_cycles
     tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles, on_nonconvergence)
     solver = _method(method, options)
     history = _checks.boolean("history", history)
@@ -260,11 +262,10 @@ def steady_state(
             "steps_per_cycle",
             f"a steady state with {steps} steps per cycle",
         )
-    if isinstance(model, ContactSystem) and model.coupling is not None:
+    if coupled and solver.name != "exact":
         raise InputError(
             "coupling",
-            "no method solves a coupled system's steady state yet (N = P + B v: issue 38); "
-            "lcpfric.shakedown(system) decides whether it has a safe state",
+            f"'{solver.name}' does not solve coupled systems (N = P + B v) yet: use 'exact'",
         )
     checked = u0 is not None and isinstance(model, (SingleNode, ContactSystem))
     if checked:
