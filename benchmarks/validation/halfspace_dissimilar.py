@@ -176,7 +176,10 @@ def main(argv=None) -> int:
         ):
             results.append(case(rep, grid, nu, mu, x, 4 if quick else 8))
     rep.emit("")
-    rep.emit("## Discretization and the periodic cell (ν = 0.3, μ = 0.3, Q = 0.5 and 0.8 μP)")
+    rep.emit(
+        "## Discretization and the periodic cell (ν = 0.3, μ = 0.3, Q = 0.5 and 0.8 μP; "
+        "last, ν = 0.45)"
+    )
     rep.emit("")
     rep.emit(HEAD)
     runs = (
@@ -186,6 +189,8 @@ def main(argv=None) -> int:
     )
     for grid, fac, x in runs:
         case(rep, grid, 0.3, 0.3, x, fac, paths=False)
+    if not quick:  # a smaller β on the finest grid
+        case(rep, 64, 0.45, 0.3, 0.5, 4, paths=False)
     rep.emit("")
     rep.emit("## d = 1 (tractions along x only) against tamaas's full problem (grid 40)")
     rep.emit("")
