@@ -74,6 +74,8 @@ _LAZY = {
     "methods_for": "lcpfric.methods",
     "Shakedown": "lcpfric.analysis.shakedown",
     "shakedown": "lcpfric.analysis.shakedown",
+    "explore_starts": "lcpfric.analysis.starts",
+    "StartStudy": "lcpfric.analysis.starts",
 }
 
 __all__ = [

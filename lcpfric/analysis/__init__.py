@@ -1,7 +1,8 @@
 """Analyses built on the steady states: closed forms, shakedown, dissipation maps, loops.
 
 ``analytic``      the paper's analytical results at φ = 0 (Eqs. 11-12, corrected)
-``shakedown``     the exact shakedown test of the single node
+``shakedown``     the exact shakedown test of the single node (and of systems: ``safe_state``)
+``starts``        the steady states reached from many starts (coupled systems)
 ``loop``          the hysteresis loop of a steady state (its area is W)
 ``sweep``         dissipation maps over (P̂1, Q̂1, φ): chunked, resumable, parallel, on Dask
 ``sweep_plan``    what a sweep's chunks run, their cost, boundaries and fingerprint
