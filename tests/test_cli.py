@@ -54,6 +54,7 @@ def test_every_subcommand_is_listed(capsys):
         "dissipation",
         "loop",
         "shakedown",
+        "system",
         "contact",
         "methods",
         "map",

@@ -15,6 +15,7 @@ new option cannot appear without a row. A row that misbehaves is marked with :fu
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import re
 import signal
@@ -56,6 +57,7 @@ BASE = {
     ),
     "figures": ((("--out", "{tmp}/f"),), ()),
     "paper-claims": ((), ()),
+    "system": ((("--file", "{tmp}/sys.json"),), ()),
 }
 
 # configurations the rows add to the base
@@ -527,6 +529,20 @@ TABLE = [
     # -- options whose default is the only value that applies are refused when given
     ("contact", "--dims", ("--dims", "1"), NO_APPLY, 2, "--dims"),
     ("contact", "--geometry", ("--geometry", "sphere", *HEIGHTMAP), CONFLICT, 2, "--geometry"),
+    # -- system: the file's fields are named after --file
+    ("system", "--file", ("--file", "{tmp}/none.json"), MISSING, 2, "--file"),
+    ("system", "--file", ("--file", "{tmp}/file"), UNUSABLE, 2, "--file"),
+    ("system", "--file", ("--file", DROP), REQUIRED, 2, "--file"),
+    ("system", "--file", ("--file", "{tmp}/sys_K.json"), RANGE, 2, "field K"),
+    ("system", "--file", ("--file", "{tmp}/sys_ill.json"), RANGE, 2, "field coupling"),
+    ("system", "--start", ("--start", "{tmp}/none.json"), MISSING, 2, "--start"),
+    ("system", "--start", ("--start", "{tmp}/far.json"), RANGE, 2, "--start"),
+    ("system", "--start", ("--start", "{tmp}/file"), NOT_NUMBER, 2, "--start"),
+    ("system", "--starts", ("--starts", "0"), RANGE, 2, "--starts"),
+    ("system", "--starts", ("--starts", "two"), NOT_INT, 2, "--starts"),
+    ("system", "--seed", ("--seed", "x"), NOT_INT, 2, "--seed"),
+    ("system", "--method", ("--method", "nosuch"), CHOICE, 2, "--method"),
+    ("system", "--method", ("--method", "explicit"), NO_APPLY, 2, "--method"),
 ]
 
 #: the flags (no value): nothing to get wrong but a value given to them, which the rows with
@@ -547,6 +563,7 @@ EXEMPT = {
     ("figures", "--json"): "a flag: it has no value to be wrong",
     ("paper-claims", "--quick"): "a flag: it has no value to be wrong",
     ("paper-claims", "--json"): "a flag: it has no value to be wrong",
+    ("system", "--json"): "a flag: it has no value to be wrong",
 }
 
 
@@ -619,6 +636,13 @@ def workdir(tmp_path, monkeypatch):
     h_nan[3, 3] = np.nan
     np.save(tmp_path / "nan.npy", h_nan)
     np.savez(tmp_path / "two.npz", a=h, b=h)
+    system = dict(K=[[4.0, -1.0], [-1.0, 3.0]], B=[[0.9, -1.2], [1.1, 0.3]], friction=[0.5, 0.6],
+                  P0=[4.0, 3.5], P1=[1.0, 0.5], psi=[0, 1], Q0=[0, 0], Q1=[2.5, 2.0],
+                  phi=[0.3, 2.0])  # fmt: skip
+    (tmp_path / "sys.json").write_text(json.dumps(system))
+    (tmp_path / "sys_K.json").write_text(json.dumps(dict(system, K=[[4.0, -1.0]])))
+    (tmp_path / "sys_ill.json").write_text(json.dumps(dict(system, B=[[30.0, 0], [0, 0]])))
+    (tmp_path / "far.json").write_text("[50, 0]")
     return tmp_path
 
 

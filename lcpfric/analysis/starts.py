@@ -89,7 +89,9 @@ class SteadyBranch:
 class StartStudy:
     """The steady states reached from a sample of starts (:func:`explore_starts`).
 
-    Attributes
+    The parameters are kept as the attributes of the same names.
+
+    Parameters
     ----------
     starts : (k, n) ndarray
         The start displacements.
@@ -102,16 +104,27 @@ class StartStudy:
     cycles : (k,) ndarray
         Cycles to the steady state.
     remaining : (k,) ndarray
-        Each result's bound on its start's remaining distance to the steady state (relative;
-        0 for a finite approach).
+        Each result's bound on its remaining distance to the steady state (relative; 0 for a
+        finite approach).
     branches : list of SteadyBranch
         The distinct steady states, by W.
     W_min, W_max : float
-        The range of W; ``start_min``, ``start_max`` the indices of starts that reach its ends.
+        The range of W.
+    start_min, start_max : int
+        Indices of starts that reach the ends of the range.
     rejected : int
         Sampled starts replaced because a normal reaction was not a compression.
     seconds : float
         Wall time.
+    stats : dict, optional
+        ``W_tol`` (the grouping tolerance), ``method``, ``seed``.
+
+    Attributes
+    ----------
+    unique : bool
+        One steady W from every start.
+    shakedown_share : float
+        The share of the starts that shake down.
     """
 
     starts: np.ndarray
@@ -142,7 +155,15 @@ class StartStudy:
         return float(np.mean(~self.slipping.any(axis=1)))
 
     def as_dict(self) -> dict:
-        """Plain types, for JSON."""
+        """The study as a JSON-serializable dict.
+
+        Returns
+        -------
+        dict
+            ``W`` (per start), ``W_min``, ``W_max``, ``start_min``, ``start_max`` (the
+            displacements), ``unique``, ``shakedown`` (the share), ``branches``, ``cycles``,
+            ``rejected``, ``seconds``.
+        """
         return dict(
             W=self.W.tolist(),
             W_min=self.W_min,

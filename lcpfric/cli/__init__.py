@@ -9,6 +9,7 @@ subcommand         module               what it does
 ``dissipation``    :mod:`.dissipation`  Ŵ (and W) of one load case
 ``loop``           :mod:`.loop`         its hysteresis loop (F against v), area = W
 ``shakedown``      :mod:`.shakedown`    the exact shakedown test of one load case
+``system``         :mod:`.system`       W of a system file (coupled or not), over starts
 ``contact``        :mod:`.contact`      W of a continuum contact (Hertz sphere, MDR)
 ``methods``        :mod:`.methods`      the methods usable on this installation
 ``map``            :mod:`.map`          a dissipation map over (φ, P̂1, Q̂1), to NetCDF
@@ -41,6 +42,7 @@ COMMANDS = {
     "dissipation": "dissipation",
     "loop": "loop",
     "shakedown": "shakedown",
+    "system": "system",
     "contact": "contact",
     "methods": "methods",
     "map": "map",
