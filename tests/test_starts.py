@@ -72,3 +72,31 @@ def test_given_starts_are_checked_by_row():
     with pytest.raises(InputError) as exc:
         explore_starts(s, 0)
     assert exc.value.parameter == "starts"
+
+
+def test_start_map_and_band_and_their_figure(tmp_path):
+    pytest.importorskip("matplotlib")
+    from support import texts
+
+    from lcpfric.analysis.starts import coupling_band, start_map
+    from lcpfric.figures.starts import figure_start_dependence
+    from lcpfric.figures.style import MIN_FONT_SIZE, PAGE_WIDTH
+
+    s = _system([[2.824, 0.764], [0.764, 2.740]], [[0.952, -0.096], [-0.015, -1.532]],
+                [0.625, 0.407], [4.314, 3.202], [0.951, 0.334], [4.160, 5.216], [1.442, 1.429],
+                [3.388, 1.351])  # fmt: skip
+    r, W, still = start_map(s, 5)
+    assert W.shape == (5, 5) and np.all(still == (W == 0))
+    assert np.nanmin(W) == 0 < np.nanmax(W)  # shakes down from some starts only
+    c = np.array([0.0, 1.0])
+    lo, hi, share = coupling_band(s, c, starts=12)
+    assert lo[0] == pytest.approx(hi[0], rel=1e-9)  # uncoupled: one W (Melan)
+    assert hi[1] - lo[1] > 0.1 * hi[1]
+    fig = figure_start_dependence(r, W, still, c, lo, hi, share)
+    assert fig.get_figwidth() <= PAGE_WIDTH + 1e-9
+    assert min(t.get_fontsize() for t in texts(fig)) >= MIN_FONT_SIZE
+    fig.savefig(tmp_path / "f.pdf")
+    pdf = (tmp_path / "f.pdf").read_bytes()
+    assert b"/CIDFontType2" in pdf or b"/TrueType" in pdf
+    with pytest.raises(InputError, match="two-node"):
+        start_map(_system(K3, None, *ARGS))

@@ -31,7 +31,14 @@ import numpy as np
 from .. import _checks
 from ..errors import InputError
 
-__all__ = ["explore_starts", "StartStudy", "SteadyBranch", "start_from_ratios"]
+__all__ = [
+    "explore_starts",
+    "StartStudy",
+    "SteadyBranch",
+    "start_from_ratios",
+    "start_map",
+    "coupling_band",
+]
 
 
 def start_from_ratios(system, r) -> np.ndarray:
@@ -333,3 +340,84 @@ def _branch(W, key, group) -> SteadyBranch:
         start=int(group[0]),
         count=len(group),
     )
+
+
+def start_map(system, points: int = 41, **options):
+    """The steady W over the square of the mobilization ratios of a two-node system's starts.
+
+    Parameters
+    ----------
+    system : ContactSystem
+        A d = 1 system of two nodes.
+    points : int
+        Ratios per axis (>= 2), equally spaced in [-1, 1].
+    **options
+        Passed to :func:`lcpfric.steady_state`.
+
+    Returns
+    -------
+    r : (points,) ndarray
+        The ratios of each axis.
+    W : (points, points) ndarray
+        ``W[i, j]``: the steady W from the start with ratios ``(r[j], r[i])``; NaN where the
+        start is not admissible (a normal reaction that is not a compression).
+    shakedown : (points, points) bool ndarray
+        No node slips in the steady cycle.
+    """
+    from ..periodic.driver import steady_state
+    from ..results import State
+
+    if system.n != 2:
+        raise InputError("system", f"a start map needs a two-node system, got {system.n} nodes")
+    points = _checks.positive_int("points", points, 2)
+    r = np.linspace(-1.0, 1.0, points)
+    W = np.full((points, points), np.nan)
+    still = np.zeros((points, points), dtype=bool)
+    P0 = np.asarray(system.normal.loads_at(0.0), dtype=float)
+    B = system.coupling if system.coupling is not None else np.zeros((2, 2))
+    for i, r2 in enumerate(r):
+        for j, r1 in enumerate(r):
+            u = start_from_ratios(system, [r1, r2])
+            if np.any(P0 + B @ u <= 0):
+                continue
+            res = steady_state(system, "exact", options.pop("steps_per_cycle", 64), u0=u, **options)
+            W[i, j] = res.W
+            still[i, j] = not np.any(np.asarray(res.state) != State.STICK)
+    return r, W, still
+
+
+def coupling_band(system, scales, starts: int = 60, seed: int = 0):
+    """The range of steady W over random starts as the coupling block is scaled.
+
+    Parameters
+    ----------
+    system : ContactSystem
+        A coupled d = 1 system (its block B is scaled).
+    scales : array_like
+        Factors c >= 0 of the block (``B -> c B``; c = 0: the uncoupled system).
+    starts : int
+        Random starts per factor.
+    seed : int
+        Their seed.
+
+    Returns
+    -------
+    W_min, W_max, shakedown : (len(scales),) ndarrays
+        The range of W and the share of the starts that shake down, per factor.
+    """
+    from ..model import ContactSystem
+
+    if system.coupling is None:
+        raise InputError("system", "needs a coupled system (a coupling block B)")
+    scales = _checks.finite_array("scales", scales).ravel()
+    if np.any(scales < 0):
+        raise InputError("scales", "must be >= 0")
+    out = np.empty((3, scales.size))
+    for k, c in enumerate(scales):
+        s = ContactSystem(
+            system.stiffness, system.friction, system.tangential_loads, system.normal,
+            coupling=c * system.coupling,
+        )  # fmt: skip
+        study = explore_starts(s, starts, seed=seed)
+        out[:, k] = study.W_min, study.W_max, study.shakedown_share
+    return out[0], out[1], out[2]
