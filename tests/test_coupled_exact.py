@@ -137,8 +137,8 @@ def test_separation_is_an_error_naming_node_and_instant():
 
 def test_other_methods_refuse_coupled_systems_by_name():
     s = system([[2.0]], [[0.5]], [0.5], [3.0], [1.0], [0.0], [0.0], [2.0], [0.0])
-    with pytest.raises(InputError, match="'explicit' does not solve coupled") as exc:
-        lcpfric.steady_state(s, method="explicit")
+    with pytest.raises(InputError, match="'active-set' does not solve coupled") as exc:
+        lcpfric.steady_state(s, method="active-set")
     assert exc.value.parameter == "coupling"
 
 

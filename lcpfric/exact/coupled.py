@@ -260,24 +260,14 @@ class CoupledEvents:
             theta = end
 
     def initial(self, u0):
-        """An admissible start at θ = 0: ``u0``, or (None) the stuck start u = 0 corrected by
-        the nodes that violate their limits there slipping to them (a static pattern search)."""
-        status = np.full(self.n, STICK, dtype=np.int8)
-        if u0 is not None:
-            return np.asarray(u0, dtype=float).copy(), status
-        u = np.zeros(self.n)
-        for _ in range(self.n + 1):
-            U, F, N = self.triples(status, u)
-            Fv, fN = value(F, 0.0), self.f * value(N, 0.0)
-            over = (np.abs(Fv) > fN * (1 + 1e-12)) & (status == STICK)
-            if not over.any():
-                return value(U, 0.0), np.full(self.n, STICK, dtype=np.int8)
-            status[over] = np.where(Fv[over] < 0, FORWARD, BACKWARD)
-        raise SolverError(
-            "exact (coupled): no admissible start found at θ = 0; give u0",
-            backend="exact",
-            status="start",
-        )
+        """An admissible start at θ = 0: ``u0``, or (None) the default start
+        (:func:`lcpfric.model.coupling.static_start`), all nodes stuck there."""
+        from ..model.coupling import static_start
+
+        if u0 is None:
+            Q, P = value(self.Qt, 0.0), value(self.Pt, 0.0)
+            u0 = static_start(self.K, self.B, self.f, Q, P)
+        return np.asarray(u0, dtype=float).copy(), np.full(self.n, STICK, dtype=np.int8)
 
 
 def coupled_system_cycle(

@@ -27,7 +27,10 @@ import numpy as np
 from .. import _checks
 from ..errors import InputError
 
-__all__ = ["check_coupling", "EXACT_NODES"]
+__all__ = ["check_coupling", "coupled_start", "static_start", "EXACT_NODES", "COUPLED_METHODS"]
+
+#: the methods that solve a coupled system's steady state
+COUPLED_METHODS = ("exact", "explicit")
 
 #: largest system whose well-posedness is decided minor by minor (3^n determinants)
 EXACT_NODES = 12
@@ -102,3 +105,41 @@ def check_coupling(B, K: np.ndarray, friction: np.ndarray) -> np.ndarray:
         f"(scaled by the product of K's diagonal there) <= 0; lower the friction or the "
         f"coupling",
     )
+
+
+def static_start(K, B, f, Q, P) -> np.ndarray:
+    """The default start of a coupled system at t = 0 (loads ``Q``, ``P`` there): u = 0 where
+    it is admissible, else the nodes that violate their limits slip to them, the others stay at
+    0 (a static pattern search; every method starts from it, as the steady state depends on the
+    start). :class:`InputError` (``u0``) when no pattern is found in n + 1 rounds."""
+    n = f.size
+    slip = np.zeros(n)  # +1 forward (F = -f N), -1 backward, 0 stuck at u = 0
+    for _ in range(n + 1):
+        u = np.zeros(n)
+        S = slip != 0
+        if S.any():
+            A = K[S] + (slip[S] * f[S])[:, None] * B[S]
+            u[S] = np.linalg.solve(A[:, S], -(Q[S] + slip[S] * f[S] * P[S]))
+        F, fN = Q + K @ u, f * (P + B @ u)
+        over = (np.abs(F) > fN * (1 + 1e-12)) & ~S
+        if not over.any():
+            return u
+        slip[over] = np.where(F[over] < 0, 1.0, -1.0)
+    raise InputError("u0", "no admissible default start found at t = 0: give u0")
+
+
+def coupled_start(system, method: str, u0):
+    """For the driver: refuse a coupled system for a method that does not solve it (naming the
+    ones that do), and return the start (``u0``, or :func:`static_start`)."""
+    if method not in COUPLED_METHODS:
+        raise InputError(
+            "coupling",
+            f"'{method}' does not solve coupled systems (N = P + B v): use "
+            + " or ".join(f"'{m}'" for m in COUPLED_METHODS),
+        )
+    if u0 is not None:
+        return u0
+    K = system.dense_stiffness()
+    Q = np.asarray(system.tangential(0.0), dtype=float)
+    P = np.asarray(system.normal.loads_at(0.0), dtype=float)
+    return static_start(K, system.coupling, system.friction, Q, P)

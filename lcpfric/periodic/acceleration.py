@@ -148,12 +148,16 @@ def choose(scene, stepper, history: bool, start) -> Acceleration | None:
       Anderson's acceleration;
     * a discrete system with d = 2 whose cycles are kept whole: the memory taken from the
       recorded cycle, then Anderson's acceleration where the nodes are coupled;
+    * a coupled system (``N = P + B u``): none, its steady state depends on the start and a
+      jump could land on another one;
     * any other discrete system: Aitken's jumps."""
     if scene.system is None:
         if not stepper.can_restart:
             return None
         return Acceleration(stepper.memory(scene), anderson=True)
     system = scene.system
+    if getattr(system, "coupling", None) is not None:
+        return None  # a start-dependent steady state: the cycles as they happen, no jumps
     if history and system.dims == 2:
         c = np.asarray(system.compliance_diagonal(), dtype=float).reshape(system.n, -1)
         return Acceleration(SlipMemory(c.mean(axis=1), system.n), anderson=not system.is_diagonal())

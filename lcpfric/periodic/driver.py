@@ -27,6 +27,7 @@ from .. import _checks, memory
 from ..errors import ConvergenceError, ConvergenceWarning, InputError
 from ..methods import CLOSED_FORM, get_stepper
 from ..model import ContactSystem, SingleNode
+from ..model.coupling import coupled_start
 from ..model.system_checks import admissible_start
 from ..results import SteadyState
 from ..scene import Scene, make_scene
@@ -262,11 +263,8 @@ def steady_state(
             "steps_per_cycle",
             f"a steady state with {steps} steps per cycle",
         )
-    if coupled and solver.name != "exact":
-        raise InputError(
-            "coupling",
-            f"'{solver.name}' does not solve coupled systems (N = P + B v) yet: use 'exact'",
-        )
+    if coupled:  # the methods that solve it, and one default start for all of them
+        u0 = coupled_start(model, solver.name, u0)
     checked = u0 is not None and isinstance(model, (SingleNode, ContactSystem))
     if checked:
         u0 = admissible_start(model if isinstance(model, ContactSystem) else model.system(), u0)

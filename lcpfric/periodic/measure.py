@@ -120,8 +120,8 @@ def unit_scaled(scene: Scene) -> tuple[Scene, float]:
     "DualInfeasible". Q, f N and so u and F scale by 1/s and W by 1/s². Dividing by a power of
     two is exact in floating point, so the closed-form steppers give the same bits either way.
     """
-    if scene.system is None:
-        return scene, 1.0
+    if scene.system is None or getattr(scene.system, "coupling", None) is not None:
+        return scene, 1.0  # (a coupled system's steppers read P(t) from the system itself)
     # the answer F lies within ±f N: its size is the largest friction limit
     size = largest_limit(scene)
     if not np.isfinite(size) or size == 0.0:

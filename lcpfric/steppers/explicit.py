@@ -112,6 +112,12 @@ class ExplicitStepper(Stepper):
         self.check_system(scene.system)
         state = super().init(scene, u0)
         data = {"K": scene.system.dense_stiffness(), "substeps": 0, "events": 0}
+        B = scene.system.coupling
+        if B is not None:  # N = P + B u: the loads P unclipped (a coupled node never separates)
+            P = np.asarray(scene.system.normal.loads_at(scene.t), dtype=float)
+            data.update(B=B, P=P)
+            F = scene.Q[0] + data["K"] @ state.u
+            state = replace(state, F=F, state=np.full(F.size, STICK, dtype=np.int8))
         return replace(state, data=data)
 
     # ------------------------------------------------------------------------------------------
@@ -148,9 +154,10 @@ class ExplicitStepper(Stepper):
         K = data["K"]
         f = scene.system.friction
         Qa, Qb = scene.Q[k], scene.Q[k + 1]
-        Na, Nb = scene.N[k], scene.N[k + 1]
+        B = data.get("B")  # a coupling block: N = P + B u
+        Na, Nb = (scene.N[k], scene.N[k + 1]) if B is None else (data["P"][k], data["P"][k + 1])
         dQ, dN = Qb - Qa, Nb - Na
-        sep = (Na + Nb) <= 0.0
+        sep = (Na + Nb) <= 0.0 if B is None else np.zeros(f.size, dtype=bool)
         u = state.u.copy()
         tau = 0.0
         W = 0.0
@@ -161,14 +168,17 @@ class ExplicitStepper(Stepper):
         touch_lo = touch_hi = np.zeros(n, dtype=bool)
         substeps = n_events = 0
         for _ in range(4 * n + 16):
-            Nt = Na + tau * dN
+            Nt = Na + tau * dN if B is None else _compressed(Na + tau * dN + B @ u, scene, k, tau)
             Qt = Qa + tau * dQ
             bound = f * Nt
             F0 = _on_limits(Qt + K @ u, bound, slipping & ~sep, slipping_b & ~sep)
+            # coupled: the rate problem's matrix K + diag(s f) B on the rows on a limit
+            Kr = K if B is None else _coupled_rows(K, B, f, F0, bound, touch_lo, touch_hi)
             du, node_state = slip_rates(
-                K, f, F0, bound, dQ, dN, sep, slipping, slipping_b, touch_lo, touch_hi
+                Kr, f, F0, bound, dQ, dN, sep, slipping, slipping_b, touch_lo, touch_hi
             )
-            events = limit_crossings(K, f, F0, bound, dQ, dN, du, node_state, tau)
+            dNu = dN if B is None else dN + B @ du  # N's rate with the slips
+            events = limit_crossings(K, f, F0, bound, dQ, dNu, du, node_state, tau)
             t_end = min(1.0, float(np.min(events[0])), float(np.min(events[1])))
             now = tau + EPS8 * max(1.0, tau)
             if t_end <= now:
@@ -179,7 +189,7 @@ class ExplicitStepper(Stepper):
             u_new = u + (t_end - tau) * du
             F1 = _on_limits(
                 Qa + t_end * dQ + K @ u_new,
-                f * (Na + t_end * dN),
+                f * (Na + t_end * dN + (0.0 if B is None else B @ u_new)),
                 node_state == FORWARD,
                 node_state == BACKWARD,
             )
@@ -203,11 +213,7 @@ class ExplicitStepper(Stepper):
                 status="too_many_events",
             )
         F = F1
-        data = {
-            "K": K,
-            "substeps": data["substeps"] + substeps,
-            "events": data["events"] + n_events,
-        }
+        data = dict(data, substeps=data["substeps"] + substeps, events=data["events"] + n_events)
         return StepState(u, F, node_state, W, data)
 
     # ------------------------------------------------------------------------------------------
@@ -241,7 +247,7 @@ class ExplicitStepper(Stepper):
         lcpfric.errors.SolverError
             From :meth:`step`.
         """
-        if scene.system.m != 1 or not history:
+        if scene.system.m != 1 or not history or "B" in state.data:
             return super().cycle(scene, state, history)
         return _single_node_cycle(scene, state)
 
@@ -268,6 +274,30 @@ def _on_limits(F, bound, forward, backward):
     if forward.any() or backward.any():
         F = np.where(forward, -bound, np.where(backward, bound, F))
     return F
+
+
+def _compressed(N, scene, k, tau):
+    """A coupled system's normal reactions N = P + B u, or :class:`InputError` naming the node
+    whose reaction is not a compression and the instant (separation is not modelled)."""
+    if np.all(N > 0.0):
+        return N
+    i = int(np.argmin(N))
+    t = scene.t[k] + tau * (scene.t[k + 1] - scene.t[k])
+    raise InputError(
+        "normal_loads",
+        f"the normal reaction of node {i} reaches zero at t = {t:.12g}: separation of a "
+        "node of a coupled system is not modelled",
+    )
+
+
+def _coupled_rows(K, B, f, F0, bound, touch_lo, touch_hi):
+    """``K + diag(s f) B``, s = +1 on the lower limit (forward slip: F = -f N), -1 on the upper:
+    with it the rate problem of :func:`~lcpfric.steppers.rates.slip_rates` is the coupled one
+    (its rows off the limits are not used)."""
+    gtol = REL * (np.abs(F0) + bound) + 1e-300
+    s = np.where((F0 <= -bound + gtol) | touch_lo, 1.0, 0.0)
+    s = np.where((F0 >= bound - gtol) | touch_hi, -1.0, s)
+    return K + (s * f)[:, None] * B
 
 
 def _single_node_cycle(scene, state):

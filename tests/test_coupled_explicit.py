@@ -1,0 +1,67 @@
+"""``explicit`` on coupled systems (N = P + B u): the rate LCP with ``K + diag(s f) B``, the
+normal reactions moving with the slips inside an increment, against ``exact``."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import lcpfric
+from lcpfric.analysis.starts import start_from_ratios
+from lcpfric.errors import InputError
+from lcpfric.model import ContactSystem, Harmonic, IndependentSprings
+
+
+def two_nodes(c=1.0):
+    return ContactSystem(
+        np.array([[2.824, 0.764], [0.764, 2.740]]),
+        friction=np.array([0.625, 0.407]),
+        tangential_loads=(Harmonic(0.0, 1.442, 3.388), Harmonic(0.0, 1.429, 1.351)),
+        normal=IndependentSprings((Harmonic(4.314, 0.951, 4.160), Harmonic(3.202, 0.334, 5.216))),
+        coupling=c * np.array([[0.952, -0.096], [-0.015, -1.532]]),
+    )
+
+
+def test_explicit_converges_to_exact_from_a_start():
+    s = two_nodes()
+    u0 = start_from_ratios(s, [-0.8, 0.0])
+    ex = lcpfric.steady_state(s, "exact", u0=u0)
+    assert ex.W > 0.2
+    ee = lcpfric.steady_state(s, "explicit", 6400, u0=u0, tol=1e-12)
+    assert ee.W == pytest.approx(ex.W, rel=1e-7)  # measured 1.9e-8
+    # a start that shakes down does so in both
+    u1 = start_from_ratios(s, [0.8, 0.0])
+    assert lcpfric.steady_state(s, "explicit", 400, u0=u1).W == pytest.approx(0.0, abs=1e-9)
+    assert lcpfric.steady_state(s, "exact", u0=u1).W == 0.0
+
+
+def test_both_methods_share_the_default_start():
+    s = two_nodes(0.5)
+    ex = lcpfric.steady_state(s, "exact")
+    ee = lcpfric.steady_state(s, "explicit", 3200, tol=1e-12)
+    assert np.allclose(ee.v[0], ex.v[0], atol=1e-6)
+    assert ee.W == pytest.approx(ex.W, rel=1e-5)
+
+
+def test_explicit_names_a_separating_node():
+    s = ContactSystem(
+        np.array([[2.0]]),
+        np.array([0.5]),
+        (Harmonic(0.0, 3.0, 0.0),),
+        IndependentSprings((Harmonic(1.0, 0.0, 0.0),)),
+        coupling=np.array([[-1.9]]),
+    )
+    with pytest.raises(InputError, match="node 0.*reaches zero at t = ") as exc:
+        lcpfric.steady_state(s, "explicit", 200)
+    assert exc.value.parameter == "normal_loads"
+
+
+@pytest.mark.slow
+def test_explicit_order_on_a_coupled_pair():
+    """The least-squares order over 100..6400 steps (measured 2.50)."""
+    s = two_nodes()
+    u0 = start_from_ratios(s, [-0.8, 0.0])
+    W = lcpfric.steady_state(s, "exact", u0=u0).W
+    ns = np.array([100, 200, 400, 800, 1600, 3200, 6400])
+    err = [abs(lcpfric.steady_state(s, "explicit", n, u0=u0, tol=1e-12).W - W) for n in ns]
+    assert -np.polyfit(np.log(ns), np.log(err), 1)[0] >= 1.8
