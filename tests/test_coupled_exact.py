@@ -137,8 +137,11 @@ def test_separation_is_an_error_naming_node_and_instant():
 
 def test_other_methods_refuse_coupled_systems_by_name():
     s = system([[2.0]], [[0.5]], [0.5], [3.0], [1.0], [0.0], [0.0], [2.0], [0.0])
-    with pytest.raises(InputError, match="'active-set' does not solve coupled") as exc:
-        lcpfric.steady_state(s, method="active-set")
+    from lcpfric.model.coupling import COUPLED_METHODS
+
+    other = next(m for m in ("active-set", "projection", "clarabel") if m not in COUPLED_METHODS)
+    with pytest.raises(InputError, match=f"'{other}' does not solve coupled") as exc:
+        lcpfric.steady_state(s, method=other)
     assert exc.value.parameter == "coupling"
 
 
@@ -147,3 +150,35 @@ def test_inadmissible_start_names_the_normal_reaction():
     with pytest.raises(InputError, match="not a compression") as exc:
         lcpfric.steady_state(s, method="exact", u0=[-2.0])
     assert exc.value.parameter == "u0"
+
+
+@pytest.mark.parametrize(("k21", "Q0"), [(0.5, 0.0), (-0.8, 0.4)])
+def test_klarbrings_node_is_its_one_node_system(k21, Q0):
+    node = lcpfric.SingleNode(k11=2.0, f=0.5, P0=3.0, P1=1.0, Q1=2.5, phi=0.7, Q0=Q0, k21=k21)
+    s = system([[2.0]], [[k21]], [0.5], [3.0], [1.0], [0.0], [Q0], [2.5], [0.7])
+    a, b = lcpfric.steady_state(node, "exact"), lcpfric.steady_state(s, "exact")
+    assert a.W == pytest.approx(b.W, rel=1e-13)
+    assert np.allclose(a.v, b.v[:, 0], atol=1e-13) and np.allclose(a.N, b.N[:, 0], atol=1e-13)
+    assert a.W_hat == pytest.approx(a.W / node.normalization().W, rel=1e-13)
+    assert lcpfric.steady_state(node, "explicit", 1600).W == pytest.approx(a.W, rel=1e-5)
+    from lcpfric.model.coupling import COUPLED_METHODS
+
+    other = next(m for m in ("active-set", "projection", "clarabel") if m not in COUPLED_METHODS)
+    with pytest.raises(InputError, match=f"'{other}' does not solve coupled"):
+        lcpfric.steady_state(node, other)
+
+
+def test_klarbrings_condition_for_one_node():
+    with pytest.raises(InputError, match="Klarbring") as exc:
+        lcpfric.SingleNode(k11=2.0, f=0.5, P0=3.0, k21=4.0)
+    assert exc.value.parameter == "k21"
+
+
+def test_single_node_from_a_start_keeps_its_units():
+    """The exact single node from a start (its one-node system) gives the closed form's W and
+    series in the node's units (a start once returned W in the system's units)."""
+    node = lcpfric.SingleNode(k11=2.0, f=0.5, P0=3.0, P1=1.0, Q1=2.5, phi=0.0)
+    a = lcpfric.steady_state(node, "exact")
+    b = lcpfric.steady_state(node, "exact", u0=[0.0])
+    assert b.W == pytest.approx(a.W, rel=1e-12) and b.W_hat == pytest.approx(a.W_hat, rel=1e-12)
+    assert np.allclose(a.v, b.v, atol=1e-12) and np.allclose(a.F, b.F, atol=1e-12)

@@ -214,8 +214,8 @@ def explore_starts(
     seed : int
         The random sample's seed.
     rtol : float
-        Two steady states are one when their W agree to ``rtol`` of the largest |W| (and at
-        least 1e-12 of the force-displacement scale) and the same nodes slip.
+        Two steady states are one when their W agree to ``rtol`` of the largest W (and at least
+        1e-12 of the force-displacement scale) and the same nodes slip.
     steps_per_cycle : int
         Samples of each steady cycle (W does not depend on it for ``exact``).
     **options

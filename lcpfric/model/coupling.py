@@ -137,8 +137,8 @@ def coupled_start(system, method: str, u0):
             f"'{method}' does not solve coupled systems (N = P + B v): use "
             + " or ".join(f"'{m}'" for m in COUPLED_METHODS),
         )
-    if u0 is not None:
-        return u0
+    if u0 is not None or not hasattr(system, "dense_stiffness"):
+        return u0  # (a single node's steady state does not depend on its start)
     K = system.dense_stiffness()
     Q = np.asarray(system.tangential(0.0), dtype=float)
     P = np.asarray(system.normal.loads_at(0.0), dtype=float)

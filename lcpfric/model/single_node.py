@@ -59,6 +59,12 @@ class SingleNode:
     dimensional : bool, optional
         False for the dimensionless system of :meth:`normalized` (it only changes the
         ``repr``).
+    k21 : float, optional
+        The off-diagonal stiffness that makes the normal reaction depend on the slip
+        (Klarbring's node: ``N = P + k21 v`` in contact; default 0, the paper's uncoupled node),
+        ``f |k21| < k11`` (Klarbring's condition). Solved by ``exact`` and ``explicit`` through
+        :meth:`system` (a coupled one-node system; a node whose reaction reaches zero is refused
+        by name).
 
     Attributes
     ----------
@@ -103,10 +109,18 @@ class SingleNode:
         normal_load: Load | None = None,
         tangential_load: Load | None = None,
         dimensional: bool = True,
+        k21: float = 0.0,
     ) -> None:
         self.k11 = _checks.positive("k11", k11)
         self.k22 = _checks.positive("k22", k22)
         self.f = _checks.positive("f", f)
+        self.k21 = _checks.finite("k21", k21)
+        if not self.f * abs(self.k21) < self.k11:  # Klarbring's condition for one node
+            raise InputError(
+                "k21",
+                f"|k21| = {abs(self.k21):g} must be < k11 / f = {self.k11 / self.f:g} "
+                "(Klarbring's condition: above it the evolution is not unique)",
+            )
         self.dimensional = _checks.boolean("dimensional", dimensional)
         harmonic_inputs = normal_load is None and tangential_load is None
         if normal_load is None:
@@ -353,13 +367,22 @@ class SingleNode:
         """
         if self._system is None:
             fp0 = self.force_unit
+            # N = P + k21 v in contact: N/P0 = P̂ + (f k21/k11) k11 v/(f P0); a mean Q0 then
+            # moves N too, so it is kept
+            b = self.f * self.k21 / self.k11
             self._system = ContactSystem(
                 stiffness=np.array([[1.0]]),
                 friction=np.array([1.0]),
-                tangential_loads=(_scaled(self.tangential_load, 1.0 / fp0, drop_mean=True),),
+                tangential_loads=(_scaled(self.tangential_load, 1.0 / fp0, drop_mean=not b),),
                 normal=IndependentSprings((_scaled(self.normal_load, 1.0 / self.P0),)),
+                coupling=np.array([[b]]) if b else None,
             )
         return self._system
+
+    @property
+    def coupling(self):
+        """The normalized coupling ``[[f k21 / k11]]`` of the node's system, or None (k21 = 0)."""
+        return self.system().coupling
 
     def __repr__(self) -> str:
         if self.is_harmonic:

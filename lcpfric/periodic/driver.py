@@ -235,7 +235,7 @@ def steady_state(
     start = time.perf_counter()
     base = _base(model)
     method = base.default_method if method is None else method
-    coupled = isinstance(model, ContactSystem) and model.coupling is not None
+    coupled = isinstance(model, (ContactSystem, SingleNode)) and model.coupling is not None
     if max_cycles is None:  # a coupled system's cycles run as they happen: more of them
         max_cycles = 1000 if coupled else base.default_max_cycles
     tol, max_cycles, on_nonconvergence = _checks.driver_options(tol, max_cycles, on_nonconvergence)
