@@ -182,9 +182,13 @@ class ExplicitStepper(Stepper):
             t_end = min(1.0, float(np.min(events[0])), float(np.min(events[1])))
             now = tau + EPS8 * max(1.0, tau)
             if t_end <= now:
-                # limits reached within round-off of τ: decide those nodes' slip at τ
                 touch_hi, touch_lo = events[0] <= now, events[1] <= now
-                continue
+                if touch_hi.any() or touch_lo.any():
+                    # limits reached within round-off of τ: decide those nodes' slip at τ
+                    continue
+                # no limit is reached: only the increment's end is within round-off of τ
+                # (an event just before t_{k+1}); finish the increment instead of retrying
+                t_end = 1.0
             touch_lo = touch_hi = np.zeros(n, dtype=bool)
             u_new = u + (t_end - tau) * du
             F1 = _on_limits(
