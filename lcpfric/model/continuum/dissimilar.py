@@ -64,8 +64,9 @@ def pair(E: float, nu: float, E2=None, nu2=None) -> dict | None:
     Returns
     -------
     dict or None
-        ``{"E*", "G*", "G", "eta", "beta", "second"}``: composite moduli, body 1's G, ``G*/E*``,
-        Dundurs' β (0 below 1e-12: round-off), and ``second = (E2, nu2)`` (``(inf, nan)`` when rigid).
+        ``{"E*", "G*", "G", "eta", "beta", "second"}``: composite moduli, body 1's G,
+        ``G*/E*``, Dundurs' β (0 below 1e-12: round-off), and ``second = (E2, nu2)``
+        (``(inf, nan)`` when rigid).
 
     Raises
     ------
