@@ -65,3 +65,17 @@ def test_explicit_order_on_a_coupled_pair():
     ns = np.array([100, 200, 400, 800, 1600, 3200, 6400])
     err = [abs(lcpfric.steady_state(s, "explicit", n, u0=u0, tol=1e-12).W - W) for n in ns]
     assert -np.polyfit(np.log(ns), np.log(err), 1)[0] >= 1.8
+
+
+def test_series_and_approach_of_a_coupled_steady_state():
+    s = two_nodes()
+    u0 = start_from_ratios(s, [-0.8, 0.0])
+    e = lcpfric.steady_state(s, "explicit", 400, u0=u0)
+    P = s.normal.loads_at(e.t)
+    assert np.allclose(e.N, P + e.v @ s.coupling.T, atol=1e-12)  # N = P + B v, not P
+    assert {"ratio", "remaining"} <= set(e.solver_stats)
+    ex = lcpfric.steady_state(s, "exact", 400, u0=u0)
+    assert np.max(np.abs(ex.N - e.N)) < 1e-4
+    node = lcpfric.SingleNode(k11=2.0, f=0.5, P0=3.0, P1=1.0, Q1=2.5, phi=0.7, Q0=0.4, k21=0.5)
+    a, b = lcpfric.steady_state(node, "exact", 400), lcpfric.steady_state(node, "explicit", 400)
+    assert np.max(np.abs(a.v - b.v)) < 1e-4 and np.max(np.abs(a.N - b.N)) < 1e-4

@@ -28,9 +28,18 @@ def assemble(
     restarts of the acceleration (``extrapolations``, in the statistics when any). The message
     is "converged" or empty (the driver's to complete)."""
     model = scene.model
+    rows = [0, -1] if cyc.t.size != scene.t.size else slice(None)
     stats = dict(cyc.stats)
     if extrapolations:
         stats["extrapolations"] = extrapolations
+    B = getattr(scene.system, "coupling", None)
+    N_all = scene.N
+    if B is not None:  # N = P + B u, and how far a geometric approach may still be
+        P = np.asarray(
+            scene.system.normal.loads_at(scene.t[rows] if cyc.t.size != scene.t.size else scene.t)
+        )
+        N_all = P + cyc.u @ B.T
+        stats.update(approach(changes))
     common = dict(
         cycles=len(W_cycles),
         converged=converged,
@@ -43,11 +52,10 @@ def assemble(
         message="converged" if converged else "",
         changes=changes,
     )
-    rows = [0, -1] if cyc.t.size != scene.t.size else slice(None)
     if scene.system is None:
         return _continuum(scene, cyc, W_cycles, rows, {**scene.stats, **stats}, common)
     if model is None:
-        N = scene.N if cyc.t.size == scene.t.size else scene.N[[0, -1]]
+        N = N_all if B is not None or cyc.t.size == scene.t.size else scene.N[[0, -1]]
         return SteadyState(
             W=float(W_cycles[-1]),
             W_cycles=W_cycles,
@@ -61,7 +69,9 @@ def assemble(
     # a single node is advanced in the units f P0 (force), f P0/k11 (displacement): J = Q̂1 Ŵ
     q1 = model.Q1_hat
     W_hat_cycles = W_cycles / q1 if q1 > 0 else np.zeros_like(W_cycles)
-    v, F, N = model.series(cyc.u[:, 0], cyc.F[:, 0], scene.N[:, 0])
+    v, F, N = model.series(cyc.u[:, 0], cyc.F[:, 0], N_all[:, 0])
+    if B is not None:  # the coupled node's system keeps Q's mean: u is not shifted by it
+        v = v + model.Q0 / model.k11
     return SteadyState(
         W=float(model.W(W_hat_cycles[-1])),
         W_cycles=np.atleast_1d(model.W(W_hat_cycles)),
@@ -74,6 +84,20 @@ def assemble(
         solver_stats=stats,
         **common,
     )
+
+
+def approach(changes) -> dict:
+    """How far a geometric approach may still be: ``ratio`` (the largest of the last two
+    cycles' contractions) and ``remaining`` (``c ρ/(1 - ρ)``, the bound on the distance left,
+    relative as the changes; the last change itself when the ratio is not below 0.95)."""
+    c = np.asarray(changes if changes is not None else [], dtype=float)
+    if c.size < 3 or not np.all(c[-3:-1] > 0):
+        return {"ratio": float("nan"), "remaining": float(c[-1]) if c.size else float("nan")}
+    rho = float(max(c[-1] / c[-2], c[-2] / c[-3]))
+    return {
+        "ratio": rho,
+        "remaining": float(c[-1] * rho / (1 - rho)) if rho < 0.95 else float(c[-1]),
+    }
 
 
 def _continuum(scene, cyc, W_cycles, rows, stats, common) -> SteadyState:
