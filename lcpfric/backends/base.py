@@ -22,11 +22,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._checks import boolean, byte_budget, positive
+from .._checks import boolean, byte_budget, positive, positive_int
 from ..errors import InputError
 from ..results import CycleResult, StepState
 from ..steppers.base import Stepper
 from ..steppers.dissipation import increment_dissipation
+from .coupled import CoupledIncrements, CoupledPlan
 from .plan import ScenePlan
 from .problem import DEFAULT_PLAN_BUDGET, IncrementProblem
 from .settings import CONIC_METHODS
@@ -61,20 +62,25 @@ class ConvexData:
     stats : dict
         ``solves``, ``refined``, ``unrefined``, ``max_residual`` and ``events`` so far, and the
         plan's ``plans_built``, ``plans_evicted`` and ``plan_peak_bytes`` (bytes) at the time of
-        the state (a new dict in every state).
+        the state (a new dict in every state); on a coupled system also
+        ``fixed_point_iterations`` and ``fixed_point_max_ratio``
+        (:mod:`~lcpfric.backends.coupled`).
+    coupled : CoupledPlan or None
+        A coupled system's block B, normal loads and contraction bound (None: uncoupled).
 
     Attributes
     ----------
-    plan, bdata, stats
+    plan, bdata, stats, coupled
         The parameters, as given.
     """
 
     plan: ScenePlan
     bdata: list
     stats: dict
+    coupled: CoupledPlan | None = None
 
 
-class ConvexStepper(SolverInterface, Increments, ScalarCycle, Stepper):
+class ConvexStepper(SolverInterface, Increments, CoupledIncrements, ScalarCycle, Stepper):
     """A stepper that solves problem (P) with a convex solver at every increment.
 
     A backend subclass sets ``name`` (registry name), ``can_soc`` (whether it expresses the d = 2
@@ -119,6 +125,17 @@ class ConvexStepper(SolverInterface, Increments, ScalarCycle, Stepper):
         comes back (the solver starting cold), so a scene whose contact set changes at every
         step runs in bounded memory; the problem in use is always kept. See
         :mod:`~lcpfric.backends.problem`.
+    fixed_point_tol : float
+        A coupled system (``N = P + B u``): the fixed point on the normal reactions stops when
+        an iteration changes u by at most this times ``c · s_F``, > 0 (default 1e-13; see
+        :mod:`~lcpfric.backends.coupled`).
+    fixed_point_max : int
+        A coupled system: convex solves allowed per fixed point (default 100); beyond, a
+        :class:`~lcpfric.errors.SolverError` with status ``"coupled_fixed_point"``.
+    pattern_steps : bool
+        A coupled system: take the fixed point on each answer's stick/slip pattern as the next
+        iterate (default True; two solves per piece when the pattern is right), falling back
+        to plain fixed-point steps when they do not pay.
     **settings
         Solver settings, overriding lcpfric's tight defaults
         (:data:`~lcpfric.backends.settings.TIGHT_SETTINGS`). They are checked by the solver
@@ -141,7 +158,8 @@ class ConvexStepper(SolverInterface, Increments, ScalarCycle, Stepper):
         :meth:`handle_bytes`).
     solver : str or None
         The solver of a ``:<solver>`` backend (``"proxqp"`` of ``"qpsolvers:proxqp"``).
-    refine, check_tol, active_tol, locate_events, plan_budget
+    refine, check_tol, active_tol, locate_events, plan_budget, fixed_point_tol, fixed_point_max,
+    pattern_steps
         The options, as checked.
     user_settings : dict
         The user's solver settings (``**settings``).
@@ -149,8 +167,9 @@ class ConvexStepper(SolverInterface, Increments, ScalarCycle, Stepper):
     Raises
     ------
     lcpfric.errors.InputError
-        ``refine`` or ``locate_events`` not a bool, ``check_tol`` or ``active_tol`` not a
-        finite number > 0, ``plan_budget`` not a number >= 1 (or ``math.inf``).
+        ``refine``, ``locate_events`` or ``pattern_steps`` not a bool, ``check_tol``,
+        ``active_tol`` or ``fixed_point_tol`` not a finite number > 0, ``fixed_point_max`` not
+        an integer >= 1, ``plan_budget`` not a number >= 1 (or ``math.inf``).
     """
 
     def __init__(
@@ -161,6 +180,9 @@ class ConvexStepper(SolverInterface, Increments, ScalarCycle, Stepper):
         active_tol: float = 1e-6,
         locate_events: bool = True,
         plan_budget: float = DEFAULT_PLAN_BUDGET,
+        fixed_point_tol: float = 1e-13,
+        fixed_point_max: int = 100,
+        pattern_steps: bool = True,
         **settings: Any,
     ) -> None:
         self.refine = boolean("refine", refine)
@@ -168,6 +190,9 @@ class ConvexStepper(SolverInterface, Increments, ScalarCycle, Stepper):
         self.check_tol = positive("check_tol", check_tol)
         self.active_tol = positive("active_tol", active_tol)
         self.plan_budget = byte_budget("plan_budget", plan_budget)
+        self.fixed_point_tol = positive("fixed_point_tol", fixed_point_tol)
+        self.fixed_point_max = positive_int("fixed_point_max", fixed_point_max)
+        self.pattern_steps = boolean("pattern_steps", pattern_steps)
         self.user_settings = dict(settings)
 
     # -- the stepper contract ----------------------------------------------------------------
@@ -234,7 +259,10 @@ class ConvexStepper(SolverInterface, Increments, ScalarCycle, Stepper):
             "events": 0,
             **plan.problems.counts(),
         }
-        data = ConvexData(plan, [None] * len(plan.node_bounds), stats)
+        coupled = CoupledPlan.of(scene)
+        if coupled is not None:
+            stats.update(fixed_point_iterations=0, fixed_point_max_ratio=0.0)
+        data = ConvexData(plan, [None] * len(plan.node_bounds), stats, coupled)
         return replace(super().init(scene, u0), data=data)
 
     def _build(self, prob: IncrementProblem):
@@ -335,7 +363,7 @@ class ConvexStepper(SolverInterface, Increments, ScalarCycle, Stepper):
         """
         data = state.data
         plan = data.plan
-        if plan.m == 1:
+        if plan.m == 1 and data.coupled is None:
             return self.cycle_scalar(scene, state)
         steps = scene.steps
         U = np.empty((steps + 1, plan.m))

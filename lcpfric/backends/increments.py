@@ -39,6 +39,8 @@ class Increments:
         end state (:func:`~lcpfric.steppers.rates.path_is_exact`: a node slips at the end that
         did not at the start), the increment is split at its events
         (:mod:`~lcpfric.steppers.rates`), one problem (P) per sub-increment."""
+        if data.coupled is not None:  # N = P + B u: a fixed point per piece (.coupled)
+            return self._coupled_increment(data, scene, k, u, F, stats)
         plan = data.plan
         u1, F1, limit = self._project(data, scene, k, u, stats)
         if (

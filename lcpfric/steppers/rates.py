@@ -177,8 +177,10 @@ def first_event(K, f, F0, Q0, N0, dQ, dN, sep, tau: float, rates=None):
     The slip rates at ``tau`` solve the rate problem: by default the slip-rate LCP
     (:func:`slip_rates`, one copy); ``rates(F0, bound, dQ, dN, sep, touch_lo, touch_hi) -> (du,
     node states, force rates dQ + K du)`` replaces it (the active-set backend solves it with its
-    own iteration; K is then not used, and may be None for a matrix-free system). With
-    the rates fixed every Coulomb margin is linear, so the instant is exact."""
+    own iteration; K is then not used, and may be None for a matrix-free system). A fourth
+    item, when ``rates`` returns one, is the normal reactions' rate with the slips (a coupled
+    system, ``dN + B du``: the convex backends' coupled increments). With the rates fixed every
+    Coulomb margin is linear, so the instant is exact."""
     n = f.size
     bound = f * N0
     near = REL * (bound + np.abs(F0)) + 1e-300
@@ -190,10 +192,11 @@ def first_event(K, f, F0, Q0, N0, dQ, dN, sep, tau: float, rates=None):
             du, state = slip_rates(
                 K, f, F0, bound, dQ, dN, sep, was_fwd, was_bwd, touch_lo, touch_hi
             )
-            dF = None
+            dF, dNu = None, dN
         else:
-            du, state, dF = rates(F0, bound, dQ, dN, sep, touch_lo, touch_hi)
-        events = limit_crossings(K, f, F0, bound, dQ, dN, du, state, tau, dF)
+            du, state, dF, *rest = rates(F0, bound, dQ, dN, sep, touch_lo, touch_hi)
+            dNu = rest[0] if rest else dN  # a coupled system's N moves with the slips
+        events = limit_crossings(K, f, F0, bound, dQ, dNu, du, state, tau, dF)
         t_end = min(float(np.min(events[0])), float(np.min(events[1])))
         now = tau + EPS8 * max(1.0, tau)
         if t_end <= now:  # limits reached within round-off of tau: decide those nodes at tau

@@ -1,0 +1,316 @@
+r"""The convex backends on coupled systems (``N = P(t) + B u``, d = 1): one increment as a fixed
+point of problem (P) on the normal reactions (:class:`CoupledIncrements`).
+
+The per-step problem
+--------------------
+Over an increment (or a piece of one, to the fraction τ) the end state of a coupled system
+solves problem (P) (:mod:`~lcpfric.backends.problem`) with its limits ``f_i N_i`` taken at the
+*end* displacements, ``N = P(t) + B u``: the projection of the trial force onto a box that
+depends on the answer. It is solved as a sequence of ordinary problems (P), the normal
+reactions updated between them (a fixed point on u)::
+
+    u⁽⁰⁾ = u_a,    u⁽ʲ⁺¹⁾ = T(u⁽ʲ⁾) = the answer of (P) with the limits  f ∘ (P(t) + B u⁽ʲ⁾),
+
+stopped when ``|u⁽ʲ⁺¹⁾ - u⁽ʲ⁾|∞ <= fixed_point_tol · c · s_F`` (c, s_F the compliance and force
+scales of the residual checks).
+
+When it converges (a sufficient condition)
+------------------------------------------
+In the displacements, (P) with limits ``w = f ∘ N >= 0`` is
+``u = argmin ½ uᵀKu + Qᵀu + Σ w_i |u_i - u_{a,i}|``: ``K u + Q + ξ = 0`` with
+``ξ_i = w_i σ_i``, ``σ_i ∈ sign(u_i - u_{a,i})``. For two limits w, w' and their answers u, u',
+``K (u - u') = -(ξ - ξ')``, and with ``d = u - u_a``, ``d' = u' - u_a``, ``|σ| <= 1``::
+
+    (ξ_i - ξ'_i)(d_i - d'_i) = w_i|d_i| - w_i σ_i d'_i - w'_i σ'_i d_i + w'_i|d'_i|
+                             >= (w_i - w'_i)(|d_i| - |d'_i|) >= -|w_i - w'_i| |u_i - u'_i|,
+
+so ``λmin(K) |u - u'|₂² <= (u - u')ᵀK(u - u') <= |w - w'|₂ |u - u'|₂``, i.e.
+``|u - u'|₂ <= |w - w'|₂ / λmin(K)``. With ``w - w' = diag(f) B (u⁽ʲ⁾ - u⁽ʲ⁻¹⁾)``::
+
+    |u⁽ʲ⁺¹⁾ - u⁽ʲ⁾|₂ <= κ |u⁽ʲ⁾ - u⁽ʲ⁻¹⁾|₂,     κ = ||diag(f) B||₂ / λmin(K),
+
+and T is a contraction when κ < 1: the iteration converges to the unique end state from any
+start, geometrically with ratio κ (Banach). κ < 1 is the sufficient condition
+:func:`~lcpfric.model.coupling.check_coupling` tries first (there it makes every
+``K + diag(s f) B`` positive definite); a system that is well posed only by its minors (κ >= 1)
+may still converge (the bound is not sharp: on the nodes that slip the map is linear with the
+matrix ``-K⁻¹ diag(s f) B`` restricted to them, and its spectral radius decides), or not: then
+the increment raises :class:`~lcpfric.errors.SolverError` with status ``"coupled_fixed_point"``,
+naming the measured contraction and κ, never a silent answer.
+
+Pattern steps (``pattern_steps=True``, the default): each refined answer names its stick nodes
+and the signs of its limit nodes; on that pattern the fixed point is the solution of one linear
+system (the rows of ``K + diag(s f) B`` on the limit nodes, a principal submatrix of a P-matrix,
+so nonsingular), which is taken as the next iterate. When the pattern is right the next problem
+(P) returns it unchanged and the iteration stops: two convex solves per piece. When a pattern
+step does not at least halve the change the iteration falls back to plain fixed-point steps
+(which converge when κ < 1). The backends' stats count every solve (``solves``) and the
+fixed-point iterations (``fixed_point_iterations``, ``fixed_point_max_ratio``, the largest
+measured ratio of successive changes).
+
+The path inside an increment
+----------------------------
+As for uncoupled systems (:mod:`~lcpfric.steppers.rates`), the answer is the exact end state of
+the increment for piecewise-linear loads when its pattern is admissible from the start
+(:func:`~lcpfric.steppers.rates.path_is_exact`, with the limits ``f (P + B u)`` at both ends):
+with the pattern fixed, u, F and N are linear in τ. Otherwise the first event is located from
+the coupled rate problem at the start (the rate LCP with ``K + diag(s f) B`` on the rows on a
+limit, as the explicit stepper; the normal reactions' rate ``dP + B du`` in the margins), the
+fixed point is solved to it and again from there. The dissipation is the sum of the pieces'
+trapezoids ``-½ (F_a + F_b)·(u_b - u_a)``, exact on the linear pieces. A normal reaction that
+reaches zero raises :class:`~lcpfric.errors.InputError` naming the node and the instant
+(separation of a coupled node is not modelled).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError, SolverError
+from ..steppers.dissipation import increment_dissipation
+from ..steppers.rates import REL, first_event, path_is_exact, slip_rates
+from .checks import worst
+from .refine import accept
+
+__all__ = ["CoupledPlan", "CoupledIncrements", "coupled_matrix"]
+
+
+def coupled_matrix(K, B, f, F0, bound, touch_lo, touch_hi):
+    """``K + diag(s f) B`` with s = +1 on the nodes on their lower limit (forward slip,
+    ``F = -f N``), -1 on the upper, 0 elsewhere: the rate problem's matrix of a coupled system
+    on the rows on a limit (the other rows are not used).
+
+    Parameters
+    ----------
+    K, B : (n, n) ndarray
+        Stiffness and coupling block.
+    f, F0, bound : (n,) ndarray
+        Friction coefficients, forces and limits ``f N`` at the instant.
+    touch_lo, touch_hi : (n,) bool ndarray
+        Nodes reaching their lower / upper limit within round-off of the instant.
+
+    Returns
+    -------
+    (n, n) ndarray
+        The matrix.
+    """
+    gtol = REL * (np.abs(F0) + bound) + 1e-300
+    s = np.where((F0 <= -bound + gtol) | touch_lo, 1.0, 0.0)
+    s = np.where((F0 >= bound - gtol) | touch_hi, -1.0, s)
+    return K + (s * f)[:, None] * B
+
+
+@dataclass(frozen=True)
+class CoupledPlan:
+    """What the coupled increments need besides the scene's plan.
+
+    Parameters
+    ----------
+    B : (n, n) ndarray
+        The coupling block, ``N = P + B u``.
+    P : (N+1, n) ndarray
+        The normal loads P on the grid (not clipped: a coupled node is always in contact).
+    contraction_bound : float
+        κ = ``||diag(f) B||₂ / λmin(K)``: the fixed point contracts when κ < 1.
+
+    Attributes
+    ----------
+    B, P, contraction_bound
+        The parameters, as given.
+    """
+
+    B: np.ndarray
+    P: np.ndarray
+    contraction_bound: float
+
+    @classmethod
+    def of(cls, scene) -> CoupledPlan | None:
+        """The coupled plan of a scene, or None for an uncoupled system.
+
+        Parameters
+        ----------
+        scene : Scene
+            A discrete system's scene.
+
+        Returns
+        -------
+        CoupledPlan or None
+            The plan (None when the system has no coupling block).
+        """
+        system = scene.system
+        B = getattr(system, "coupling", None)
+        if B is None:
+            return None
+        K = system.dense_stiffness()
+        P = np.asarray(system.normal.loads_at(scene.t), dtype=float)
+        kappa = float(np.linalg.norm(system.friction[:, None] * B, 2) / np.linalg.eigvalsh(K)[0])
+        return cls(np.asarray(B, dtype=float), P, kappa)
+
+
+class CoupledIncrements:
+    """The increments of :class:`~lcpfric.backends.base.ConvexStepper` on a coupled system (a
+    mixin; see the module docstring). Uses the backend's ``solve``, ``bounds``, ``guarded``,
+    ``fail`` and the options ``refine``, ``active_tol``, ``check_tol``, ``locate_events``,
+    ``fixed_point_tol``, ``fixed_point_max`` and ``pattern_steps``."""
+
+    def _coupled_increment(self, data, scene, k, u, F, stats):
+        """Increment k of a coupled system from ``(u, F)`` at t_k: ``(u, F)`` at t_{k+1} and the
+        dissipation to add to the increment's trapezoid (nonzero when split at events)."""
+        plan, cp = data.plan, data.coupled
+        K, B, f = plan.K, cp.B, plan.friction
+        Qk, Pk = plan.Q[k], cp.P[k]
+        dQ, dP = plan.Q[k + 1] - Qk, cp.P[k + 1] - Pk
+        n = plan.n
+        none = np.zeros(n, dtype=bool)
+
+        def rates(F0, bound, dQ_, dN_, sep, touch_lo, touch_hi):
+            near = REL * (bound + np.abs(F0)) + 1e-300
+            Kr = coupled_matrix(K, B, f, F0, bound, touch_lo, touch_hi)
+            du, st = slip_rates(
+                Kr, f, F0, bound, dQ_, dN_, sep, F0 <= -bound + near, F0 >= bound - near,
+                touch_lo, touch_hi,
+            )  # fmt: skip
+            return du, st, dQ_ + K @ du, dN_ + B @ du
+
+        a, ua, Fa = 0.0, u, F
+        W = 0.0
+        u1, F1, limit = self._fixed_point(data, scene, k, ua, 1.0, stats)
+        for _ in range(4 * n + 16):
+            Na = Pk + a * dP + B @ ua
+            if (
+                not self.locate_events
+                or limit is None
+                or path_is_exact(Fa, f * Na, F1, limit, None, plan.force_scale)
+            ):
+                break
+            tau = first_event(K, f, Fa, Qk + a * dQ, Na, dQ, dP, none, a, rates=rates)
+            if tau is None:
+                break
+            ub, Fb, _ = self._fixed_point(data, scene, k, ua, tau, stats)
+            stats["events"] += 1
+            W += increment_dissipation(Fa, Fb, ub - ua)
+            a, ua, Fa = tau, ub, Fb
+            u1, F1, limit = self._fixed_point(data, scene, k, ua, 1.0, stats)
+        W += increment_dissipation(Fa, F1, u1 - ua)
+        return u1, F1, W - increment_dissipation(F, F1, u1 - u)
+
+    def _fixed_point(self, data, scene, k, ua, frac, stats):
+        """The end state ``(u, F, limit)`` of (P) from ``ua`` to the fraction ``frac`` of
+        increment k, its limits ``f (P + B u)`` at the answer: the fixed point of the module
+        docstring, with pattern steps unless ``pattern_steps`` is off."""
+        plan, cp = data.plan, data.coupled
+        K, B, f = plan.K, cp.B, plan.friction
+        j = k + 1
+        Pt = cp.P[k] + frac * (cp.P[j] - cp.P[k])
+        Qt = plan.Q[k] + frac * (plan.Q[j] - plan.Q[k])
+        CQ = plan.CQ[k] + frac * (plan.CQ[j] - plan.CQ[k])
+        prob = plan.problems.get(np.ones(plan.n, dtype=bool))
+        tol = self.fixed_point_tol * plan.compliance_scale * plan.force_scale
+        w = ua
+        pattern = self.pattern_steps
+        prev = ratio = np.inf
+        ratios = []
+        for it in range(1, self.fixed_point_max + 1):
+            N = Pt + B @ w
+            u1, F1, limit = self._solve_box(
+                data, scene, k, prob, CQ, ua, f * np.maximum(N, 0.0), stats
+            )
+            stats["solves"] += 1
+            change = float(np.abs(u1 - w).max())
+            if np.isfinite(prev) and prev > 0.0:
+                ratio = change / prev
+                ratios.append(ratio)
+            if change <= tol:
+                break
+            if pattern and ratios and ratio > 0.5:
+                pattern = False  # the pattern steps do not pay: plain fixed-point steps
+            prev = change
+            w = u1
+            if pattern and limit is not None:
+                w = _pattern_point(K, B, f, Qt, Pt, ua, F1, limit)
+        else:
+            measured = max(ratios[-5:]) if ratios else np.inf
+            t = scene.t[k] + frac * (scene.t[j] - scene.t[k])
+            kappa = cp.contraction_bound
+            why = (
+                f"its sufficient condition κ = ||diag(f) B||₂ / λmin(K) < 1 does not hold "
+                f"(κ = {kappa:.3g})"
+                if kappa >= 1
+                else f"κ = ||diag(f) B||₂ / λmin(K) = {kappa:.3g}: raise fixed_point_max"
+            )
+            raise SolverError(
+                f"{self.label}: the coupled fixed point on the normal reactions did not converge "
+                f"in {self.fixed_point_max} convex solves in increment {k} (to t = {t:.6g}): "
+                f"measured contraction {measured:.3g} per iteration (last change {change:.3g}, "
+                f"tolerance {tol:.3g}); {why}; or use method 'exact' or 'explicit' (the rate "
+                f"LCP with K + diag(s f) B)",
+                backend=self.label,
+                status="coupled_fixed_point",
+                residuals={"contraction": float(measured), "bound": kappa},
+            )
+        N = Pt + B @ u1
+        if not np.all(N > 0.0):
+            i = int(np.argmin(N))
+            t = scene.t[k] + frac * (scene.t[j] - scene.t[k])
+            raise InputError(
+                "normal_loads",
+                f"the normal reaction of node {i} reaches zero at t = {t:.12g}: separation of "
+                "a node of a coupled system is not modelled",
+            )
+        stats["fixed_point_iterations"] = stats.get("fixed_point_iterations", 0) + it
+        if ratios:
+            stats["fixed_point_max_ratio"] = max(
+                stats.get("fixed_point_max_ratio", 0.0), max(ratios)
+            )
+        return u1, F1, limit
+
+    def _solve_box(self, data, scene, k, prob, CQ, ua, b, stats):
+        """(P) on every node from ``ua``, ``C Q`` of its end ``CQ``, limits ``b``: solved,
+        refined and checked; ``(u, F, limit)`` (``limit`` None for an unrefined answer)."""
+        plan = data.plan
+        q = prob.q
+        np.subtract(-CQ, ua, out=q)
+        x, status, ok = self.guarded(self.solve, prob, q, self.bounds(prob, b))
+        if not ok:
+            self.fail(scene, k, status, None)
+        FA, stick, res, kind = accept(
+            prob,
+            np.array(x, dtype=float),
+            q,
+            b,
+            refine=self.refine,
+            active_tol=self.active_tol,
+            check_tol=self.check_tol,
+            fscale=plan.force_scale,
+            cscale=plan.compliance_scale,
+        )
+        if FA is None:
+            self.fail(scene, k, status, res)
+        stats[kind] += 1
+        stats["max_residual"] = max(stats["max_residual"], worst(res))
+        u1 = prob.Cf @ FA
+        u1 -= CQ
+        if stick is None:
+            return u1, FA, None
+        u1[stick] = ua[stick]  # a refined stick node keeps its displacement exactly
+        return u1, FA, ~stick
+
+
+def _pattern_point(K, B, f, Q, P, ua, F, limit):
+    """The fixed point on the pattern of an answer: the stick nodes at ``ua``, the limit nodes
+    ``i`` at ``F_i = σ_i f_i (P + B u)_i`` (σ the sign of their force), ``F = Q + K u``."""
+    L = np.flatnonzero(limit)
+    S = np.flatnonzero(~limit)
+    u = ua.copy()
+    if not L.size:
+        return u
+    sf = np.sign(F[L]) * f[L]
+    A = K[np.ix_(L, L)] - sf[:, None] * B[np.ix_(L, L)]
+    rhs = sf * (P[L] + B[np.ix_(L, S)] @ ua[S]) - Q[L] - K[np.ix_(L, S)] @ ua[S]
+    try:
+        u[L] = np.linalg.solve(A, rhs)
+    except np.linalg.LinAlgError:
+        return ua
+    return u
