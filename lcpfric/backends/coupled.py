@@ -70,36 +70,11 @@ import numpy as np
 
 from ..errors import InputError, SolverError
 from ..steppers.dissipation import increment_dissipation
-from ..steppers.rates import REL, first_event, path_is_exact, slip_rates
+from ..steppers.rates import REL, coupled_matrix, first_event, path_is_exact, slip_rates
 from .checks import worst
 from .refine import accept
 
-__all__ = ["CoupledPlan", "CoupledIncrements", "coupled_matrix"]
-
-
-def coupled_matrix(K, B, f, F0, bound, touch_lo, touch_hi):
-    """``K + diag(s f) B`` with s = +1 on the nodes on their lower limit (forward slip,
-    ``F = -f N``), -1 on the upper, 0 elsewhere: the rate problem's matrix of a coupled system
-    on the rows on a limit (the other rows are not used).
-
-    Parameters
-    ----------
-    K, B : (n, n) ndarray
-        Stiffness and coupling block.
-    f, F0, bound : (n,) ndarray
-        Friction coefficients, forces and limits ``f N`` at the instant.
-    touch_lo, touch_hi : (n,) bool ndarray
-        Nodes reaching their lower / upper limit within round-off of the instant.
-
-    Returns
-    -------
-    (n, n) ndarray
-        The matrix.
-    """
-    gtol = REL * (np.abs(F0) + bound) + 1e-300
-    s = np.where((F0 <= -bound + gtol) | touch_lo, 1.0, 0.0)
-    s = np.where((F0 >= bound - gtol) | touch_hi, -1.0, s)
-    return K + (s * f)[:, None] * B
+__all__ = ["CoupledPlan", "CoupledIncrements"]
 
 
 @dataclass(frozen=True)

@@ -50,7 +50,8 @@ COMPLIANCE_DENSE = 2000
 
 @dataclass(frozen=True)
 class ContactSystem:
-    """A discrete uncoupled frictional system: ``F = Q(t) + K u``, ``|F_i| <= f_i N_i(t)``.
+    """A discrete frictional system: ``F = Q(t) + K u``, ``|F_i| <= f_i N_i(t)``, the normal
+    reactions prescribed, or ``N = P(t) + B u`` with a coupling block.
 
     Parameters
     ----------
@@ -77,8 +78,9 @@ class ContactSystem:
         The normal-tangential coupling block B of a coupled system, ``N = P(t) + B u`` in
         contact (d = 1; :mod:`lcpfric.model.coupling`): checked well posed (Klarbring's
         condition) on construction; a zero block is the uncoupled system (``coupling``
-        None). ``lcpfric.shakedown`` decides a coupled system's safe state; the steady-state
-        methods do not solve coupled systems yet and say so.
+        None). ``lcpfric.shakedown`` decides a coupled system's safe state; ``exact``,
+        ``explicit`` and the convex backends solve its steady state from a start
+        (:data:`lcpfric.model.coupling.COUPLED_METHODS`; the others say so).
     _cache : dict, optional
         Internal: what the system computes once (its period, factorizations, C); set by the
         system itself, not to be given.

@@ -35,7 +35,7 @@ from ..errors import InputError, SolverError
 from ..results import CycleResult, State, StepState
 from .base import Stepper
 from .dissipation import increment_dissipation, scalar_share
-from .rates import EPS8, REL, limit_crossings, slip_rates
+from .rates import EPS8, REL, coupled_matrix, limit_crossings, slip_rates
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -173,7 +173,7 @@ class ExplicitStepper(Stepper):
             bound = f * Nt
             F0 = _on_limits(Qt + K @ u, bound, slipping & ~sep, slipping_b & ~sep)
             # coupled: the rate problem's matrix K + diag(s f) B on the rows on a limit
-            Kr = K if B is None else _coupled_rows(K, B, f, F0, bound, touch_lo, touch_hi)
+            Kr = K if B is None else coupled_matrix(K, B, f, F0, bound, touch_lo, touch_hi)
             du, node_state = slip_rates(
                 Kr, f, F0, bound, dQ, dN, sep, slipping, slipping_b, touch_lo, touch_hi
             )
@@ -292,16 +292,6 @@ def _compressed(N, scene, k, tau):
         f"the normal reaction of node {i} reaches zero at t = {t:.12g}: separation of a "
         "node of a coupled system is not modelled",
     )
-
-
-def _coupled_rows(K, B, f, F0, bound, touch_lo, touch_hi):
-    """``K + diag(s f) B``, s = +1 on the lower limit (forward slip: F = -f N), -1 on the upper:
-    with it the rate problem of :func:`~lcpfric.steppers.rates.slip_rates` is the coupled one
-    (its rows off the limits are not used)."""
-    gtol = REL * (np.abs(F0) + bound) + 1e-300
-    s = np.where((F0 <= -bound + gtol) | touch_lo, 1.0, 0.0)
-    s = np.where((F0 >= bound - gtol) | touch_hi, -1.0, s)
-    return K + (s * f)[:, None] * B
 
 
 def _single_node_cycle(scene, state):

@@ -56,7 +56,15 @@ from ..errors import SolverError
 from ..results import State
 from .lcp import solve_lcp
 
-__all__ = ["slip_rates", "limit_crossings", "path_is_exact", "first_event", "REL", "EPS8"]
+__all__ = [
+    "slip_rates",
+    "limit_crossings",
+    "path_is_exact",
+    "first_event",
+    "coupled_matrix",
+    "REL",
+    "EPS8",
+]
 
 STICK, FORWARD, BACKWARD, SEPARATION = (
     State.STICK,
@@ -204,3 +212,28 @@ def first_event(K, f, F0, Q0, N0, dQ, dN, sep, tau: float, rates=None):
             continue
         return t_end if t_end < 1.0 else None
     return None
+
+
+def coupled_matrix(K, B, f, F0, bound, touch_lo, touch_hi):
+    """``K + diag(s f) B`` with s = +1 on the nodes on their lower limit (forward slip,
+    ``F = -f N``), -1 on the upper, 0 elsewhere: the rate problem's matrix of a coupled system
+    on the rows on a limit (the other rows are not used).
+
+    Parameters
+    ----------
+    K, B : (n, n) ndarray
+        Stiffness and coupling block.
+    f, F0, bound : (n,) ndarray
+        Friction coefficients, forces and limits ``f N`` at the instant.
+    touch_lo, touch_hi : (n,) bool ndarray
+        Nodes reaching their lower / upper limit within round-off of the instant.
+
+    Returns
+    -------
+    (n, n) ndarray
+        The matrix.
+    """
+    gtol = REL * (np.abs(F0) + bound) + 1e-300
+    s = np.where((F0 <= -bound + gtol) | touch_lo, 1.0, 0.0)
+    s = np.where((F0 >= bound - gtol) | touch_hi, -1.0, s)
+    return K + (s * f)[:, None] * B
