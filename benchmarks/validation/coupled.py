@@ -14,7 +14,9 @@ into the figures directory (default ``docs``); about 3 minutes.
    an event by look-ahead over all 3^n patterns, quadrature of f N |dv|; it shares no code with
    ``exact``). Both iterate the cycles as they happen to their limit.
 2. Start exploration: 100 random admissible starts of 3-node coupled systems, timed.
-3. The figure: a two-node system's W over the plane of its start ratios, and the range of W over
+3. ``explicit`` and ``clarabel`` (every convex backend) against ``exact``: the measured order and
+   the convex solves per step.
+4. The figure: a two-node system's W over the plane of its start ratios, and the range of W over
    60 random starts against the coupling factor c (B -> c B).
 """
 
@@ -170,7 +172,7 @@ def figure(out_dir: _Path, points: int, scales: int) -> None:
     r, W, still = start_map(s, points)
     c = np.linspace(0.0, 1.0, scales)
     lo, hi, share = coupling_band(s, c, starts=60)
-    print("## 3. The figure's two-node system\n")
+    print("## 4. The figure's two-node system\n")
     print(f"Parameters: {FIGURE_SYSTEM}\n")
     print(f"Start map ({points} x {points} starts): W from {np.nanmin(W):.6g} to "
           f"{np.nanmax(W):.6g}; {still.mean():.0%} of the starts shake down; "
@@ -184,7 +186,7 @@ def figure(out_dir: _Path, points: int, scales: int) -> None:
 
 
 def orders() -> None:
-    print("## 4. `explicit` and `clarabel` against `exact`: the order (least squares over "
+    print("## 3. `explicit` and `clarabel` against `exact`: the order (least squares over "
           "100..6400 steps)\n")  # fmt: skip
     print("`clarabel` (every convex backend): per piece of an increment a fixed point of "
           "problem (P) on the normal reactions; convex solves per step over the run's "
