@@ -13,6 +13,9 @@ from lcpfric.backends.clarabel_ import ClarabelStepper
 from lcpfric.errors import InputError, SolverError
 from lcpfric.model import ContactSystem, Harmonic, IndependentSprings
 from lcpfric.scene import make_scene
+from support import need_modules
+
+need_modules("clarabel", "osqp")  # every test here runs the convex backends
 
 
 def two_nodes(c=1.0):

@@ -24,6 +24,7 @@ import numpy as np
 import pytest
 
 import lcpfric
+from support import need
 from lcpfric.scene import Scene, make_scene
 
 from support.coupled_reference import Reference
@@ -48,6 +49,7 @@ def test_exact_equals_the_independent_reference():
 
 
 def test_the_steppers_error_is_the_sampling_of_the_stop():
+    need("clarabel")
     s = chain()
     exact = lcpfric.steady_state(s, method="exact", steps_per_cycle=800)
     runs = {n: lcpfric.steady_state(s, method="explicit", steps_per_cycle=n) for n in (800, 1600)}

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import lcpfric
+from support import need
 from lcpfric.results import State, StepState
 from lcpfric.scene import make_scene
 from lcpfric.steppers.explicit import ExplicitStepper
@@ -23,6 +24,7 @@ def chain():
 
 def test_event_at_the_increments_end_does_not_stall():
     """The reported case: it runs, and equals the convex backend on the same grid."""
+    need("clarabel")
     s = chain()
     r = lcpfric.steady_state(s, method="explicit", steps_per_cycle=400)
     assert r.converged
