@@ -71,8 +71,6 @@ import numpy as np
 from ..errors import InputError, SolverError
 from ..steppers.dissipation import increment_dissipation
 from ..steppers.rates import REL, coupled_matrix, first_event, path_is_exact, slip_rates
-from .checks import worst
-from .refine import accept
 
 __all__ = ["CoupledPlan", "CoupledIncrements"]
 
@@ -247,24 +245,7 @@ class CoupledIncrements:
         plan = data.plan
         q = prob.q
         np.subtract(-CQ, ua, out=q)
-        x, status, ok = self.guarded(self.solve, prob, q, self.bounds(prob, b))
-        if not ok:
-            self.fail(scene, k, status, None)
-        FA, stick, res, kind = accept(
-            prob,
-            np.array(x, dtype=float),
-            q,
-            b,
-            refine=self.refine,
-            active_tol=self.active_tol,
-            check_tol=self.check_tol,
-            fscale=plan.force_scale,
-            cscale=plan.compliance_scale,
-        )
-        if FA is None:
-            self.fail(scene, k, status, res)
-        stats[kind] += 1
-        stats["max_residual"] = max(stats["max_residual"], worst(res))
+        FA, stick = self.solved(plan, scene, k, prob, q, b, self.bounds(prob, b), stats)
         u1 = prob.Cf @ FA
         u1 -= CQ
         if stick is None:

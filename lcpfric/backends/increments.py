@@ -110,25 +110,8 @@ class Increments:
             bdata = self.bounds(prob, b)
         q = prob.q
         np.subtract(neg_CQ, u if prob.full else u[prob.dofs], out=q)
-        x, status, ok = self.guarded(self.solve, prob, q, bdata)
         stats["solves"] += 1
-        if not ok:
-            self.fail(scene, k, status, None)
-        FA, stick, res, kind = accept(
-            prob,
-            np.array(x, dtype=float),
-            q,
-            b,
-            refine=self.refine,
-            active_tol=self.active_tol,
-            check_tol=self.check_tol,
-            fscale=plan.force_scale,
-            cscale=plan.compliance_scale,
-        )
-        if FA is None:
-            self.fail(scene, k, status, res)
-        stats[kind] += 1
-        stats["max_residual"] = max(stats["max_residual"], worst(res))
+        FA, stick = self.solved(plan, scene, k, prob, q, b, bdata, stats)
         u1 = prob.Cf @ FA
         u1 -= CQ
         limit = None
@@ -166,6 +149,30 @@ class Increments:
             S = (np.hypot(dU[:, 0::2], dU[:, 1::2]) > eps).view(np.int8)
         S[~plan.contact[rows]] = State.SEPARATION
         return S
+
+    def solved(self, plan, scene, k, prob, q, b, bdata, stats):
+        """Problem (P) with the right-hand side ``q`` and the limits ``b`` (``bdata`` as the
+        backend takes them) solved, refined and checked: ``(FA, stick)``; a solver that fails
+        or an answer that fails the checks raises (:meth:`fail`)."""
+        x, status, ok = self.guarded(self.solve, prob, q, bdata)
+        if not ok:
+            self.fail(scene, k, status, None)
+        FA, stick, res, kind = accept(
+            prob,
+            np.array(x, dtype=float),
+            q,
+            b,
+            refine=self.refine,
+            active_tol=self.active_tol,
+            check_tol=self.check_tol,
+            fscale=plan.force_scale,
+            cscale=plan.compliance_scale,
+        )
+        if FA is None:
+            self.fail(scene, k, status, res)
+        stats[kind] += 1
+        stats["max_residual"] = max(stats["max_residual"], worst(res))
+        return FA, stick
 
     def fail(self, scene: Scene, k: int, status: Any, res: dict[str, float] | None) -> NoReturn:
         """Raise the SolverError of step k (status not solved, or residuals over tolerance).

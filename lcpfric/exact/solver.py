@@ -84,23 +84,8 @@ class ExactSolver:
             return self._system_steady_state(model, samples, start, max_cycles, u0)
         if u0 is not None or model.k21:  # a start, or Klarbring's node: its one-node system
             res = self._system_steady_state(model.system(), samples, start, max_cycles, u0)
-            # the system's units (f P0, f P0/k11): J = Q̂1 Ŵ, as the steppers' assembly
-            q1 = model.Q1_hat
-            W_hat = res.W_cycles / q1 if q1 > 0 else np.zeros_like(res.W_cycles)
-            v, F, N = model.series(res.v[:, 0], res.F[:, 0], res.N[:, 0])
-            if model.k21:  # the coupled system keeps Q's mean: u is not shifted by it
-                v = v + model.Q0 / model.k11
-            return replace(
-                res,
-                W=float(model.W(W_hat[-1])),
-                W_cycles=np.atleast_1d(model.W(W_hat)),
-                v=v,
-                F=F,
-                N=N,
-                state=res.state[:, 0],
-                normalization=model.normalization(),
-                W_hat_cycles=W_hat,
-            )
+            fields = model.from_system(res.W_cycles, res.v[:, 0], res.F[:, 0], res.N[:, 0])
+            return replace(res, state=res.state[:, 0], **fields)
         P1, Q1, phi = model.normalized_parameters()
         cyc = exact_cycle(P1, Q1, phi)
         t = np.linspace(0.0, model.period, samples + 1)

@@ -379,6 +379,37 @@ class SingleNode:
             )
         return self._system
 
+    def from_system(self, J_cycles, u, F, N) -> dict:
+        """A steady state of :meth:`system` in this node's units.
+
+        Parameters
+        ----------
+        J_cycles : array_like
+            The dissipation of each cycle in the system's units (f P0, f P0/k11): J = Q̂1 Ŵ.
+        u, F, N : array_like
+            The system's series.
+
+        Returns
+        -------
+        dict
+            ``W``, ``W_cycles``, ``W_hat_cycles``, ``v``, ``F``, ``N`` and ``normalization``, as
+            :class:`~lcpfric.results.SteadyState` takes them.
+        """
+        q1 = self.Q1_hat
+        J = np.atleast_1d(np.asarray(J_cycles, dtype=float))
+        W_hat = J / q1 if q1 > 0 else 0.0 * J
+        v, F, N = self.series(u, F, N)
+        v = v + self.Q0 / self.k11 if self.k21 else v  # a coupled system keeps Q's mean
+        return dict(
+            W=float(self.W(W_hat[-1])),
+            W_cycles=np.atleast_1d(self.W(W_hat)),
+            W_hat_cycles=W_hat,
+            v=v,
+            F=F,
+            N=N,
+            normalization=self.normalization(),
+        )
+
     @property
     def coupling(self):
         """The normalized coupling ``[[f k21 / k11]]`` of the node's system, or None (k21 = 0)."""

@@ -67,23 +67,8 @@ def assemble(
             **common,
         )
     # a single node is advanced in the units f P0 (force), f P0/k11 (displacement): J = Q̂1 Ŵ
-    q1 = model.Q1_hat
-    W_hat_cycles = W_cycles / q1 if q1 > 0 else np.zeros_like(W_cycles)
-    v, F, N = model.series(cyc.u[:, 0], cyc.F[:, 0], N_all[:, 0])
-    if B is not None:  # the coupled node's system keeps Q's mean: u is not shifted by it
-        v = v + model.Q0 / model.k11
-    return SteadyState(
-        W=float(model.W(W_hat_cycles[-1])),
-        W_cycles=np.atleast_1d(model.W(W_hat_cycles)),
-        v=v,
-        F=F,
-        N=N,
-        state=cyc.state[:, 0],
-        normalization=model.normalization(),
-        W_hat_cycles=W_hat_cycles,
-        solver_stats=stats,
-        **common,
-    )
+    fields = model.from_system(W_cycles, cyc.u[:, 0], cyc.F[:, 0], N_all[:, 0])
+    return SteadyState(state=cyc.state[:, 0], solver_stats=stats, **fields, **common)
 
 
 def approach(changes) -> dict:
