@@ -75,8 +75,8 @@ def test_bad_coupling_blocks_are_refused_by_name():
         )
 
 
-@pytest.mark.parametrize("method", ["active-set", "projection"])
-def test_only_exact_and_explicit_solve_a_coupled_system_today(method):
+@pytest.mark.parametrize("method", ["projection"])
+def test_a_method_that_does_not_solve_a_coupled_system_says_so(method):
     s = _system([[2.0, -1], [-1, 2]], [[0.3, 0], [0, -0.2]], [0.5, 0.5], [1, 1], [0.2, 0.2],
                 [0, 0], [0.3, 0.3], [0, 1])  # fmt: skip
     with pytest.raises(InputError, match="coupling.*does not solve coupled.*'exact' or 'explicit'"):

@@ -14,8 +14,8 @@ into the figures directory (default ``docs``); about 3 minutes.
    an event by look-ahead over all 3^n patterns, quadrature of f N |dv|; it shares no code with
    ``exact``). Both iterate the cycles as they happen to their limit.
 2. Start exploration: 100 random admissible starts of 3-node coupled systems, timed.
-3. ``explicit`` and ``clarabel`` (every convex backend) against ``exact``: the measured order and
-   the convex solves per step.
+3. ``explicit``, ``active-set`` and ``clarabel`` (every convex backend) against ``exact``: the
+   measured order and the solves per step.
 4. The figure: a two-node system's W over the plane of its start ratios, and the range of W over
    60 random starts against the coupling factor c (B -> c B).
 """
@@ -186,11 +186,12 @@ def figure(out_dir: _Path, points: int, scales: int) -> None:
 
 
 def orders() -> None:
-    print("## 3. `explicit` and `clarabel` against `exact`: the order (least squares over "
-          "100..6400 steps)\n")  # fmt: skip
+    print("## 3. `explicit`, `active-set` and `clarabel` against `exact`: the order (least "
+          "squares over 100..6400 steps)\n")  # fmt: skip
     print("`clarabel` (every convex backend): per piece of an increment a fixed point of "
-          "problem (P) on the normal reactions; convex solves per step over the run's "
-          "cycles.\n")  # fmt: skip
+          "problem (P) on the normal reactions, its convex solves per step over the run's "
+          "cycles; `active-set`: per piece the coupled pattern iteration, one linear solve "
+          "per pattern tried, its linear solves per step.\n")  # fmt: skip
     print("| case | method | W (exact) | relative errors at 100, 200, ..., 6400 steps | order | "
           "solves per step | seconds |")  # fmt: skip
     print("|---|---|---|---|---|---|---|")
@@ -208,13 +209,14 @@ def orders() -> None:
     ns = np.array([100, 200, 400, 800, 1600, 3200, 6400])
     for name, s, u0 in cases:
         W = lcpfric.steady_state(s, "exact", u0=u0).W
-        for method in ("explicit", "clarabel"):
+        for method in ("explicit", "active-set", "clarabel"):
             t0 = time.perf_counter()
             err, per_step = [], []
             for n in ns:
                 r = lcpfric.steady_state(s, method, n, u0=u0, tol=1e-12)
                 err.append(abs(r.W - W) / W)
-                per_step.append(r.solver_stats.get("solves", 0) / (r.cycles * n))
+                key = "iterations" if method == "active-set" else "solves"
+                per_step.append(r.solver_stats.get(key, 0) / (r.cycles * n))
             order = -np.polyfit(np.log(ns), np.log(err), 1)[0]
             shown = ", ".join(f"{e:.1e}" for e in err)
             solves = f"{min(per_step):.2f} to {max(per_step):.2f}" if method != "explicit" else "-"

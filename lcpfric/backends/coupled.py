@@ -56,7 +56,8 @@ the increment for piecewise-linear loads when its pattern is admissible from the
 with the pattern fixed, u, F and N are linear in τ. Otherwise the first event is located from
 the coupled rate problem at the start (the rate LCP with ``K + diag(s f) B`` on the rows on a
 limit, as the explicit stepper; the normal reactions' rate ``dP + B du`` in the margins), the
-fixed point is solved to it and again from there. The dissipation is the sum of the pieces'
+fixed point is solved to it and again from there (one copy of this path for the convex backends
+and ``active-set``: :mod:`lcpfric.steppers.coupled_path`). The dissipation is the sum of the pieces'
 trapezoids ``-½ (F_a + F_b)·(u_b - u_a)``, exact on the linear pieces. A normal reaction that
 reaches zero raises :class:`~lcpfric.errors.InputError` naming the node and the instant
 (separation of a coupled node is not modelled).
@@ -70,7 +71,7 @@ import numpy as np
 
 from ..errors import InputError, SolverError
 from ..steppers.dissipation import increment_dissipation
-from ..steppers.rates import REL, coupled_matrix, first_event, path_is_exact, slip_rates
+from ..steppers.coupled_path import coupled_path, pattern_point
 
 __all__ = ["CoupledPlan", "CoupledIncrements"]
 
@@ -130,43 +131,18 @@ class CoupledIncrements:
 
     def _coupled_increment(self, data, scene, k, u, F, stats):
         """Increment k of a coupled system from ``(u, F)`` at t_k: ``(u, F)`` at t_{k+1} and the
-        dissipation to add to the increment's trapezoid (nonzero when split at events)."""
+        dissipation to add to the increment's trapezoid (nonzero when split at events), along
+        the path of :func:`~lcpfric.steppers.coupled_path.coupled_path`."""
         plan, cp = data.plan, data.coupled
-        K, B, f = plan.K, cp.B, plan.friction
-        Qk, Pk = plan.Q[k], cp.P[k]
-        dQ, dP = plan.Q[k + 1] - Qk, cp.P[k + 1] - Pk
-        n = plan.n
-        none = np.zeros(n, dtype=bool)
+        loads = (plan.Q[k], cp.P[k], plan.Q[k + 1] - plan.Q[k], cp.P[k + 1] - cp.P[k])
 
-        def rates(F0, bound, dQ_, dN_, sep, touch_lo, touch_hi):
-            near = REL * (bound + np.abs(F0)) + 1e-300
-            Kr = coupled_matrix(K, B, f, F0, bound, touch_lo, touch_hi)
-            du, st = slip_rates(
-                Kr, f, F0, bound, dQ_, dN_, sep, F0 <= -bound + near, F0 >= bound - near,
-                touch_lo, touch_hi,
-            )  # fmt: skip
-            return du, st, dQ_ + K @ du, dN_ + B @ du
+        def end_state(ua, frac):
+            return self._fixed_point(data, scene, k, ua, frac, stats)
 
-        a, ua, Fa = 0.0, u, F
-        W = 0.0
-        u1, F1, limit = self._fixed_point(data, scene, k, ua, 1.0, stats)
-        for _ in range(4 * n + 16):
-            Na = Pk + a * dP + B @ ua
-            if (
-                not self.locate_events
-                or limit is None
-                or path_is_exact(Fa, f * Na, F1, limit, None, plan.force_scale)
-            ):
-                break
-            tau = first_event(K, f, Fa, Qk + a * dQ, Na, dQ, dP, none, a, rates=rates)
-            if tau is None:
-                break
-            ub, Fb, _ = self._fixed_point(data, scene, k, ua, tau, stats)
-            stats["events"] += 1
-            W += increment_dissipation(Fa, Fb, ub - ua)
-            a, ua, Fa = tau, ub, Fb
-            u1, F1, limit = self._fixed_point(data, scene, k, ua, 1.0, stats)
-        W += increment_dissipation(Fa, F1, u1 - ua)
+        u1, F1, W = coupled_path(
+            plan.K, cp.B, plan.friction, loads, u, F, end_state, self.locate_events,
+            plan.force_scale, stats,
+        )  # fmt: skip
         return u1, F1, W - increment_dissipation(F, F1, u1 - u)
 
     def _fixed_point(self, data, scene, k, ua, frac, stats):
@@ -202,7 +178,8 @@ class CoupledIncrements:
             prev = change
             w = u1
             if pattern and limit is not None:
-                w = _pattern_point(K, B, f, Qt, Pt, ua, F1, limit)
+                point = pattern_point(K, B, f, Qt, Pt, ua, np.sign(F1), limit)
+                w = ua if point is None else point
         else:
             measured = max(ratios[-5:]) if ratios else np.inf
             t = scene.t[k] + frac * (scene.t[j] - scene.t[k])
@@ -252,21 +229,3 @@ class CoupledIncrements:
             return u1, FA, None
         u1[stick] = ua[stick]  # a refined stick node keeps its displacement exactly
         return u1, FA, ~stick
-
-
-def _pattern_point(K, B, f, Q, P, ua, F, limit):
-    """The fixed point on the pattern of an answer: the stick nodes at ``ua``, the limit nodes
-    ``i`` at ``F_i = σ_i f_i (P + B u)_i`` (σ the sign of their force), ``F = Q + K u``."""
-    L = np.flatnonzero(limit)
-    S = np.flatnonzero(~limit)
-    u = ua.copy()
-    if not L.size:
-        return u
-    sf = np.sign(F[L]) * f[L]
-    A = K[np.ix_(L, L)] - sf[:, None] * B[np.ix_(L, L)]
-    rhs = sf * (P[L] + B[np.ix_(L, S)] @ ua[S]) - Q[L] - K[np.ix_(L, S)] @ ua[S]
-    try:
-        u[L] = np.linalg.solve(A, rhs)
-    except np.linalg.LinAlgError:
-        return ua
-    return u

@@ -30,7 +30,7 @@ from ..errors import InputError
 __all__ = ["check_coupling", "coupled_start", "static_start", "EXACT_NODES", "COUPLED_METHODS"]
 
 #: the methods that solve a coupled system's steady state
-COUPLED_METHODS = ("exact", "explicit", "clarabel", "osqp", "cvxpy", "qpsolvers")
+COUPLED_METHODS = ("exact", "explicit", "active-set", "clarabel", "osqp", "cvxpy", "qpsolvers")
 
 #: largest system whose well-posedness is decided minor by minor (3^n determinants)
 EXACT_NODES = 12

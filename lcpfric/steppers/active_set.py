@@ -52,6 +52,12 @@ F^tr)_A``, by conjugate gradients warm-started from the previous iteration's for
 product with C per CG iteration (:class:`~lcpfric.linalg.blocks.OperatorBlock`). Events are
 located as for K. The equilibrium check compares ``u`` with ``C (F - Q)``.
 
+Coupled systems (d = 1)
+-----------------------
+A system whose normal reactions move with the slips (``N = P + B u``) is solved by the coupled
+pattern iteration of :mod:`.active_set_coupled` (one linear solve with the rows of
+``K - diag(σ f) B`` per pattern, dense K), along the convex backends' path of an increment.
+
 Limits
 ------
 A matrix-free system is solved for d = 1 only. For d = 2 the Newton matrix is formed
@@ -82,6 +88,7 @@ from ..backends.checks import residuals, separating_slips_agree, worst
 from ..errors import InputError, SolverError
 from ..linalg import PatternUpdate
 from ..results import State, StepState
+from .active_set_coupled import CoupledPatterns
 from .active_set_discs import DiscPatterns
 from .active_set_patterns import BoxPatterns
 from .active_set_plan import ActiveSetData, Plan
@@ -102,7 +109,7 @@ _EPS = np.finfo(float).eps
 _CHECK_ROWS = 64  # increments checked together for equilibrium
 
 
-class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
+class ActiveSetStepper(BoxPatterns, DiscPatterns, CoupledPatterns, Stepper):
     """Problem (P) by a primal-dual active-set method on K (see the module docstring).
 
     Parameters
@@ -179,7 +186,7 @@ class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
         data = state.data
         stats = dict(data.stats)
         du, F1, Fc, s, dW = self._increment(
-            data.plan, k, state.F, data.computed_forces(state), stats
+            data.plan, k, state.F, data.computed_forces(state), stats, state.u
         )
         u1, lo = _accumulate(state.u, data.u_lo, du)
         return StepState(u1, F1, s, dW, replace(data, stats=stats, u_lo=lo, Fc=Fc, u_of_Fc=u1))
@@ -199,7 +206,7 @@ class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
         filled = 0
         peak = float(np.max(np.abs(u), initial=0.0))
         for k in range(scene.steps):
-            du, F, Fc, s, dW = self._increment(plan, k, F, Fc, stats)
+            du, F, Fc, s, dW = self._increment(plan, k, F, Fc, stats, u)
             u, lo = _accumulate(u, lo, du)
             peak = max(peak, float(np.max(np.abs(u), initial=0.0)))
             record(k + 1, u, F, s)
@@ -225,7 +232,7 @@ class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
         return out
 
     # -- one increment -----------------------------------------------------------------------
-    def _increment(self, plan, k, F, Fc0, stats):
+    def _increment(self, plan, k, F, Fc0, stats, u):
         """Increment k from the forces at t_k (``F`` on their limits, ``Fc0 = Q + K u`` as
         computed): ``(Δu, F, Fc, states, dW)`` at t_{k+1}. The trial force ``Q_{k+1} + K u_k``
         is ``Fc0 + ΔQ`` (no product with K): the computed forces are carried, not the ones put
@@ -235,7 +242,10 @@ class ActiveSetStepper(BoxPatterns, DiscPatterns, Stepper):
         One projection to t_{k+1}; on a coupled d = 1 system whose answer is not the exact end
         state (:func:`~lcpfric.steppers.rates.path_is_exact`), the increment is split at its
         events as the convex backends do, the rates at an event from this backend's own pattern
-        iteration (:meth:`_rate_function`)."""
+        iteration (:meth:`_rate_function`). A coupled system (``N = P + B u``): the coupled
+        pattern iteration along the convex backends' path (:mod:`.active_set_coupled`)."""
+        if plan.coupled is not None:
+            return self._coupled_increment(plan, k, u, F, stats)
         Qk, Nk, bk, ck = plan.row(k)
         Qj, Nj, b, contact = plan.row(k + 1)
         dQ = Qj - Qk

@@ -12,7 +12,7 @@ from ..errors import InputError
 from ..linalg import OperatorBlock, make_block
 from ..scene import column_reduce
 
-__all__ = ["Plan", "ActiveSetData"]
+__all__ = ["Plan", "ActiveSetData", "CoupledRows"]
 
 
 class Plan:
@@ -53,6 +53,8 @@ class Plan:
         self.diagonal = system.is_diagonal()
         self.row_norm = 0.0 if K is None else float(abs(K).sum(axis=1).max())  # ||K||_inf
         self._rows: dict[int, tuple] = {}
+        B = getattr(system, "coupling", None)  # N = P + B u (:mod:`.active_set_coupled`)
+        self.coupled = None if B is None else CoupledRows.of(scene)
 
     def row(self, k: int) -> tuple:
         """``(Q, N, b = f N, in contact)`` at grid instant k (the last few are kept)."""
@@ -63,6 +65,51 @@ class Plan:
             N = self.N[k]
             out = self._rows[k] = (self.Q[k], N, N * self.friction, N > 0.0)
         return out
+
+
+@dataclass(frozen=True)
+class CoupledRows:
+    """What the increments of a coupled system need besides the plan.
+
+    Parameters
+    ----------
+    K, B : (n, n) ndarray
+        The stiffness (dense) and the coupling block, ``N = P + B u``.
+    P : (N+1, n) ndarray
+        The normal loads on the grid, not clipped (a coupled node is always in contact).
+    t : (N+1,) ndarray
+        The grid instants (for the messages).
+
+    Attributes
+    ----------
+    K, B, P, t
+        The parameters, as given.
+    """
+
+    K: np.ndarray
+    B: np.ndarray
+    P: np.ndarray
+    t: np.ndarray
+
+    @classmethod
+    def of(cls, scene) -> CoupledRows:
+        """The coupled rows of a coupled system's scene.
+
+        Parameters
+        ----------
+        scene : Scene
+            The scene of a system with a coupling block.
+
+        Returns
+        -------
+        CoupledRows
+            K, B, P and t.
+        """
+        system = scene.system
+        t = np.asarray(scene.t, dtype=float)
+        P = np.asarray(system.normal.loads_at(t), dtype=float)
+        B = np.asarray(system.coupling, dtype=float)
+        return cls(np.asarray(system.dense_stiffness(), dtype=float), B, P, t)
 
 
 @dataclass(frozen=True)
