@@ -542,7 +542,7 @@ TABLE = [
     ("system", "--starts", ("--starts", "two"), NOT_INT, 2, "--starts"),
     ("system", "--seed", ("--seed", "x"), NOT_INT, 2, "--seed"),
     ("system", "--method", ("--method", "nosuch"), CHOICE, 2, "--method"),
-    ("system", "--method", ("--method", "active-set"), NO_APPLY, 2, "--method"),
+    ("system", "--method", ("--method", "projection"), NO_APPLY, 2, "--method"),
 ]
 
 #: the flags (no value): nothing to get wrong but a value given to them, which the rows with
