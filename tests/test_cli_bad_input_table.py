@@ -58,6 +58,7 @@ BASE = {
     "figures": ((("--out", "{tmp}/f"),), ()),
     "paper-claims": ((), ()),
     "system": ((("--file", "{tmp}/sys.json"),), ()),
+    "modal": ((("--file", "{tmp}/structure.npz"), ("--amplitude", "1")), ()),
 }
 
 # configurations the rows add to the base
@@ -543,6 +544,29 @@ TABLE = [
     ("system", "--seed", ("--seed", "x"), NOT_INT, 2, "--seed"),
     ("system", "--method", ("--method", "nosuch"), CHOICE, 2, "--method"),
     ("system", "--method", ("--method", "projection"), NO_APPLY, 2, "--method"),
+    # -- modal: the file's fields are named after --file
+    ("modal", "--file", ("--file", "{tmp}/none.npz"), MISSING, 2, "--file"),
+    ("modal", "--file", ("--file", "{tmp}/file"), UNUSABLE, 2, "--file"),
+    ("modal", "--file", ("--file", "{tmp}/h.npy"), UNUSABLE, 2, "--file"),
+    ("modal", "--file", ("--file", DROP), REQUIRED, 2, "--file"),
+    ("modal", "--file", ("--file", "{tmp}/structure_no_kt.npz"), REQUIRED, 2, "field kt"),
+    ("modal", "--file", ("--file", "{tmp}/structure_K.npz"), RANGE, 2, "field K"),
+    ("modal", "--file", ("--file", "{tmp}/structure_kt.npz"), RANGE, 2, "field kt"),
+    ("modal", "--file", ("--file", "{tmp}/structure_M.npz"), NOT_FINITE, 2, "field M"),
+    ("modal", "--file", ("--file", "{tmp}/structure_dofs.npz"), RANGE, 2, "field contact_dofs"),
+    ("modal", "--file", ("--file", "{tmp}/structure_held.npz"), RANGE, 2, "field K"),
+    ("modal", "--amplitude", ("--amplitude", "abc"), NOT_NUMBER, 2, "--amplitude"),
+    ("modal", "--amplitude", ("--amplitude", "nan"), NOT_FINITE, 2, "--amplitude"),
+    ("modal", "--amplitude", ("--amplitude", "0"), RANGE, 2, "--amplitude"),
+    ("modal", "--amplitude", ("--amplitude", "-1:2:3"), RANGE, 2, "--amplitude"),
+    ("modal", "--amplitude", ("--amplitude", "1:2"), NOT_NUMBER, 2, "--amplitude"),
+    ("modal", "--amplitude", ("--amplitude", "1:2:0"), RANGE, 2, "--amplitude"),
+    ("modal", "--amplitude", ("--amplitude", DROP), REQUIRED, 2, "--amplitude"),
+    ("modal", "--mode", ("--mode", "abc"), NOT_INT, 2, "--mode"),
+    ("modal", "--mode", ("--mode", "1.5"), NOT_INT, 2, "--mode"),
+    ("modal", "--mode", ("--mode", "-1"), RANGE, 2, "--mode"),
+    ("modal", "--mode", ("--mode", "2"), RANGE, 2, "--mode"),
+    ("modal", "--json", ("--json", "yes"), UNKNOWN, 2, "yes"),
 ]
 
 #: the flags (no value): nothing to get wrong but a value given to them, which the rows with
@@ -564,6 +588,7 @@ EXEMPT = {
     ("paper-claims", "--quick"): "a flag: it has no value to be wrong",
     ("paper-claims", "--json"): "a flag: it has no value to be wrong",
     ("system", "--json"): "a flag: it has no value to be wrong",
+    ("modal", "--json"): "a flag: it has no value to be wrong",
 }
 
 
@@ -643,6 +668,17 @@ def workdir(tmp_path, monkeypatch):
     (tmp_path / "sys_K.json").write_text(json.dumps(dict(system, K=[[4.0, -1.0]])))
     (tmp_path / "sys_ill.json").write_text(json.dumps(dict(system, B=[[30.0, 0], [0, 0]])))
     (tmp_path / "far.json").write_text("[50, 0]")
+    # a jointed structure (lcpfric modal): two masses, a Jenkins element between them
+    structure = dict(M=np.diag([1.0, 0.5]), K=[[3.0, -1.0], [-1.0, 1.0]], contact_dofs=[[0, 1]],
+                     kt=3.0, mu=0.4, N=0.5)  # fmt: skip
+    np.savez(tmp_path / "structure.npz", **structure)
+    np.savez(tmp_path / "structure_no_kt.npz", **{k: v for k, v in structure.items() if k != "kt"})
+    np.savez(tmp_path / "structure_K.npz", **dict(structure, K=[[-3.0, 1.0], [1.0, -1.0]]))
+    np.savez(tmp_path / "structure_kt.npz", **dict(structure, kt=-3.0))
+    np.savez(tmp_path / "structure_M.npz", **dict(structure, M=np.diag([1.0, np.nan])))
+    np.savez(tmp_path / "structure_dofs.npz", **dict(structure, contact_dofs=[[0, 2]]))
+    held = dict(structure, K=[[1.0, 0.0], [0.0, 0.0]])  # the second mass hangs on the joint
+    np.savez(tmp_path / "structure_held.npz", **held)
     return tmp_path
 
 

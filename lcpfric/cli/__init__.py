@@ -11,6 +11,7 @@ subcommand         module               what it does
 ``shakedown``      :mod:`.shakedown`    the exact shakedown test of one load case
 ``system``         :mod:`.system`       W of a system file (coupled or not), over starts
 ``contact``        :mod:`.contact`      W of a continuum contact (Hertz sphere, MDR)
+``modal``          :mod:`.modal`        ω(a), ζ(a) of a jointed structure's mode (.npz file)
 ``methods``        :mod:`.methods`      the methods usable on this installation
 ``map``            :mod:`.map`          a dissipation map over (φ, P̂1, Q̂1), to NetCDF
 ``figures``        :mod:`.figures`      the paper's figures
@@ -44,6 +45,7 @@ COMMANDS = {
     "shakedown": "shakedown",
     "system": "system",
     "contact": "contact",
+    "modal": "modal",
     "methods": "methods",
     "map": "map",
     "figures": "figures",
