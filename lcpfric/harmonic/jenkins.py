@@ -1,0 +1,413 @@
+"""The Jenkins element (a spring kt in series with a Coulomb slider, slip force μN) marched over
+sampled periodic input, vectorized over many elements; d = 1 and d = 2 tangential directions.
+
+The element's force is ``T = kt (x - s)``, x the relative tangential displacement, s the
+slider's displacement, ``|T| <= μ N``; N = max(0, N_raw) with N_raw the prescribed normal load or
+``N0 + kn un``. Where N = 0 (separation) T = 0 and the slider follows (s = x). The march keeps
+the slider, not the force: at each sample
+
+    d = 1:  s_k = clip(s_{k-1}, x_k - μN_k/kt, x_k + μN_k/kt),    T_k = kt (x_k - s_k)
+    d = 2:  s_k = the projection of s_{k-1} on the disk |s - x_k| <= μN_k/kt  (radial return)
+
+(equivalently ``T_k = clip(T_{k-1} + kt (x_k - x_{k-1}), ±μN_k)``, the return map).
+
+**d = 1 is exact for piecewise-linear input.** With x and N linear between two samples, the
+stick force ``T_{k-1} + kt (x(t) - x_{k-1})`` and the limits ``±μN(t)`` are linear in t, so
+the distance to each limit is linear: a limit is reached at most once in the interval, and
+once reached the element slips along it to the interval's end (the relative rate
+``kt x' ∓ μN'`` that drove it there is constant). It cannot reach both limits (that would
+need N to vanish inside the interval, which a linear N >= 0 does only at an end: a separation
+at t_k clips T_k to 0, and a re-contact from N_{k-1} = 0 starts from T = 0 = ±μN). So the
+clipped trial is T(t_k) exactly, for every sample spacing, separation and re-contact included;
+only the sampled input (a polygon through the samples) differs from the smooth one.
+
+**d = 1 is steady after one period, exactly.** Each sample's map ``s -> clip(s, l_k, u_k)`` is
+a clip, and clips compose into a clip, ``clip(clip(s, a, b), a', b') = clip(s, clip(a, a',
+b'), clip(b, a', b'))``, in floating point too (comparisons and selections only). The period
+map is therefore ``s -> clip(s, L, U)``, which is idempotent: the slider at the start of the
+second period is a fixed point and the second period repeats the first's end bit for bit. An
+element that never reaches a limit keeps its initial slider (its history).
+
+**d = 2** (radial return) is the backward-Euler (catching-up) step of the sweeping process; it
+is not exact for piecewise-linear input: the direction of slip turns inside an interval.
+Along one axis it is the d = 1 map. Its period map is a composition of projections on convex
+sets (non-expansive); it is iterated until the slider at the period start repeats to ``tol``.
+
+The dissipation W per cycle is ``∮ T · dx`` (the stored energy ``|T|²/2kt`` returns) over the
+piecewise-linear cycle: on an interval that ends in slip, T is linear up to the instant the
+limit is reached (a root of ``|T_{k-1} + θ kt Δx| = μ N(θ)``, located) and linear along the limit
+after it. In d = 1 that is the exact W of the piecewise-linear input.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._checks import NONCONVERGENCE, finite_array, positive_int
+from ..errors import ConvergenceError, ConvergenceWarning, InputError
+from ..results.cycle import State
+
+__all__ = ["JenkinsCycle", "jenkins_cycle", "march", "element_parameters"]
+
+STICK, SLIP, BACKWARD, SEPARATION = (
+    int(State.STICK),
+    int(State.FORWARD),
+    int(State.BACKWARD),
+    int(State.SEPARATION),
+)
+
+
+@dataclass(frozen=True, eq=False)
+class JenkinsCycle:
+    """The steady cycle of many Jenkins elements on their samples.
+
+    Parameters
+    ----------
+    force, normal, state, slider, dissipation, periods, converged
+        Kept as the attributes of the same names (see Attributes).
+
+    Attributes
+    ----------
+    force : numpy.ndarray
+        The tangential force samples T_k, shape (n, d, Ns).
+    normal : numpy.ndarray
+        The normal force samples N_k = max(0, N_raw), shape (n, Ns).
+    state : numpy.ndarray
+        int8, shape (n, Ns): :class:`~lcpfric.results.State` codes, 0 stick, 1 forward slip (the
+        slider moves in +x, T = +μN; every slip in d = 2), 2 backward slip (T = -μN),
+        3 separation (N = 0, T = 0).
+    slider : numpy.ndarray
+        The slider displacement at the start of the steady cycle (before sample 0), (n, d).
+    dissipation : numpy.ndarray
+        W per element, ``∮ T · dx`` over the piecewise-linear cycle, shape (n,).
+    periods : numpy.ndarray
+        The periods marched per element (the last one is the cycle returned), shape (n,).
+    converged : numpy.ndarray
+        bool, shape (n,): the slider at the period start repeated to ``tol``.
+    """
+
+    force: np.ndarray
+    normal: np.ndarray
+    state: np.ndarray
+    slider: np.ndarray
+    dissipation: np.ndarray
+    periods: np.ndarray
+    converged: np.ndarray
+
+
+def element_parameters(n: int, kt, mu) -> tuple[np.ndarray, np.ndarray]:
+    """``kt`` and ``mu`` checked (finite, kt > 0, mu >= 0) and broadcast to shape (n,).
+
+    Parameters
+    ----------
+    n : int
+        The number of elements.
+    kt, mu : float or array_like
+        The tangential stiffness and the friction coefficient, scalar or one per element.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(kt, mu)``, each of shape (n,).
+    """
+    out = []
+    for name, value, nonneg in (("kt", kt, False), ("mu", mu, True)):
+        a = finite_array(name, value, nonneg=nonneg)
+        if not nonneg and np.any(a <= 0):
+            raise InputError(
+                name, f"must be > 0 (allowed range (0, inf)); smallest given is {a.min()}"
+            )
+        if a.ndim > 1 or (a.ndim == 1 and a.shape[0] != n):
+            raise InputError(
+                name, f"must be a number or one per element (shape ({n},)), got shape {a.shape}"
+            )
+        out.append(np.broadcast_to(a, (n,)).astype(float))
+    return out[0], out[1]
+
+
+def march(x, N, kt, mu, slider, max_periods: int, tol: float):
+    """Periods of the element marched until the slider at the period start repeats.
+
+    The arrays are sample-major (no checks): ``x`` (Ns, n, d), ``N`` (Ns, n) clipped at 0,
+    ``kt``, ``mu`` (n,), ``slider`` (n, d).
+
+    Parameters
+    ----------
+    x, N, kt, mu, slider : numpy.ndarray
+        As above.
+    max_periods : int
+        The cap on the periods.
+    tol : float
+        The slider's repeat tolerance, relative to the element's span
+        ``max |x| + max μN/kt``.
+
+    Returns
+    -------
+    tuple
+        ``(s, start, periods, converged)``: the slider after each sample of the last period
+        (Ns, n, d), at its start (n, d), the periods marched (n,) and the repeat flags (n,).
+    """
+    ns, n, d = x.shape
+    r = N * (mu / kt)  # the disk's radius in slider units
+    span = np.abs(x).max(axis=(0, 2)) + r.max(axis=0)
+    s_all = np.empty_like(x)
+    start = np.array(slider, dtype=float, copy=True)
+    begin = start.copy()
+    periods = np.zeros(n, dtype=np.int64)
+    converged = np.zeros(n, dtype=bool)
+    todo = np.arange(n)
+    if d == 1:
+        lo, hi = x[..., 0] - r, x[..., 0] + r
+    for _ in range(max_periods):
+        full = todo.size == n
+        s0 = start[todo, :].copy()
+        s = s0.copy()
+        if d == 1:
+            lk, hk = (lo, hi) if full else (lo[:, todo], hi[:, todo])
+            rec = np.empty((ns, todo.size))
+            s1 = s[:, 0].copy()
+            for k in range(ns):
+                np.maximum(s1, lk[k], out=s1)
+                np.minimum(s1, hk[k], out=s1)
+                rec[k] = s1
+            s = s1[:, None]
+            rec = rec[..., None]
+        else:
+            xk, rk = (x, r) if full else (x[:, todo], r[:, todo])
+            rec = np.empty((ns, todo.size, d))
+            for k in range(ns):
+                g = s - xk[k]
+                norm = np.sqrt(np.einsum("ij,ij->i", g, g))
+                over = norm > rk[k]
+                if over.any():
+                    scale = rk[k][over] / norm[over]
+                    s[over] = xk[k][over] + g[over] * scale[:, None]
+                rec[k] = s
+        s_all[:, todo] = rec
+        begin[todo] = s0  # the recorded period's start
+        periods[todo] += 1
+        done = np.abs(s - s0).max(axis=1) <= tol * span[todo]
+        converged[todo[done]] = True
+        start[todo] = s
+        todo = todo[~done]
+        if todo.size == 0:
+            break
+    return s_all, begin, periods, converged
+
+
+def cycle_quantities(x, N, s, start, kt, mu):
+    """Forces, states and W of a marched period (sample-major arrays, see :func:`march`).
+
+    Parameters
+    ----------
+    x, N, s, start, kt, mu : numpy.ndarray
+        The displacement samples (Ns, n, d), the clipped normal load (Ns, n), the slider after
+        each sample (Ns, n, d) and at the period start (n, d), kt and mu (n,).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(T, state, W)``: (Ns, n, d), int8 (Ns, n), (n,).
+    """
+    ns, n, d = x.shape
+    s_prev = np.concatenate([start[None], s[:-1]], axis=0)
+    T = kt[None, :, None] * (x - s)
+    sep = N <= 0.0
+    moved = (s != s_prev).any(axis=2) & ~sep
+    state = np.zeros((ns, n), dtype=np.int8)
+    if d == 1:
+        up = moved & (s[..., 0] > s_prev[..., 0])
+        down = moved & ~up
+        state[up] = SLIP
+        state[down] = BACKWARD
+        # on the limit the force is the limit itself (not kt (x - s) rounded)
+        lim = mu[None, :] * N
+        T[..., 0] = np.where(up, lim, np.where(down, -lim, T[..., 0]))
+    else:
+        state[moved] = SLIP
+    state[sep] = SEPARATION
+    T[sep] = 0.0
+    return T, state, dissipation(x, N, T, state, kt, mu)
+
+
+def dissipation(x, N, T, state, kt, mu) -> np.ndarray:
+    """W = ∮ T · dx over the piecewise-linear cycle, the slip onset located in each interval.
+
+    Parameters
+    ----------
+    x, N, T, state, kt, mu : numpy.ndarray
+        Sample-major: (Ns, n, d), (Ns, n), (Ns, n, d), (Ns, n), (n,), (n,).
+
+    Returns
+    -------
+    numpy.ndarray
+        W per element, shape (n,).
+    """
+    dx = x - np.roll(x, 1, axis=0)
+    Tp = np.roll(T, 1, axis=0)
+    # stick intervals: T linear from T_{k-1} to T_k (the trapezoid)
+    W = np.einsum("knd,knd->n", dx, 0.5 * (Tp + T))
+    k, e = np.nonzero(state != STICK)
+    if k.size == 0:
+        return W
+    # an interval ending off stick: linear stick up to θ where |T_{k-1} + θ Δ| = μ N(θ), then
+    # linear along the limit to T_k; the trapezoid above is corrected to that path
+    kp = (k - 1) % x.shape[0]
+    delta = kt[e, None] * dx[k, e]
+    t0 = Tp[k, e]
+    m = mu[e]
+    n0, dn = N[kp, e], N[k, e] - N[kp, e]
+    a = np.einsum("ij,ij->i", delta, delta) - (m * dn) ** 2
+    b = 2.0 * (np.einsum("ij,ij->i", t0, delta) - m * m * n0 * dn)
+    c = np.minimum(np.einsum("ij,ij->i", t0, t0) - (m * n0) ** 2, 0.0)
+    root = np.sqrt(np.maximum(b * b - 4.0 * a * c, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # the upward crossing (-b + √disc) / 2a, in the form without cancellation
+        theta = np.where(b > 0, -2.0 * c / (b + root), (root - b) / (2.0 * a))
+    theta = np.clip(np.nan_to_num(theta, nan=0.0, posinf=0.0, neginf=0.0), 0.0, 1.0)
+    tth = t0 + theta[:, None] * delta
+    t1 = T[k, e]
+    path = 0.5 * (theta[:, None] * t0 + tth + (1.0 - theta[:, None]) * t1)
+    corr = np.einsum("ij,ij->i", dx[k, e], path - 0.5 * (t0 + t1))
+    return W + np.bincount(e, weights=corr, minlength=x.shape[1])
+
+
+def jenkins_cycle(
+    displacement,
+    normal,
+    kt,
+    mu,
+    *,
+    slider=None,
+    max_periods: int = 200,
+    tol: float = 1e-12,
+    on_nonconvergence: str = "raise",
+) -> JenkinsCycle:
+    """The steady cycle of many Jenkins elements driven by sampled periodic input.
+
+    Parameters
+    ----------
+    displacement : array_like
+        The relative tangential displacement samples over one period, shape (n, Ns) for d = 1
+        or (n, d, Ns) with d = 1 or 2.
+    normal : array_like
+        The normal load samples N_raw, shape (n, Ns); clipped at 0 (separation).
+    kt, mu : float or array_like
+        Tangential stiffness (> 0) and friction coefficient (>= 0), scalar or (n,).
+    slider : array_like, optional
+        The slider displacement at the start (before sample 0), shape (n,), (n, d) or scalar;
+        default 0.
+    max_periods : int, optional
+        The cap on the periods marched (d = 1 needs 2).
+    tol : float, optional
+        The slider's repeat tolerance at the period start, relative to the element's span
+        ``max |x| + max μN/kt`` (d = 1 repeats exactly).
+    on_nonconvergence : {"raise", "warn", "ignore"}, optional
+        What to do when an element has not repeated after ``max_periods``.
+
+    Returns
+    -------
+    JenkinsCycle
+        The forces, states, W and the periods marched.
+    """
+    x = finite_array("displacement", displacement)
+    if x.ndim == 2:
+        x = x[:, None, :]
+    if x.ndim != 3 or x.shape[1] not in (1, 2) or x.shape[2] < 2:
+        raise InputError(
+            "displacement", f"must have shape (n, Ns) or (n, d, Ns) with d = 1 or 2, got {x.shape}"
+        )
+    n, d, ns = x.shape
+    N = finite_array("normal", normal)
+    if N.shape != (n, ns):
+        raise InputError(
+            "normal", f"must have shape ({n}, {ns}) like the displacement, got {N.shape}"
+        )
+    kt, mu = element_parameters(n, kt, mu)
+    s0 = initial_slider(slider, n, d)
+    max_periods = positive_int("max_periods", max_periods)
+    tol = finite_array("tol", tol, nonneg=True)
+    if tol.ndim:
+        raise InputError("tol", f"must be one number >= 0, got shape {tol.shape}")
+    xs = np.ascontiguousarray(np.moveaxis(x, 2, 0))
+    Ns = np.ascontiguousarray(np.maximum(N.T, 0.0))
+    return steady_cycle(xs, Ns, kt, mu, s0, max_periods, float(tol), on_nonconvergence)
+
+
+def initial_slider(slider, n: int, d: int) -> np.ndarray:
+    """The initial slider displacement checked and broadcast to shape (n, d) (None: zeros).
+
+    Parameters
+    ----------
+    slider : array_like or None
+        Scalar, (n,) (d = 1), (d,), or (n, d).
+    n, d : int
+        The number of elements and of tangential directions.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (n, d).
+    """
+    if slider is None:
+        return np.zeros((n, d))
+    s = finite_array("slider", slider)
+    if s.ndim == 1 and d == 1 and s.shape[0] == n:
+        s = s[:, None]
+    try:
+        return np.array(np.broadcast_to(s, (n, d)), dtype=float)
+    except ValueError:
+        raise InputError(
+            "slider",
+            f"must be a number, shape ({n},) (d = 1), ({d},) or ({n}, {d}); got shape {s.shape}",
+        ) from None
+
+
+def steady_cycle(x, N, kt, mu, slider, max_periods, tol, on_nonconvergence) -> JenkinsCycle:
+    """:func:`jenkins_cycle` on checked, sample-major arrays (x (Ns, n, d), N (Ns, n) >= 0).
+
+    Parameters
+    ----------
+    x, N, kt, mu, slider : numpy.ndarray
+        See :func:`march`.
+    max_periods : int
+        The cap on the periods.
+    tol : float
+        The repeat tolerance.
+    on_nonconvergence : str
+        "raise", "warn" or "ignore".
+
+    Returns
+    -------
+    JenkinsCycle
+        With arrays that are element-major views of the sample-major ones.
+    """
+    if on_nonconvergence not in NONCONVERGENCE:
+        raise InputError(
+            "on_nonconvergence", f"must be one of {NONCONVERGENCE}, got {on_nonconvergence!r}"
+        )
+    s, start, periods, converged = march(x, N, kt, mu, slider, max_periods, tol)
+    T, state, W = cycle_quantities(x, N, s, start, kt, mu)
+    cycle = JenkinsCycle(
+        force=np.moveaxis(T, 0, 2),
+        normal=N.T,
+        state=state.T,
+        slider=start,
+        dissipation=W,
+        periods=periods,
+        converged=converged,
+    )
+    if not converged.all() and on_nonconvergence != "ignore":
+        bad = int((~converged).sum())
+        msg = (
+            f"{bad} of {converged.size} elements did not reach a steady cycle within "
+            f"max_periods={max_periods} (slider change at the period start above tol={tol:g} "
+            "of the element's span); raise max_periods or tol"
+        )
+        if on_nonconvergence == "raise":
+            raise ConvergenceError(msg, cycle)
+        warnings.warn(msg, ConvergenceWarning, stacklevel=3)
+    return cycle
