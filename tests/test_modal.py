@@ -202,3 +202,59 @@ def test_a_mode_that_is_not_a_mode_says_how_far_it_is():
         s.mode(phi + 1e-3 * np.array([1.0, -1.0]))
     with pytest.raises(InputError, match="structure"):
         modal_damping("not a structure", [1.0])
+
+
+def test_the_rod_matches_an_independent_return_map():
+    """Ten coupled contacts that slip one after the other: a and W of the full structure's
+    return map (no condensation) agree."""
+    rod = jointed_rod(sparse=False)
+    alphas = np.array([0.45, 2.0])
+    r = modal_damping(rod, force=alphas, samples=8)
+    for i, alpha in enumerate(alphas):
+        ref = return_map_cycle(rod.mass, rod.stiffness, rod.contact_dofs, rod.contact_stiffness,
+                               rod.friction * rod.normal_load, r.phi, alpha, steps=200,
+                               cycles=3, tol=1e-14)  # fmt: skip
+        assert r.a[i] == pytest.approx(ref["a"], rel=1e-11)
+        assert r.W[i] == pytest.approx(ref["W"], rel=1e-10)
+
+
+def test_the_figure(tmp_path):
+    pytest.importorskip("matplotlib")
+    from support import texts
+
+    from lcpfric.figures.modal import figure_modal_damping
+    from lcpfric.figures.style import COLUMN_WIDTH, MIN_FONT_SIZE
+
+    s = JointedStructure([[1.0]], [[1.0]], [[0, -1]], 3.0, 0.5, 1.0)
+    r = modal_damping(s, np.geomspace(0.01, 100.0, 9))
+    x = np.geomspace(0.1, 1000.0, 50)
+    omega, zeta, _, _ = jenkins_oscillator(x * r.a_slip, 1.0, 3.0, 0.5)
+    fig = figure_modal_damping([("one mass", r)], closed_form=(x, omega / r.omega0, zeta))
+    assert r.a_slip == pytest.approx(0.5 / 3.0, rel=1e-14)
+    assert fig.get_figwidth() <= COLUMN_WIDTH + 1e-9 and len(fig.axes) == 2
+    assert fig.axes[0].get_xscale() == "log"
+    assert min(t.get_fontsize() for t in texts(fig)) >= MIN_FONT_SIZE
+    fig.savefig(tmp_path / "f.pdf")
+    pdf = (tmp_path / "f.pdf").read_bytes()
+    assert b"/Type3" not in pdf and (b"/CIDFontType2" in pdf or b"/TrueType" in pdf)
+    loop_alpha, loop_q = r.loop(8)
+    assert loop_alpha.max() == pytest.approx(r.alpha_max[8]) and loop_q.max() == pytest.approx(
+        r.a[8]
+    )
+    assert r.backbone[0] is r.a
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "named"),
+    [
+        (dict(n=3), "n"),
+        (dict(contacts=60), "contacts"),
+        (dict(slip_forces=(0.2, 0.1)), "slip_forces"),
+        (dict(joint_stiffness=0.0), "joint_stiffness"),
+        (dict(friction=-1.0), "friction"),
+    ],
+)
+def test_the_rod_builder_refuses_bad_input(kwargs, named):
+    with pytest.raises(InputError) as e:
+        jointed_rod(**kwargs)
+    assert e.value.parameter == named

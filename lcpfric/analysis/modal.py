@@ -51,7 +51,7 @@ class ModalDamping:
     ----------
     a, alpha_max, omega, omega_ratio, zeta, W, sticks, cycles, evaluations
         Per amplitude (see Attributes).
-    omega0, phi, mode_index, theta, q, stats
+    omega0, a_slip, phi, mode_index, theta, q, stats
         See Attributes.
 
     Attributes
@@ -76,6 +76,9 @@ class ModalDamping:
         Steady cycles evaluated for the amplitude (more than one when α was searched).
     omega0 : float
         ω0, the frequency of the stuck structure's mode.
+    a_slip : float
+        The modal amplitude at which the first slider slips (below it ``a = α_max / ω0²``
+        and nothing slips; inf if the mode loads no contact).
     phi : (n,) ndarray
         The mode, mass normalized.
     mode_index : int or None
@@ -100,6 +103,7 @@ class ModalDamping:
     cycles: np.ndarray
     evaluations: np.ndarray
     omega0: float
+    a_slip: float
     phi: np.ndarray
     mode_index: int | None
     theta: np.ndarray
@@ -281,6 +285,7 @@ def modal_damping(
         cycles=np.array([r[4] for r in rows]),
         evaluations=np.array([r[5] for r in rows]),
         omega0=omega0,
+        a_slip=first * sliders.modal_compliance,
         phi=phi,
         mode_index=index,
         theta=cyc.theta,

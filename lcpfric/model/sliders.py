@@ -6,6 +6,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -110,8 +111,12 @@ class SliderSystem:
         alpha_max = _checks.positive("alpha_max", alpha_max)
         # a negative b_j is the phase π: sin(θ + π) = -sin θ
         loads = [Harmonic(0.0, alpha_max * abs(b), 0.0 if b >= 0 else np.pi) for b in self.load]
-        normal = IndependentSprings(tuple(Harmonic(float(N), 0.0) for N in self.normal_load))
-        return ContactSystem(self.stiffness, self.friction, loads, normal)
+        return ContactSystem(self.stiffness, self.friction, loads, self.normal)
+
+    @cached_property
+    def normal(self) -> IndependentSprings:
+        """The constant normal loads N_j as lcpfric's normal model (built once)."""
+        return IndependentSprings(tuple(Harmonic(float(N), 0.0) for N in self.normal_load))
 
     def modal_amplitude(self, alpha, u) -> np.ndarray:
         """q = α c0 - bᵀ u: the modal amplitude at the modal forces α and slider states u.

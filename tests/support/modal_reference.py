@@ -33,27 +33,27 @@ def return_map_cycle(M, K, dofs, kt, slip, phi, alpha_max, steps=400, cycles=3, 
     M, K = np.asarray(M, float), np.asarray(K, float)
     kt, slip = np.asarray(kt, float), np.asarray(slip, float)
     G = relative_vectors(K.shape[0], dofs)
-    A = K + (G * kt) @ G.T
+    A_inv = np.linalg.inv(K + (G * kt) @ G.T)
     Mphi = M @ phi
     w = np.zeros(len(kt))
     theta = np.linspace(0.0, 2.0 * np.pi, steps + 1)
     q_all, W_last = [], 0.0
     virgin = ([0.0], [0.0])
     for c in range(cycles):
-        q = [float(phi @ M @ np.linalg.solve(A, G @ (kt * w)))]
+        q = [float(Mphi @ (A_inv @ (G @ (kt * w))))]
         W = 0.0
         for s in range(1, steps + 1):
             alpha = alpha_max * np.sin(theta[s])
             w_old = w.copy()
             for _ in range(100000):
-                x = np.linalg.solve(A, alpha * Mphi + G @ (kt * w))
+                x = A_inv @ (alpha * Mphi + G @ (kt * w))
                 d = G.T @ x - w_old
                 w_new = w_old + np.sign(d) * np.maximum(np.abs(d) - slip / kt, 0.0)
                 moved = np.max(np.abs(w_new - w), initial=0.0)
                 w = w_new
                 if moved <= tol * max(1.0, np.max(np.abs(w))):
                     break
-            x = np.linalg.solve(A, alpha * Mphi + G @ (kt * w))
+            x = A_inv @ (alpha * Mphi + G @ (kt * w))
             W += float(slip @ np.abs(w - w_old))
             q.append(float(Mphi @ x))
             if c == 0 and s <= steps // 4:
