@@ -112,14 +112,17 @@ class DrivenCycle:
 class Functions:
     """The trigonometric polynomials of one element and motion, in θ = ωt (built once)."""
 
-    def __init__(self, kt: float, mu: float, x: TrigPoly, N: TrigPoly):
+    def __init__(self, kt: float, mu: float, x: TrigPoly, N: TrigPoly, extrema=None):
         self.kt, self.mu, self.x, self.N = kt, mu, x, N
         r = mu / kt
         self.lo, self.hi = x - r * N, x + r * N  # the slider's bounds in contact
         self.dx, self.dN = x.derivative(), N.derivative()
         self.Ndx = N * self.dx
-        self.x_extrema = periodic_sign_changes(self.dx)[0]
-        self.N_extrema = periodic_sign_changes(self.dN)[0]
+        # where x and N have their extrema (the same for every amplitude of one motion's shape)
+        self.x_extrema, self.N_extrema = extrema or (
+            periodic_sign_changes(self.dx)[0],
+            periodic_sign_changes(self.dN)[0],
+        )
 
     def force(self, state: int, w: float) -> TrigPoly:
         """T on a segment of ``state`` (with the slider at ``w`` for a stick)."""
@@ -154,8 +157,8 @@ class Functions:
         if state == SEPARATION or b < a:
             return 0.0
         inner = self.x_extrema if state == STICK else self.N_extrema
-        inner = np.concatenate([inner + k * TWO_PI for k in (-1, 0, 1)])
-        pts = np.r_[a, b, inner[(inner > a) & (inner < b)]]
+        inner = np.concatenate((inner - TWO_PI, inner, inner + TWO_PI))
+        pts = np.concatenate(([a, b], inner[(inner > a) & (inner < b)]))
         # |T| <= μN holds exactly: round-off of kt (x - w) at a stick's ends is cut there
         bound = self.mu * np.maximum(self.N(pts), 0.0)
         return float(np.max(np.minimum(np.abs(self.force(state, w)(pts)), bound)))

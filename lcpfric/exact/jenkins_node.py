@@ -68,6 +68,7 @@ def jenkins_cycle(
     start: float | None = None,
     harmonics: int = 1,
     samples: int = 256,
+    extrema=None,
 ) -> DrivenCycle:
     """The exact steady cycle of a Jenkins element under ``x = x0 + a cos ωt``, through the exact
     single node.
@@ -90,6 +91,9 @@ def jenkins_cycle(
         The highest harmonic of T computed, >= 1.
     samples : int, optional
         Equally spaced samples of the series (the events are added), >= 4.
+    extrema : tuple of ndarray, optional
+        Where x and N have their extrema over the period (angles ωt in [0, 2π)), when the
+        caller has them (the same for every amplitude): default, found here.
 
     Returns
     -------
@@ -114,6 +118,7 @@ def jenkins_cycle(
         element.mu,
         TrigPoly.from_load(x, x.omega),
         TrigPoly.from_load(node.normal_load, x.omega),
+        extrema,
     )
     cyc = exact_cycle(*node.normalized_parameters())
     unit, shift = node.displacement_unit, node.normal_load.phase
