@@ -153,7 +153,6 @@ class _Cycles:
             from ..periodic.driver import steady_state
 
             self.solves += 1
-
             res = steady_state(s.contact_system(alpha), "exact", steps_per_cycle=self.samples)
             q = s.modal_amplitude(alpha * self.sin, res.v)
             W, cycles = float(res.W), int(res.cycles)
