@@ -26,7 +26,7 @@ RANKS = (
     ("lcpfric.model", "lcpfric.results"),
     ("lcpfric.scene", "lcpfric.periodic.measure"),
     ("lcpfric.steppers", "lcpfric.backends", "lcpfric.exact"),
-    ("lcpfric.periodic",),
+    ("lcpfric.periodic", "lcpfric.harmonic"),
     ("lcpfric.batch", "lcpfric.analysis"),
     ("lcpfric.figures",),
     ("lcpfric.paper",),
