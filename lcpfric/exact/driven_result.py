@@ -228,14 +228,16 @@ def assemble(
         if at.any():
             w[at] = fns.slider(st, w0, theta[at])
             T[at] = fns.force(st, w0)(theta[at])
+    state = states[idx]
+    N = np.where(state == SEPARATION, 0.0, np.maximum(fns.N(theta), 0.0))  # round-off at its ends
     return DrivenCycle(
         omega=omega,
         t=theta / omega,
         x=x,
-        N=np.maximum(fns.N(theta), 0.0),
+        N=N,
         T=T,
         w=w,
-        state=states[idx],
+        state=state,
         events=events / omega,
         segments=tuple((a / omega, b / omega, int(st), float(w0)) for a, b, st, w0 in segs),
         W=max(dissipated if W is None else W, 0.0),
