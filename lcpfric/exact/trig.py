@@ -188,6 +188,11 @@ class TrigPoly:
         j = np.arange(-H, H + 1)
         m = j[None, :] - np.arange(harmonics + 1)[:, None]
         c, h = 0.5 * (a + b), 0.5 * (b - a)
+        if b - a == TWO_PI:  # a whole period: only the k-th coefficient remains, exactly
+            out = np.zeros(harmonics + 1, dtype=complex)
+            k = np.arange(min(harmonics, H) + 1)
+            out[k] = TWO_PI * d[H + k]
+            return out
         safe = np.where(m == 0, 1, m)
         E = np.where(m == 0, b - a, 2.0 * np.sin(m * h) / safe) * np.exp(1j * m * c)
         return E @ d
