@@ -59,8 +59,9 @@ def _mp(kt, mu, N, a):
     if a <= Fs / kt:
         return float(kt), 0.0, 0.0
     tau = mp.acos(1 - 2 * Fs / (kt * a))
-    return (float(kt / mp.pi * (tau - mp.sin(2 * tau) / 2)),
-            float(4 * Fs / (mp.pi * a) * (1 - Fs / (kt * a))), float(4 * Fs * (a - Fs / kt)))  # fmt: skip
+    k = kt / mp.pi * (tau - mp.sin(2 * tau) / 2)
+    c = 4 * Fs / (mp.pi * a) * (1 - Fs / (kt * a))
+    return float(k), float(c), float(4 * Fs * (a - Fs / kt))
 
 
 def closed_forms() -> None:
@@ -98,8 +99,8 @@ def closed_forms() -> None:
 
 def two_paths() -> None:
     print("## 2. Varying normal load: the exact single node against the event solver\n")
-    print("200 amplitudes log-spaced over 0.3 to 1000 slip limits μN0/kt; W relative to "
-          "μ max N a, the first harmonics and the force amplitude relative to μ max N.\n")  # fmt: skip
+    print("200 amplitudes log-spaced over 0.3 to 1000 slip limits μN0/kt; W relative to μ max N "
+          "a, the first harmonics and the force amplitude relative to μ max N.\n")  # fmt: skip
     print(
         "| kt, mu, N0, N1, phi | separates | W | first harmonics | force amplitude | "
         "ms per amplitude (node / driven) |\n|---|---|---|---|---|---|"
