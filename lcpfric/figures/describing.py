@@ -58,8 +58,8 @@ def figure_describing_functions(curves, kt: float, slip_limit: float, closed=Non
             axes.set_yscale("log")
             axes.axvline(1.0, color="0.6", lw=0.6, ls=":")
             axes.grid(True, which="major", color="0.88", lw=0.5)
-        bx.text(1.08, 0.04, "slip limit (constant N)", rotation=90, fontsize=SMALL, color="0.4",
-                va="bottom", transform=bx.get_xaxis_transform())  # fmt: skip
+        bx.text(0.94, 0.04, "slip limit (constant N)", rotation=90, fontsize=SMALL, color="0.4",
+                va="bottom", ha="right", transform=bx.get_xaxis_transform())  # fmt: skip
         ax.set_ylabel(r"stiffness $k_\mathrm{eq}/k_t$")
         bx.set_ylabel(r"damping $\omega c_\mathrm{eq}/k_t$")
         bx.set_xlabel(r"amplitude $a\,/\,(\mu N_0/k_t)$")
