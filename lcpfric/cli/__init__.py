@@ -12,6 +12,7 @@ subcommand         module               what it does
 ``system``         :mod:`.system`       W of a system file (coupled or not), over starts
 ``contact``        :mod:`.contact`      W of a continuum contact (Hertz sphere, MDR)
 ``modal``          :mod:`.modal`        ω(a), ζ(a) of a jointed structure's mode (.npz file)
+``describe``       :mod:`.describe`     a Jenkins element's k_eq, ω c_eq, W against amplitude
 ``methods``        :mod:`.methods`      the methods usable on this installation
 ``map``            :mod:`.map`          a dissipation map over (φ, P̂1, Q̂1), to NetCDF
 ``figures``        :mod:`.figures`      the paper's figures
@@ -46,6 +47,7 @@ COMMANDS = {
     "system": "system",
     "contact": "contact",
     "modal": "modal",
+    "describe": "describe",
     "methods": "methods",
     "map": "map",
     "figures": "figures",
