@@ -59,6 +59,10 @@ BASE = {
     "paper-claims": ((), ()),
     "system": ((("--file", "{tmp}/sys.json"),), ()),
     "modal": ((("--file", "{tmp}/structure.npz"), ("--amplitude", "1")), ()),
+    "describe": (
+        (("--kt", "1"), ("--mu", "0.5"), ("--N0", "2"), ("--amplitude", "3")),
+        (),
+    ),
 }
 
 # configurations the rows add to the base
@@ -567,6 +571,59 @@ TABLE = [
     ("modal", "--mode", ("--mode", "-1"), RANGE, 2, "--mode"),
     ("modal", "--mode", ("--mode", "2"), RANGE, 2, "--mode"),
     ("modal", "--json", ("--json", "yes"), UNKNOWN, 2, "yes"),
+    # -- describe: the Jenkins element (the continuum sphere is refused for now)
+    ("describe", "--kt", ("--kt", "abc"), NOT_NUMBER, 2, "--kt"),
+    ("describe", "--kt", ("--kt", "nan"), NOT_FINITE, 2, "--kt"),
+    ("describe", "--kt", ("--kt", "-1"), RANGE, 2, "--kt"),
+    ("describe", "--kt", ("--kt", "0"), RANGE, 2, "--kt"),
+    ("describe", "--kt", ("--kt", DROP), REQUIRED, 2, "--kt"),
+    ("describe", "--kt", ("--kt", "1", "--kt", "2"), DUPLICATE, 2, "--kt"),
+    ("describe", "--mu", ("--mu", "abc"), NOT_NUMBER, 2, "--mu"),
+    ("describe", "--mu", ("--mu", "-0.5"), RANGE, 2, "--mu"),
+    ("describe", "--mu", ("--mu", "inf"), NOT_FINITE, 2, "--mu"),
+    ("describe", "--mu", ("--mu", DROP), REQUIRED, 2, "--mu"),
+    ("describe", "--N0", ("--N0", "0"), RANGE, 2, "--N0"),
+    ("describe", "--N0", ("--N0", "abc"), NOT_NUMBER, 2, "--N0"),
+    ("describe", "--N0", ("--N0", DROP), REQUIRED, 2, "--N0"),
+    ("describe", "--N1", ("--N1", "-1"), RANGE, 2, "--N1"),
+    ("describe", "--N1", ("--N1", "nan"), NOT_FINITE, 2, "--N1"),
+    ("describe", "--phi", ("--N1", "1", "--phi", "abc"), NOT_NUMBER, 2, "--phi"),
+    ("describe", "--phi", ("--N1", "1", "--phi", "inf"), NOT_FINITE, 2, "--phi"),
+    ("describe", "--phi", ("--phi", "0.5pi"), NO_APPLY, 2, "--phi"),
+    ("describe", "--kn", ("--kn", "-1", "--un1", "0.1"), RANGE, 2, "--kn"),
+    ("describe", "--kn", ("--kn", "abc", "--un1", "0.1"), NOT_NUMBER, 2, "--kn"),
+    ("describe", "--kn", ("--kn", "10"), REQUIRED, 2, "--kn"),
+    ("describe", "--kn", ("--kn", "10", "--N1", "1"), CONFLICT, 2, "--kn"),
+    ("describe", "--un1", ("--un1", "0.1"), REQUIRED, 2, "--un1"),
+    ("describe", "--un1", ("--kn", "10", "--un1", "-0.1"), RANGE, 2, "--un1"),
+    ("describe", "--amplitude", ("--amplitude", "abc"), NOT_NUMBER, 2, "--amplitude"),
+    ("describe", "--amplitude", ("--amplitude", "nan"), NOT_FINITE, 2, "--amplitude"),
+    ("describe", "--amplitude", ("--amplitude", "0"), RANGE, 2, "--amplitude"),
+    ("describe", "--amplitude", ("--amplitude", "-1"), RANGE, 2, "--amplitude"),
+    ("describe", "--amplitude", ("--amplitude", "0:1:3"), RANGE, 2, "--amplitude"),
+    ("describe", "--amplitude", ("--amplitude", "1:2"), NOT_NUMBER, 2, "--amplitude"),
+    ("describe", "--amplitude", ("--amplitude", "1:2:0"), RANGE, 2, "--amplitude"),
+    ("describe", "--amplitude", ("--amplitude", "1:2:2.5"), NOT_INT, 2, "--amplitude"),
+    ("describe", "--amplitude", ("--amplitude", DROP), REQUIRED, 2, "--amplitude"),
+    ("describe", "--harmonics", ("--harmonics", "0"), RANGE, 2, "--harmonics"),
+    ("describe", "--harmonics", ("--harmonics", "abc"), NOT_INT, 2, "--harmonics"),
+    ("describe", "--harmonics", ("--harmonics", "1.5"), NOT_INT, 2, "--harmonics"),
+    ("describe", "--start", ("--start", "abc"), NOT_NUMBER, 2, "--start"),
+    ("describe", "--start", ("--start", "nan"), NOT_FINITE, 2, "--start"),
+    ("describe", "--method", ("--method", "fft"), CHOICE, 2, "--method"),
+    (
+        "describe",
+        "--contact",
+        ("--contact", "sphere", "--R", "10", "--E", "2e5", "--nu", "0.3"),
+        NO_APPLY,
+        2,
+        "--contact",
+    ),
+    ("describe", "--contact", ("--contact", "sphere", "--kt", DROP), NO_APPLY, 2, "--contact"),
+    ("describe", "--R", ("--R", "10"), NO_APPLY, 2, "--R"),
+    ("describe", "--E", ("--E", "2e5"), NO_APPLY, 2, "--E"),
+    ("describe", "--nu", ("--nu", "0.3"), NO_APPLY, 2, "--nu"),
+    ("describe", "--json", ("--json", "yes"), UNKNOWN, 2, "yes"),
 ]
 
 #: the flags (no value): nothing to get wrong but a value given to them, which the rows with
@@ -589,6 +646,7 @@ EXEMPT = {
     ("paper-claims", "--json"): "a flag: it has no value to be wrong",
     ("system", "--json"): "a flag: it has no value to be wrong",
     ("modal", "--json"): "a flag: it has no value to be wrong",
+    ("describe", "--json"): "a flag: it has no value to be wrong",
 }
 
 
