@@ -115,7 +115,7 @@ def test_a_shakedown_keeps_the_start(start):
 
 def test_multi_harmonic_cycle_against_the_return_map():
     """Three harmonics of x, two of N (with separation): the fine-sample return map converges to
-    the exact cycle at second order (error x n² bounded; fitted order measured 1.7 to 2.1)."""
+    the exact cycle at second order (error x n² bounded; fitted order measured 1.9 to 2.1)."""
     el = JenkinsElement(kt=1.3, mu=0.6, N0=1.0)
     x = Fourier(0.1, (2.0, 0.7, 0.3), (0.4, 1.1, -0.5), 1.0)
     for normal in (Fourier(1.0, (0.4, 0.3), (0.2, 2.0), 1.0),
@@ -135,7 +135,7 @@ def test_multi_harmonic_cycle_against_the_return_map():
                 )
             )
         assert max(e * n * n for e, n in zip(errors, steps)) < 100.0
-        assert fitted_order(steps, errors) > 1.5
+        assert fitted_order(steps, errors) > 1.7
         assert errors[-1] < 1e-6
 
 

@@ -1,13 +1,16 @@
 """An independent reference for the displacement-driven Jenkins element: the fine-sample,
 piecewise-linear return map (Moreau's catching-up).
 
-The motion and the normal load are sampled at ``steps`` equally spaced instants of the period;
-between samples the slider's bounds ``lo = x - μN/kt`` and ``hi = x + μN/kt`` are taken as
-linear, for which the sweeping process is solved exactly by projecting the slider onto the
-next sample's interval: ``w_{i+1} = clip(w_i, lo_{i+1}, hi_{i+1})``. Cycles are repeated until the
-slider at t = 0 repeats. W is ``∮ T dx`` and the Fourier coefficients of T by the trapezoidal
-rule. It shares nothing with lcpfric's event solvers but the element's definition; its errors
-fall like ``steps^-2`` (a slip's end between samples, and the trapezoid across a kink).
+The motion and the normal load are sampled at ``steps`` equally spaced instants of the period,
+and at the instants where the linear interpolant of the (unclipped) normal load crosses zero
+(there N = 0: without them a re-contact would be placed at the sample before it, an error of
+order ``1/steps`` in the slider where it sticks from a re-contact). Between samples the slider's
+bounds ``lo = x - μN/kt`` and ``hi = x + μN/kt`` are taken as linear, for which the sweeping
+process is solved exactly by projecting the slider onto the next sample's interval:
+``w_{i+1} = clip(w_i, lo_{i+1}, hi_{i+1})``. Cycles are repeated until the slider at t = 0
+repeats. W is ``∮ T dx`` and the Fourier coefficients of T by the trapezoidal rule. It shares
+nothing with lcpfric's event solvers but the element's definition; its errors fall like
+``steps^-2`` (a slip's end or a re-contact between samples, the trapezoid across a kink).
 """
 
 from __future__ import annotations
@@ -44,8 +47,16 @@ def return_map_cycle(kt, mu, x_of_t, N_of_t, period, steps, start=None, harmonic
         ``t``, ``T``, ``w``.
     """
     t = np.linspace(0.0, period, steps + 1)
+    P = np.asarray(N_of_t(t), dtype=float)
+    cross = np.nonzero((P[:-1] < 0) != (P[1:] < 0))[0]
+    t_zero = t[cross] - P[cross] * (t[cross + 1] - t[cross]) / (P[cross + 1] - P[cross])
+    t = np.concatenate((t, t_zero))
+    order = np.argsort(t, kind="stable")
+    t = t[order]
+    P = np.concatenate((P, np.zeros(t_zero.size)))[order]
+    steps = t.size - 1
     x = np.asarray(x_of_t(t), dtype=float)
-    N = np.maximum(np.asarray(N_of_t(t), dtype=float), 0.0)
+    N = np.maximum(P, 0.0)
     lo, hi = (x - mu * N / kt).tolist(), (x + mu * N / kt).tolist()
     w = float(np.mean(x[:-1])) if start is None else float(start)
     w = min(max(w, lo[0]), hi[0])
@@ -62,10 +73,10 @@ def return_map_cycle(kt, mu, x_of_t, N_of_t, period, steps, start=None, harmonic
     ws = np.asarray(ws)
     T = kt * (x - ws)
     W = float(np.sum(0.5 * (T[1:] + T[:-1]) * np.diff(x)))
-    theta = 2.0 * math.pi * t[:-1] / period
+    theta = 2.0 * math.pi * t / period
     k = np.arange(harmonics + 1)
-    c = 2.0 / steps * (np.cos(np.outer(k, theta)) @ T[:-1])
-    s = 2.0 / steps * (np.sin(np.outer(k, theta)) @ T[:-1])
+    c = np.trapezoid(np.cos(np.outer(k, theta)) * T, theta, axis=1) / math.pi
+    s = np.trapezoid(np.sin(np.outer(k, theta)) * T, theta, axis=1) / math.pi
     c[0] *= 0.5
     s[0] = 0.0
     return {
