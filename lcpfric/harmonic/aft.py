@@ -52,9 +52,11 @@ class AFTResult:
     normal_force : numpy.ndarray
         The coefficients of N = max(0, N_raw), shape (n, 2H + 1).
     jacobian : numpy.ndarray or None
-        Per element, d[T_1, ..., T_d, N] / d[x_1, ..., x_d, n], shape (n, (d+1)K, (d+1)K),
-        K = 2H + 1; n is the normal input (the load's coefficients, or the normal
-        displacement's). None when not asked for.
+        Per element the derivatives of the force coefficients with respect to the input
+        coefficients, K = 2H + 1: with ``normal_displacement``, d[T_1, ..., T_d, N] /
+        d[x_1, ..., x_d, un], shape (n, (d+1)K, (d+1)K); with a prescribed ``normal_load``
+        (not a variable), d[T_1, ..., T_d] / d[x_1, ..., x_d], shape (n, dK, dK). None when
+        not asked for.
     dissipation : numpy.ndarray
         W per element and cycle, ``∮ T · dx`` of the sampled (piecewise-linear) cycle, (n,).
     force_samples : numpy.ndarray
@@ -215,10 +217,11 @@ def jenkins_aft(
     ns = check_samples(H, samples)
     kt, mu = element_parameters(n, kt, mu)
     Nc, nu = _normal(n, K, normal_load, normal_displacement, kn, preload)
+    normal = normal_displacement is not None  # the normal input is a variable
     s0 = initial_slider(slider, n, d)
     need = 8.0 * n * ns * (4 * d + 8)
     if jacobian:
-        need += jacobian_bytes(n, d, K, ns)
+        need += jacobian_bytes(n, d, K, ns, normal)
     memory.check(
         need, "tangential", f"the AFT of {n} elements ({H} harmonics, {ns} samples, d = {d})"
     )
@@ -246,9 +249,9 @@ def jenkins_aft(
     if jacobian:
         state = cycle.state.T
         if d == 1:
-            J = jacobian_d1(basis, state, kt, mu, nu, N_raw)
+            J = jacobian_d1(basis, state, kt, mu, nu, N_raw, normal)
         else:
-            J = jacobian_d2(basis, x, T, state, kt, mu, nu, N, N_raw)
+            J = jacobian_d2(basis, x, T, state, kt, mu, nu, N, N_raw, normal)
     return AFTResult(
         tangential_force=FT,
         normal_force=FN,
@@ -359,8 +362,6 @@ def jenkins_residual(
     J = r.jacobian
     if kn is not None:
         f = np.concatenate([f, r.normal_force[:, None]], axis=1)
-    else:
-        J = J[:, : d * K, : d * K]
     f = f.reshape(-1)
     if blocks:
         return f, np.ascontiguousarray(J)

@@ -40,7 +40,7 @@ import functools
 import numpy as np
 
 from .fourier import FourierBasis
-from .jenkins import BACKWARD, SEPARATION, SLIP, STICK
+from .march import BACKWARD, SEPARATION, SLIP, STICK
 
 __all__ = ["jacobian_d1", "jacobian_d2", "jacobian_bytes", "tables"]
 
@@ -73,20 +73,22 @@ def tables(basis: FourierBasis):
     return DE, S
 
 
-def jacobian_bytes(n: int, d: int, K: int, samples: int) -> float:
+def jacobian_bytes(n: int, d: int, K: int, samples: int, normal: bool) -> float:
     """Bytes of the Jacobian blocks of n elements and of the work to build them.
 
     Parameters
     ----------
     n, d, K, samples : int
         Elements, tangential directions, coefficients per signal (2H + 1), samples per period.
+    normal : bool
+        Whether the normal input is a variable (rows and columns of N).
 
     Returns
     -------
     float
         The estimate (the blocks, their products' temporaries, and the d = 2 chunks).
     """
-    m = (d + 1) * K
+    m = (d + normal) * K
     blocks = 8.0 * n * m * m
     work = 8.0 * n * (3 * K * K + 6 * samples)
     if d == 2:
@@ -98,11 +100,10 @@ def _normal_rows(J, basis, N_raw, nu):
     K = basis.size
     DE, _ = tables(basis)
     w = (N_raw > 0.0) * nu[None, :]  # (Ns, n)
-    d = J.shape[1] // K - 1
-    J[:, d * K :, d * K :] = (w.T @ DE).reshape(-1, K, K)
+    J[:, -K:, -K:] = (w.T @ DE).reshape(-1, K, K)
 
 
-def jacobian_d1(basis: FourierBasis, state, kt, mu, nu, N_raw) -> np.ndarray:
+def jacobian_d1(basis: FourierBasis, state, kt, mu, nu, N_raw, normal: bool) -> np.ndarray:
     """The Jacobian blocks of d = 1 elements (see the module's docstring).
 
     Parameters
@@ -115,67 +116,83 @@ def jacobian_d1(basis: FourierBasis, state, kt, mu, nu, N_raw) -> np.ndarray:
         (n,): stiffness, friction, dN/dn (1 for a prescribed load, kn for a displacement).
     N_raw : numpy.ndarray
         (Ns, n), the normal load before clipping (N_raw > 0: in contact).
+    normal : bool
+        Include the normal input's columns and the normal force's rows.
 
     Returns
     -------
     numpy.ndarray
-        (n, 2K, 2K): rows ``[T, N]``, columns ``[x, n]``.
+        (n, m, m), m = 2K (rows ``[T, N]``, columns ``[x, n]``) or K (``T`` and ``x`` alone).
     """
     ns, n = state.shape
     K = basis.size
     E = basis.E
     DE, S = tables(basis)
-    J = np.zeros((n, 2 * K, 2 * K))
+    m = 2 * K if normal else K
+    J = np.empty((n, m, m))
     anchor = state != STICK
-    sign = (state == SLIP).astype(float) - (state == BACKWARD)
     # Σ_anchors D_a ⊗ h_a: D diag(w) E for the x and the n columns, one product each
-    wx = anchor * (-kt)[None, :]
-    wn = sign * (mu * nu)[None, :]
-    J[:, :K, :K] = (wx.T @ DE).reshape(n, K, K)
-    J[:, :K, K:] = (wn.T @ DE).reshape(n, K, K)
+    J[:, :K, :K] = ((anchor * (-kt)).T @ DE).reshape(n, K, K)
     J[:, np.arange(K), np.arange(K)] += kt[:, None]
-    # Σ_stick runs (S_end - S_a [+ e0]) ⊗ h_a, a = the anchor before the run
-    stick = ~anchor
-    start = stick & np.roll(anchor, 1, axis=0)  # a stick sample after an anchor
-    end = stick & np.roll(anchor, -1, axis=0)  # a stick sample before an anchor
-    es, ks = np.nonzero(start.T)  # sorted by element, then sample
-    if es.size:
-        ee, ke = np.nonzero(end.T)
-        counts = np.bincount(es, minlength=n)
-        first = np.cumsum(counts) - counts
-        pos = np.arange(es.size) - first[es]
-        # the run that starts at an element's first start ends at its first end after it:
-        # when the element's first end comes before its first start, that end closes the
-        # run that wraps past the period's end, and the ends shift by one
-        shift = (ke[first[es]] < ks[first[es]]).astype(np.int64)
-        kend = ke[first[es] + (pos + shift) % counts[es]]
-        a = (ks - 1) % ns
-        V = S[kend] - np.where(ks[:, None] > 0, S[ks - 1], 0.0)
-        V[:, 0] += kend < ks  # the run wraps: + Σ_k D_k = e0
-        hx = (-kt[es])[:, None] * E[a]
-        hn = (sign[a, es] * mu[es] * nu[es])[:, None] * E[a]
-        _add_outer(J, es, pos, counts, V, np.concatenate([hx, hn], axis=1))
-    _normal_rows(J, basis, N_raw, nu)
+    if normal:
+        sign = (state == SLIP).view(np.int8) - (state == BACKWARD).view(np.int8)
+        J[:, :K, K:] = ((sign * (mu * nu)).T @ DE).reshape(n, K, K)
+        J[:, K:, :K] = 0.0
+        _normal_rows(J, basis, N_raw, nu)
+    # Σ_stick runs (S_end - S_{a} [+ e0]) ⊗ h_a, a = the anchor before the run: the runs'
+    # first and last samples, from one scan (1: first, 2: last, 3: a run of one sample)
+    after = np.empty_like(anchor)
+    after[0], after[1:] = anchor[-1], anchor[:-1]
+    before = np.empty_like(anchor)
+    before[-1], before[:-1] = anchor[0], anchor[1:]
+    code = (after.view(np.int8) + 2 * before.view(np.int8)) * ~anchor
+    e, k = np.nonzero(code.T)  # sorted by element, then sample
+    if e.size == 0:
+        return J
+    c = code[k, e]
+    es, ks = e[c & 1 > 0], k[c & 1 > 0]
+    ke = k[c & 2 > 0]
+    counts = np.bincount(es, minlength=n)
+    first = np.cumsum(counts) - counts
+    pos = np.arange(es.size) - first[es]
+    # the run that starts at an element's first start ends at its first end after it: when
+    # the element's first end comes before its first start, that end closes the run that wraps
+    # past the period's end, and the ends shift by one
+    shift = ke[first[es]] < ks[first[es]]
+    kend = ke[first[es] + (pos + shift) % counts[es]]
+    a = ks - 1  # the anchor (-1: the last sample)
+    V = S[kend] - S[a] * (a >= 0)[:, None]
+    V[:, 0] += kend < ks  # the run wraps: + Σ_k D_k = e0
+    Ea = E[a]
+    if normal:
+        hn = (sign[a, es] * (mu * nu)[es])[:, None] * V
+        _add_outer(J[:, :K, K:], es, pos, counts, hn, Ea)
+    V *= -kt[es][:, None]
+    _add_outer(J[:, :K, :K], es, pos, counts, V, Ea)
     return J
 
 
-def _add_outer(J, e, pos, counts, V, Hrow):
-    """``J[e, :K, :] += Σ_p V_p ⊗ Hrow_p`` per element, padded to the most terms, in chunks."""
+def _add_outer(J, e, pos, counts, V, U):
+    """``J[e] += Σ_p V_p ⊗ U_p`` per element, padded to the most terms, in chunks."""
     n = J.shape[0]
     K = V.shape[1]
     R = int(counts.max())
-    rows = max(1, int(_CHUNK_BYTES // (8 * R * (K + Hrow.shape[1]))))
+    rows = max(1, int(_CHUNK_BYTES // (8 * R * (K + U.shape[1]))))
     for lo in range(0, n, rows):
         hi = min(n, lo + rows)
-        sel = (e >= lo) & (e < hi)
+        if lo == 0 and hi == n:
+            sel, el = slice(None), e
+        else:
+            sel = (e >= lo) & (e < hi)
+            el = e[sel] - lo
         Vp = np.zeros((hi - lo, R, K))
-        Hp = np.zeros((hi - lo, R, Hrow.shape[1]))
-        Vp[e[sel] - lo, pos[sel]] = V[sel]
-        Hp[e[sel] - lo, pos[sel]] = Hrow[sel]
-        J[lo:hi, :K, :] += np.matmul(Vp.transpose(0, 2, 1), Hp)
+        Up = np.zeros((hi - lo, R, U.shape[1]))
+        Vp[el, pos[sel]] = V[sel]
+        Up[el, pos[sel]] = U[sel]
+        J[lo:hi] += np.matmul(Vp.transpose(0, 2, 1), Up)
 
 
-def jacobian_d2(basis: FourierBasis, x, T, state, kt, mu, nu, N, N_raw) -> np.ndarray:
+def jacobian_d2(basis: FourierBasis, x, T, state, kt, mu, nu, N, N_raw, normal: bool) -> np.ndarray:
     """The Jacobian blocks of d = 2 elements (radial return; see the module's docstring).
 
     Parameters
@@ -190,15 +207,17 @@ def jacobian_d2(basis: FourierBasis, x, T, state, kt, mu, nu, N, N_raw) -> np.nd
         (n,): stiffness, friction, dN/dn.
     N, N_raw : numpy.ndarray
         (Ns, n): the normal load, clipped and not.
+    normal : bool
+        Include the normal input's columns and the normal force's rows.
 
     Returns
     -------
     numpy.ndarray
-        (n, 3K, 3K): rows ``[T_1, T_2, N]``, columns ``[x_1, x_2, n]``.
+        (n, m, m), m = 3K (rows ``[T_1, T_2, N]``, columns ``[x_1, x_2, n]``) or 2K.
     """
     ns, n, _ = x.shape
     K = basis.size
-    m = 3 * K
+    m = (2 + normal) * K
     J = np.zeros((n, m, m))
     chunk = max(1, int(_CHUNK_BYTES // (8 * ns * (4 + 2 * m))))
     trial = np.roll(T, 1, axis=0) + kt[None, :, None] * (x - np.roll(x, 1, axis=0))
@@ -213,16 +232,17 @@ def jacobian_d2(basis: FourierBasis, x, T, state, kt, mu, nu, N, N_raw) -> np.nd
             mu[lo:hi],
             nu[lo:hi],
             N[:, lo:hi],
+            m,
         )
-    J[:, np.arange(2 * K), np.arange(2 * K)] += np.repeat(kt, 1)[:, None]
-    _normal_rows(J, basis, N_raw, nu)
+    J[:, np.arange(2 * K), np.arange(2 * K)] += kt[:, None]
+    if normal:
+        _normal_rows(J, basis, N_raw, nu)
     return J
 
 
-def _tangential_d2(basis, trial, T, state, kt, mu, nu, N):
+def _tangential_d2(basis, trial, T, state, kt, mu, nu, N, m):
     ns, c, _ = T.shape
     K = basis.size
-    m = 3 * K
     E, D = basis.E, basis.D
     A = np.broadcast_to(np.eye(2), (c, 2, 2)).copy()
     B = np.zeros((c, 2, m))
@@ -241,7 +261,8 @@ def _tangential_d2(basis, trial, T, state, kt, mu, nu, N):
             base[:, 0, :K] += ek
             base[:, 1, K : 2 * K] += ek
             Bn = np.matmul(P, base)
-            Bn[:, :, 2 * K :] += (mu[sl] * nu[sl])[:, None, None] * u[:, :, None] * E[k]
+            if m > 2 * K:
+                Bn[:, :, 2 * K :] += (mu[sl] * nu[sl])[:, None, None] * u[:, :, None] * E[k]
             Bn[:, 0, :K] -= ek
             Bn[:, 1, K : 2 * K] -= ek
             B[sl] = Bn

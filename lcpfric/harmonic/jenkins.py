@@ -48,16 +48,11 @@ import numpy as np
 
 from .._checks import NONCONVERGENCE, finite_array, positive_int
 from ..errors import ConvergenceError, ConvergenceWarning, InputError
-from ..results.cycle import State
+from .march import STATES, march_d1, march_d2, quantities_d1, quantities_d2
 
-__all__ = ["JenkinsCycle", "jenkins_cycle", "march", "element_parameters"]
+__all__ = ["JenkinsCycle", "jenkins_cycle", "element_parameters", "initial_slider", "steady_cycle"]
 
-STICK, SLIP, BACKWARD, SEPARATION = (
-    int(State.STICK),
-    int(State.FORWARD),
-    int(State.BACKWARD),
-    int(State.SEPARATION),
-)
+STICK, SLIP, BACKWARD, SEPARATION = STATES
 
 
 @dataclass(frozen=True, eq=False)
@@ -126,153 +121,6 @@ def element_parameters(n: int, kt, mu) -> tuple[np.ndarray, np.ndarray]:
             )
         out.append(np.broadcast_to(a, (n,)).astype(float))
     return out[0], out[1]
-
-
-def march(x, N, kt, mu, slider, max_periods: int, tol: float):
-    """Periods of the element marched until the slider at the period start repeats.
-
-    The arrays are sample-major (no checks): ``x`` (Ns, n, d), ``N`` (Ns, n) clipped at 0,
-    ``kt``, ``mu`` (n,), ``slider`` (n, d).
-
-    Parameters
-    ----------
-    x, N, kt, mu, slider : numpy.ndarray
-        As above.
-    max_periods : int
-        The cap on the periods.
-    tol : float
-        The slider's repeat tolerance, relative to the element's span
-        ``max |x| + max μN/kt``.
-
-    Returns
-    -------
-    tuple
-        ``(s, start, periods, converged)``: the slider after each sample of the last period
-        (Ns, n, d), at its start (n, d), the periods marched (n,) and the repeat flags (n,).
-    """
-    ns, n, d = x.shape
-    r = N * (mu / kt)  # the disk's radius in slider units
-    span = np.abs(x).max(axis=(0, 2)) + r.max(axis=0)
-    s_all = np.empty_like(x)
-    start = np.array(slider, dtype=float, copy=True)
-    begin = start.copy()
-    periods = np.zeros(n, dtype=np.int64)
-    converged = np.zeros(n, dtype=bool)
-    todo = np.arange(n)
-    if d == 1:
-        lo, hi = x[..., 0] - r, x[..., 0] + r
-    for _ in range(max_periods):
-        full = todo.size == n
-        s0 = start[todo, :].copy()
-        s = s0.copy()
-        if d == 1:
-            lk, hk = (lo, hi) if full else (lo[:, todo], hi[:, todo])
-            rec = np.empty((ns, todo.size))
-            s1 = s[:, 0].copy()
-            for k in range(ns):
-                np.maximum(s1, lk[k], out=s1)
-                np.minimum(s1, hk[k], out=s1)
-                rec[k] = s1
-            s = s1[:, None]
-            rec = rec[..., None]
-        else:
-            xk, rk = (x, r) if full else (x[:, todo], r[:, todo])
-            rec = np.empty((ns, todo.size, d))
-            for k in range(ns):
-                g = s - xk[k]
-                norm = np.sqrt(np.einsum("ij,ij->i", g, g))
-                over = norm > rk[k]
-                if over.any():
-                    scale = rk[k][over] / norm[over]
-                    s[over] = xk[k][over] + g[over] * scale[:, None]
-                rec[k] = s
-        s_all[:, todo] = rec
-        begin[todo] = s0  # the recorded period's start
-        periods[todo] += 1
-        done = np.abs(s - s0).max(axis=1) <= tol * span[todo]
-        converged[todo[done]] = True
-        start[todo] = s
-        todo = todo[~done]
-        if todo.size == 0:
-            break
-    return s_all, begin, periods, converged
-
-
-def cycle_quantities(x, N, s, start, kt, mu):
-    """Forces, states and W of a marched period (sample-major arrays, see :func:`march`).
-
-    Parameters
-    ----------
-    x, N, s, start, kt, mu : numpy.ndarray
-        The displacement samples (Ns, n, d), the clipped normal load (Ns, n), the slider after
-        each sample (Ns, n, d) and at the period start (n, d), kt and mu (n,).
-
-    Returns
-    -------
-    tuple of numpy.ndarray
-        ``(T, state, W)``: (Ns, n, d), int8 (Ns, n), (n,).
-    """
-    ns, n, d = x.shape
-    s_prev = np.concatenate([start[None], s[:-1]], axis=0)
-    T = kt[None, :, None] * (x - s)
-    sep = N <= 0.0
-    moved = (s != s_prev).any(axis=2) & ~sep
-    state = np.zeros((ns, n), dtype=np.int8)
-    if d == 1:
-        up = moved & (s[..., 0] > s_prev[..., 0])
-        down = moved & ~up
-        state[up] = SLIP
-        state[down] = BACKWARD
-        # on the limit the force is the limit itself (not kt (x - s) rounded)
-        lim = mu[None, :] * N
-        T[..., 0] = np.where(up, lim, np.where(down, -lim, T[..., 0]))
-    else:
-        state[moved] = SLIP
-    state[sep] = SEPARATION
-    T[sep] = 0.0
-    return T, state, dissipation(x, N, T, state, kt, mu)
-
-
-def dissipation(x, N, T, state, kt, mu) -> np.ndarray:
-    """W = ∮ T · dx over the piecewise-linear cycle, the slip onset located in each interval.
-
-    Parameters
-    ----------
-    x, N, T, state, kt, mu : numpy.ndarray
-        Sample-major: (Ns, n, d), (Ns, n), (Ns, n, d), (Ns, n), (n,), (n,).
-
-    Returns
-    -------
-    numpy.ndarray
-        W per element, shape (n,).
-    """
-    dx = x - np.roll(x, 1, axis=0)
-    Tp = np.roll(T, 1, axis=0)
-    # stick intervals: T linear from T_{k-1} to T_k (the trapezoid)
-    W = np.einsum("knd,knd->n", dx, 0.5 * (Tp + T))
-    k, e = np.nonzero(state != STICK)
-    if k.size == 0:
-        return W
-    # an interval ending off stick: linear stick up to θ where |T_{k-1} + θ Δ| = μ N(θ), then
-    # linear along the limit to T_k; the trapezoid above is corrected to that path
-    kp = (k - 1) % x.shape[0]
-    delta = kt[e, None] * dx[k, e]
-    t0 = Tp[k, e]
-    m = mu[e]
-    n0, dn = N[kp, e], N[k, e] - N[kp, e]
-    a = np.einsum("ij,ij->i", delta, delta) - (m * dn) ** 2
-    b = 2.0 * (np.einsum("ij,ij->i", t0, delta) - m * m * n0 * dn)
-    c = np.minimum(np.einsum("ij,ij->i", t0, t0) - (m * n0) ** 2, 0.0)
-    root = np.sqrt(np.maximum(b * b - 4.0 * a * c, 0.0))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        # the upward crossing (-b + √disc) / 2a, in the form without cancellation
-        theta = np.where(b > 0, -2.0 * c / (b + root), (root - b) / (2.0 * a))
-    theta = np.clip(np.nan_to_num(theta, nan=0.0, posinf=0.0, neginf=0.0), 0.0, 1.0)
-    tth = t0 + theta[:, None] * delta
-    t1 = T[k, e]
-    path = 0.5 * (theta[:, None] * t0 + tth + (1.0 - theta[:, None]) * t1)
-    corr = np.einsum("ij,ij->i", dx[k, e], path - 0.5 * (t0 + t1))
-    return W + np.bincount(e, weights=corr, minlength=x.shape[1])
 
 
 def jenkins_cycle(
@@ -372,7 +220,8 @@ def steady_cycle(x, N, kt, mu, slider, max_periods, tol, on_nonconvergence) -> J
     Parameters
     ----------
     x, N, kt, mu, slider : numpy.ndarray
-        See :func:`march`.
+        See :func:`lcpfric.harmonic.march.march_d1` (x (Ns, n, d), N (Ns, n) >= 0, kt, mu
+        (n,), slider (n, d)).
     max_periods : int
         The cap on the periods.
     tol : float
@@ -389,10 +238,18 @@ def steady_cycle(x, N, kt, mu, slider, max_periods, tol, on_nonconvergence) -> J
         raise InputError(
             "on_nonconvergence", f"must be one of {NONCONVERGENCE}, got {on_nonconvergence!r}"
         )
-    s, start, periods, converged = march(x, N, kt, mu, slider, max_periods, tol)
-    T, state, W = cycle_quantities(x, N, s, start, kt, mu)
+    r = N * (mu / kt)
+    if x.shape[2] == 1:
+        x1 = x[..., 0]
+        s, start, periods, converged = march_d1(x1, r, slider[:, 0], max_periods, tol)
+        T, state, W = quantities_d1(x1, N, s, start, kt, mu)
+        force, start = T.T[:, None, :], start[:, None]
+    else:
+        s, start, periods, converged = march_d2(x, r, slider, max_periods, tol)
+        T, state, W = quantities_d2(x, N, s, start, kt, mu)
+        force = np.moveaxis(T, 0, 2)
     cycle = JenkinsCycle(
-        force=np.moveaxis(T, 0, 2),
+        force=force,
         normal=N.T,
         state=state.T,
         slider=start,

@@ -1,0 +1,255 @@
+"""The Jenkins element's march over the samples of a period, vectorized over elements: the
+slider's clip (d = 1) or projection (d = 2) per sample, periods until the slider at the period
+start repeats, then the forces, states and W of the last period. The method, its exactness
+in d = 1 and the steady cycle after one period are in :mod:`lcpfric.harmonic.jenkins`.
+
+Arrays are sample-major, each sample's values of all elements contiguous: d = 1 ``(Ns, n)``,
+d = 2 ``(Ns, n, 2)``; ``r = μN/kt`` is the slider's reach around x (0 in separation).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..results.cycle import State
+
+__all__ = ["march_d1", "march_d2", "quantities_d1", "quantities_d2", "STATES"]
+
+#: the state codes (lcpfric.results.State): stick, forward slip (every slip in d = 2),
+#: backward slip, separation
+STATES = (int(State.STICK), int(State.FORWARD), int(State.BACKWARD), int(State.SEPARATION))
+STICK, SLIP, BACKWARD, SEPARATION = STATES
+
+
+def _periods(step, x, r, slider, max_periods, tol, span_axes):
+    """Periods of ``step(s0, columns, out) -> s`` until the slider at the start repeats."""
+    n = x.shape[1]
+    s_all = np.empty_like(x)
+    start = np.array(slider, dtype=float)
+    begin = start.copy()
+    periods = np.zeros(n, dtype=np.int64)
+    converged = np.zeros(n, dtype=bool)
+    todo = np.arange(n)
+    span = None
+    for _ in range(max_periods):
+        full = todo.size == n
+        cols = slice(None) if full else todo
+        s0 = start[cols].copy()
+        out = s_all if full else np.empty((x.shape[0], todo.size) + x.shape[2:])
+        s = step(s0, cols, out)
+        if not full:
+            s_all[:, todo] = out
+        begin[todo] = s0
+        periods[todo] += 1
+        diff = np.abs(s - s0)
+        if diff.ndim > 1:
+            diff = diff.max(axis=1)
+        done = diff == 0.0  # d = 1 repeats bit for bit (the period map is a clip)
+        if not done.all():
+            if span is None:
+                span = np.abs(x).max(axis=span_axes) + r.max(axis=0)
+            done |= diff <= tol * span[todo]
+        converged[todo[done]] = True
+        start[todo] = s
+        todo = todo[~done]
+        if todo.size == 0:
+            break
+    return s_all, begin, periods, converged
+
+
+def march_d1(x, r, slider, max_periods: int, tol: float):
+    """d = 1: ``s_k = clip(s_{k-1}, x_k - r_k, x_k + r_k)`` over periods.
+
+    Parameters
+    ----------
+    x, r : numpy.ndarray
+        (Ns, n): displacement samples and the slider's reach μN/kt.
+    slider : numpy.ndarray
+        (n,): the slider before the first period.
+    max_periods : int
+        The cap on the periods.
+    tol : float
+        The repeat tolerance, relative to ``max |x| + max r``.
+
+    Returns
+    -------
+    tuple
+        ``(s, begin, periods, converged)``: the slider after each sample of the last period
+        (Ns, n), at its start (n,), the periods (n,), the repeat flags (n,).
+    """
+    lo = x - r
+    hi = x + r
+
+    def step(s, cols, out):
+        lk, hk = (lo, hi) if isinstance(cols, slice) else (lo[:, cols], hi[:, cols])
+        prev = s
+        for k in range(x.shape[0]):
+            np.maximum(prev, lk[k], out=out[k])
+            np.minimum(out[k], hk[k], out=out[k])
+            prev = out[k]
+        return prev.copy()
+
+    return _periods(step, x, r, slider, max_periods, tol, 0)
+
+
+def march_d2(x, r, slider, max_periods: int, tol: float):
+    """d = 2: s_k = the projection of s_{k-1} on the disk ``|s - x_k| <= r_k`` (radial return).
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        (Ns, n, 2) displacement samples.
+    r : numpy.ndarray
+        (Ns, n) the slider's reach μN/kt.
+    slider : numpy.ndarray
+        (n, 2): the slider before the first period.
+    max_periods : int
+        The cap on the periods.
+    tol : float
+        The repeat tolerance, relative to ``max |x| + max r``.
+
+    Returns
+    -------
+    tuple
+        As :func:`march_d1`, with the slider's arrays (Ns, n, 2) and (n, 2).
+    """
+
+    def step(s, cols, out):
+        xs, rs = (x, r) if isinstance(cols, slice) else (x[:, cols], r[:, cols])
+        s = s.copy()
+        for k in range(x.shape[0]):
+            g = s - xs[k]
+            norm = np.sqrt(g[:, 0] * g[:, 0] + g[:, 1] * g[:, 1])
+            over = np.flatnonzero(norm > rs[k])
+            if over.size:
+                s[over] = xs[k, over] + g[over] * (rs[k, over] / norm[over])[:, None]
+            out[k] = s
+        return s
+
+    return _periods(step, x, r, slider, max_periods, tol, (0, 2))
+
+
+def _difference(a, first):
+    """``a_k - a_{k-1}`` along axis 0, ``a_{-1}`` = ``first``."""
+    out = np.empty_like(a)
+    np.subtract(a[0], first, out=out[0])
+    np.subtract(a[1:], a[:-1], out=out[1:])
+    return out
+
+
+def quantities_d1(x, N, s, begin, kt, mu):
+    """Forces, states and W of the last period, d = 1.
+
+    In slip the force is the limit ±μN itself, in separation 0, in stick ``kt (x - s)``. W is
+    ``∮ T dx`` of the piecewise-linear cycle, exact for it: on an interval ending in slip
+    (sign σ = the slider's), stick up to ``θ = (σμN_{k-1} - T_{k-1}) / (kt Δx - σμΔN)`` and
+    slip along the limit after it, so ``W_k = Δs_k (T_θ + T_k) / 2`` with
+    ``T_θ = T_{k-1} + θ kt Δx`` (the slider does not move before θ).
+
+    Parameters
+    ----------
+    x, N, s : numpy.ndarray
+        (Ns, n): displacement, normal load (>= 0), the slider after each sample.
+    begin : numpy.ndarray
+        (n,): the slider at the period start.
+    kt, mu : numpy.ndarray
+        (n,).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(T, state, W)``: (Ns, n), int8 (Ns, n), (n,).
+    """
+    # masked assignments (np.where, copyto(where=)) cost several passes each on random masks:
+    # the forces and W are blended with 0/1 factors instead
+    ds = _difference(s, begin)
+    sep = N <= 0.0
+    sigma = np.sign(ds)  # +1 forward slip, -1 backward, 0 stick (and a still separation)
+    state = sigma.astype(np.int8)
+    state[state < 0] = BACKWARD
+    state |= sep.view(np.int8) * np.int8(SEPARATION)  # SEPARATION = 3 covers the slip bits
+    smu = sigma * mu  # σμ
+    stick = (sigma == 0.0) & ~sep
+    T = x - s
+    T *= kt
+    T *= stick
+    lim = smu * N  # the limit σμN on slip, 0 in stick and in separation
+    T += lim
+    # W = Σ Δs_k (T_θ + T_k) / 2 (Δs = 0 in stick), T_θ = T_{k-1} + θ kt Δx,
+    # θ = (σμN_{k-1} - T_{k-1}) / (kt Δx - σμΔN) in [0, 1]
+    a = _difference(x, x[-1])
+    a *= kt
+    Tp = np.concatenate([T[-1:], T[:-1]])
+    g = np.concatenate([N[-1:], N[:-1]])
+    g *= smu
+    g -= Tp  # the distance to the limit at the interval's start
+    q = _difference(N, N[-1])
+    q *= smu
+    np.subtract(a, q, out=q)  # the rate towards the limit (> 0 where the slider moved)
+    g *= ~stick  # θ = 0 where it does not matter: no 0/0 or overflow there
+    q += q == 0.0
+    g /= q
+    np.clip(g, 0.0, 1.0, out=g)
+    g *= a
+    g += Tp
+    g += T
+    g *= ds
+    W = 0.5 * g.sum(axis=0)
+    return T, state, W
+
+
+def quantities_d2(x, N, s, begin, kt, mu):
+    """Forces, states and W of the last period, d = 2.
+
+    W is ``∮ T · dx`` with T linear from T_{k-1} up to the instant ``θ`` where
+    ``|T_{k-1} + θ kt Δx| = μ N(θ)`` (a root of a quadratic) and linear to T_k after it; along
+    one axis this is the d = 1 value.
+
+    Parameters
+    ----------
+    x, s : numpy.ndarray
+        (Ns, n, 2): displacement and the slider after each sample.
+    N : numpy.ndarray
+        (Ns, n): the normal load (>= 0).
+    begin : numpy.ndarray
+        (n, 2): the slider at the period start.
+    kt, mu : numpy.ndarray
+        (n,).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(T, state, W)``: (Ns, n, 2), int8 (Ns, n), (n,).
+    """
+    ns, n, _ = x.shape
+    ds = _difference(s, begin)
+    sep = N <= 0.0
+    moved = (ds != 0.0).any(axis=2) & ~sep
+    T = kt[None, :, None] * (x - s)
+    T[sep] = 0.0
+    state = moved.view(np.int8) * np.int8(SLIP)
+    state[sep] = SEPARATION
+    dx = _difference(x, x[-1])
+    Tp = np.concatenate([T[-1:], T[:-1]])
+    W = np.einsum("knd,knd->n", dx, 0.5 * (Tp + T))
+    k, e = np.nonzero(state != STICK)
+    if k.size == 0:
+        return T, state, W
+    kp = (k - 1) % ns
+    delta = kt[e, None] * dx[k, e]
+    t0 = Tp[k, e]
+    m = mu[e]
+    n0, dn = N[kp, e], N[k, e] - N[kp, e]
+    a = np.einsum("ij,ij->i", delta, delta) - (m * dn) ** 2
+    b = 2.0 * (np.einsum("ij,ij->i", t0, delta) - m * m * n0 * dn)
+    c = np.minimum(np.einsum("ij,ij->i", t0, t0) - (m * n0) ** 2, 0.0)
+    root = np.sqrt(np.maximum(b * b - 4.0 * a * c, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # the upward crossing (-b + √disc) / 2a, in the form without cancellation
+        theta = np.where(b > 0, -2.0 * c / (b + root), (root - b) / (2.0 * a))
+    theta = np.clip(np.nan_to_num(theta, nan=0.0, posinf=0.0, neginf=0.0), 0.0, 1.0)
+    t1 = T[k, e]
+    # the trapezoid above corrected to the path through the kink T_θ = t0 + θ Δ
+    path = 0.5 * (theta[:, None] * t0 + t0 + theta[:, None] * delta + (1.0 - theta[:, None]) * t1)
+    corr = np.einsum("ij,ij->i", dx[k, e], path - 0.5 * (t0 + t1))
+    return T, state, W + np.bincount(e, weights=corr, minlength=n)
