@@ -16,10 +16,11 @@ their bracket), all but one kind found once per element before the cycle:
   re-contact the slider slips forward if lo is rising, backward if hi is falling, else sticks.
 
 The cycle is run from the given slider start at t = 0 until the slider's position at t = 0
-repeats (relative to the displacement scale ``max|x - mean| + μ max N / kt``), which confirms the
-periodic steady state. Every slip ends at an extremum of lo or hi or at separation, whatever
-the start, so a history is forgotten after its first slip: a cycle with slip repeats after two
-or three cycles; a shakedown (no slip) repeats at once, wherever the start left the slider.
+repeats (to ``tol`` times the slip scale ``μ max N / kt``, above the round-off of x), which
+confirms the periodic steady state. Every slip ends at an extremum of lo or hi or at
+separation, whatever the start, so a history is forgotten after its first slip: a cycle with
+slip repeats after two or three cycles; a shakedown (no slip) repeats at once, wherever the
+start left the slider.
 """
 
 from __future__ import annotations
@@ -135,6 +136,17 @@ class _Events:
             return solve_bracket(g, df, float(cuts[i]), float(cuts[i + 1]), -1.0 if up else 1.0)
         return math.inf
 
+    def separated_at_start(self) -> bool:
+        """Whether θ = 0 is inside a separation (N <= 0 on an interval, not at a touch): the last
+        sign change of N at or before θ = 0 (over the period) is a separation."""
+        roots = np.r_[self.separations, self.recontacts]
+        if roots.size == 0:
+            return False  # N > 0 but at isolated touches (its mean is > 0)
+        kinds = np.r_[np.ones(self.separations.size), np.zeros(self.recontacts.size)]
+        at_zero = roots == 0.0
+        last = np.nonzero(at_zero)[0] if at_zero.any() else [int(np.argmax(roots))]
+        return bool(kinds[last[0]])
+
     def recontact_state(self, theta: float) -> int:
         """The state just after re-contact at ``theta`` (the slider at x, lo = hi = x)."""
         if self.rising_at(self.lo_crit, self.lo_kind, theta) > 0:
@@ -226,7 +238,8 @@ def driven_cycle(
     samples : int, optional
         Equally spaced samples of the series over the period (the events are added), >= 4.
     tol : float, optional
-        Periodicity: the slider at t = 0 repeats within ``tol`` times the displacement scale.
+        Periodicity: the slider at t = 0 repeats within ``tol`` times the slip scale
+        ``μ max N / kt`` (plus 16 units of round-off of ``max |x|``).
     max_cycles : int, optional
         Cap on the cycles, >= 1.
 
@@ -269,20 +282,23 @@ def driven_cycle(
     fns = Functions(element.kt, element.mu, x, N)
     ev = _Events(fns)
     max_events = 50 + 4 * (ev.lo_crit.size + ev.hi_crit.size + ev.separations.size)
-    scale = float(np.sum(np.hypot(x.cos[1:], x.sin[1:]))) + element.mu / element.kt * float(
-        abs(N.cos[0]) + np.sum(np.hypot(N.cos[1:], N.sin[1:]))
-    )
+    # the slider matters through T = kt (x - w): its periodicity is judged on the force's scale
+    # μ max N / kt, above the round-off of x (|x| may be far larger than the slips)
+    bound = abs(N.cos[0]) + float(np.sum(np.hypot(N.cos[1:], N.sin[1:])))
+    scale = element.mu / element.kt * bound
+    floor = 16.0 * np.finfo(float).eps * (abs(x.cos[0]) + float(np.sum(np.hypot(x.cos, x.sin))))
     scale = scale if scale > 0.0 else 1.0
     w = x.cos[0] if start is None else _checks.finite("start", start)
-    if N(0.0) > 0.0:
-        state, w = STICK, float(min(max(w, fns.lo(0.0)), fns.hi(0.0)))
-    else:
+    if ev.separated_at_start():
         state, w = SEPARATION, float(x(0.0))
+    else:  # in contact (N(0) may be 0 at a touch: then lo = hi = x there)
+        lo0, hi0 = fns.lo(0.0), fns.hi(0.0)
+        state, w = STICK, float(min(max(w, min(lo0, hi0)), max(lo0, hi0)))
     change, converged = math.inf, False
     for cycles in range(1, max_cycles + 1):
         segs, state_end, w_end = ev.run(state, w, max_events)
         change = abs(w_end - w) / scale
-        if change <= tol:
+        if abs(w_end - w) <= tol * scale + floor:
             converged = True
             break
         state, w = state_end, w_end

@@ -72,7 +72,7 @@ class DrivenCycle:
     converged : bool
         True when it repeated within the tolerance (periodicity confirmed).
     change : float
-        The change of the slider over the last cycle, relative to the displacement scale.
+        The change of the slider over the last cycle, relative to the slip scale μ max N / kt.
     method : str
         ``"driven"`` (event solver) or ``"single-node"`` (the exact single node).
     seconds : float
