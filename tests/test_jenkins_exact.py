@@ -83,6 +83,25 @@ def test_event_solver_agrees_with_the_exact_single_node():
     assert worst < 1e-12
 
 
+@pytest.mark.parametrize("ratio", [1e-6, 0.5, 1.0 + 1e-6, 2.0, 1e3, 1e6])
+@pytest.mark.parametrize(
+    ("N1", "phi"),
+    [(0.0, 0.0), (1.0, math.pi), (1.0, 1.0), (1.0 + 1e-12, math.pi), (0.5, -math.pi / 2),
+     (2.0, 1e-9)],
+)  # fmt: skip
+def test_the_two_paths_at_the_extremes(N1, phi, ratio):
+    """Touching N = 0 (at t = 0 with φ = π), grazing separation, amplitudes from 1e-6 to 1e6 slip
+    limits: the two exact paths agree to 1e-12. (Regressions: a touch at t = 0 was taken for a
+    whole cycle of separation; at 1e6 slip limits a start 5e-13 of a off the orbit was taken for
+    periodic.)"""
+    el = JenkinsElement(1.0, 1.0, 1.0, N1, phi)
+    a = ratio * el.slip_limit
+    for start in (None, 0.3 * a):
+        one = driven_cycle(el, el.motion(a), start=start, harmonics=2)
+        two = jenkins_cycle(el, a, start=start, harmonics=2)
+        assert _difference(one, two, el, a) < 1e-12
+
+
 @pytest.mark.slow
 def test_event_solver_agrees_with_the_exact_single_node_many():
     worst = max(
