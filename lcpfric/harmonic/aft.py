@@ -219,6 +219,8 @@ def jenkins_aft(
     Nc, nu = _normal(n, K, normal_load, normal_displacement, kn, preload)
     normal = normal_displacement is not None  # the normal input is a variable
     s0 = initial_slider(slider, n, d)
+    max_periods = positive_int("max_periods", max_periods)
+    tol = float(finite_array("tol", tol, nonneg=True))
     need = 8.0 * n * ns * (4 * d + 8)
     if jacobian:
         need += jacobian_bytes(n, d, K, ns, normal)
@@ -231,16 +233,7 @@ def jenkins_aft(
     x = (E @ X.reshape(n * d, K).T).reshape(ns, n, d)
     N_raw = E @ Nc.T
     N = np.maximum(N_raw, 0.0)
-    cycle = steady_cycle(
-        x,
-        N,
-        kt,
-        mu,
-        s0,
-        max_periods,
-        float(finite_array("tol", tol, nonneg=True)),
-        on_nonconvergence,
-    )
+    cycle = steady_cycle(x, N, kt, mu, s0, max_periods, tol, on_nonconvergence)
     T = np.moveaxis(cycle.force, 2, 0)  # (Ns, n, d), a view of the march's array
     D = basis.D
     FT = (D @ T.reshape(ns, n * d)).T.reshape(n, d, K)

@@ -11,15 +11,20 @@ the slider, not the force: at each sample
 
 (equivalently ``T_k = clip(T_{k-1} + kt (x_k - x_{k-1}), ±μN_k)``, the return map).
 
-**d = 1 is exact for piecewise-linear input.** With x and N linear between two samples, the
-stick force ``T_{k-1} + kt (x(t) - x_{k-1})`` and the limits ``±μN(t)`` are linear in t, so
-the distance to each limit is linear: a limit is reached at most once in the interval, and
-once reached the element slips along it to the interval's end (the relative rate
-``kt x' ∓ μN'`` that drove it there is constant). It cannot reach both limits (that would
+**d = 1 is exact for piecewise-linear input**: x and the clipped N = max(0, N_raw) linear
+between samples (the polygon through the clipped samples; a raw N that changes sign between
+two samples would, interpolated before clipping, separate inside the interval). On one
+interval the stick force ``T_{k-1} + kt (x(t) - x_{k-1})`` and the limits ``±μN(t)`` are
+linear in t, so the distance to each limit is linear: a limit is reached at most once in the
+interval, and once reached the element slips along it to the interval's end (the relative
+rate ``kt x' ∓ μN'`` that drove it there is constant). It cannot reach both limits (that would
 need N to vanish inside the interval, which a linear N >= 0 does only at an end: a separation
 at t_k clips T_k to 0, and a re-contact from N_{k-1} = 0 starts from T = 0 = ±μN). So the
-clipped trial is T(t_k) exactly, for every sample spacing, separation and re-contact included;
-only the sampled input (a polygon through the samples) differs from the smooth one.
+clipped trial is T(t_k) exactly, for every sample spacing, separation and re-contact included
+(checked against an independent event-driven solution, and by subdividing the polygon, in
+``tests/test_harmonic_aft.py``); only the sampled input differs from the smooth one.
+Against smooth input the first harmonics converge at order 2 in the samples (the trapezoidal
+DFT across the slip onset's kink), W at order 2 (the turning points' sampling).
 
 **d = 1 is steady after one period, exactly.** Each sample's map ``s -> clip(s, l_k, u_k)`` is
 a clip, and clips compose into a clip, ``clip(clip(s, a, b), a', b') = clip(s, clip(a, a',
@@ -29,7 +34,10 @@ second period is a fixed point and the second period repeats the first's end bit
 element that never reaches a limit keeps its initial slider (its history).
 
 **d = 2** (radial return) is the backward-Euler (catching-up) step of the sweeping process; it
-is not exact for piecewise-linear input: the direction of slip turns inside an interval.
+is not exact for piecewise-linear input: the direction of slip turns inside an interval. Its
+error against the same polygon finely subdivided falls like 1/Ns (measured order 0.9 to 0.96
+from 128 to 1024 samples); against smooth input the force coefficients and W converge at
+order 1 (measured 1.01 and 1.08, 32 to 4096 samples, three harmonics with a varying load).
 Along one axis it is the d = 1 map. Its period map is a composition of projections on convex
 sets (non-expansive); it is iterated until the slider at the period start repeats to ``tol``.
 
