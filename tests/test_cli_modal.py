@@ -27,7 +27,7 @@ def one(tmp_path):
 def test_json_against_the_closed_form(one, capsys):
     assert main(["modal", "--file", str(one), "--amplitude", "0.1:50:6", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    a = np.linspace(0.1, 50, 6)
+    a = np.geomspace(0.1, 50, 6)  # A:B:N is log-spaced
     omega, zeta, W, _ = jenkins_oscillator(a, 1.0, 3.0, 0.5, mass=2.0)
     np.testing.assert_allclose(out["a"], a, rtol=1e-12)
     np.testing.assert_allclose(out["omega"], omega, rtol=1e-12)

@@ -37,6 +37,17 @@ def parse_grid(text: str, name: str, angle: bool = False) -> np.ndarray:
     return np.array([parse(s) for s in items])  # a value given twice: refused by the sweep
 
 
+def parse_amplitudes(text: str, name: str = "--amplitude") -> np.ndarray:
+    """Amplitudes ``a > 0``: one value, ``a,b,c``, or ``A:B:N``, N values from A to B spaced
+    *logarithmically* (amplitudes span decades: the describing functions, the modal damping)."""
+    a = parse_grid(text, name)
+    if np.any(a <= 0):
+        raise InputError(name, f"every amplitude must be > 0, got {a.min():g}")
+    if ":" in str(text) and a.size > 1:
+        a = np.geomspace(a[0], a[-1], a.size)
+    return a
+
+
 def parse_phi_list(text: str) -> np.ndarray:
     """Parse a φ list such as ``0,0.6pi,pi/2,1.2`` (radians) or ``0:pi:11``."""
     return parse_grid(text, "phi", angle=True)

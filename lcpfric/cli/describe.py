@@ -115,17 +115,9 @@ def _element(args):
 
 
 def _amplitudes(text):
-    import numpy as np
+    from ._grids import parse_amplitudes
 
-    from ..errors import InputError
-    from ._grids import parse_grid
-
-    a = parse_grid(text, "--amplitude")
-    if np.any(a <= 0):
-        raise InputError("--amplitude", f"every amplitude must be > 0, got {a.min():g}")
-    if ":" in str(text) and a.size > 1:  # A:B:N: log-spaced (describing functions span decades)
-        a = np.geomspace(a[0], a[-1], a.size)
-    return a
+    return parse_amplitudes(text, "--amplitude")
 
 
 def run(args) -> int:

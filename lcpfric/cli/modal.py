@@ -40,7 +40,8 @@ def configure(p) -> None:
         "--amplitude",
         required=True,
         metavar="A[:B:N]",
-        help="modal amplitudes a > 0: one value, a comma list, or N values from A to B",
+        help="modal amplitudes a > 0: one value, a comma list, or A:B:N for N values from A to "
+        "B, log-spaced",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
 
@@ -92,11 +93,9 @@ def run(args) -> int:
     from .. import _checks
     from ..analysis.modal import modal_damping
     from ..errors import InputError
-    from ._grids import parse_grid
+    from ._grids import parse_amplitudes
 
-    amplitudes = parse_grid(args.amplitude, "--amplitude")
-    if (amplitudes <= 0).any():
-        raise InputError("--amplitude", f"every amplitude must be > 0, got {amplitudes.min():g}")
+    amplitudes = parse_amplitudes(args.amplitude, "--amplitude")
     mode = _checks.positive_int("--mode", args.mode, 0)
     structure = read_structure(args.file)
     if mode >= structure.n:
