@@ -90,6 +90,33 @@ def test_jacobian_matches_central_differences(d, normal):
     assert rel.max() < 1e-6, rel.max()
 
 
+@pytest.mark.parametrize("d", [1, 2])
+def test_jacobian_of_a_shaken_down_element(d):
+    """Elements that stick in their steady cycle after slips before it: the slider is the limit
+    of the sample it touches (its normal part follows x and N there), not a constant."""
+    rng = np.random.default_rng(21)
+    n, K = 12, 7
+    X = rng.normal(size=(n, d, K)) * 0.05
+    U = rng.normal(size=(n, K)) * 0.02
+    slider = rng.choice([-1.0, 1.0], size=(n, d)) * rng.uniform(1, 3, (n, d))  # far outside
+    opts = dict(normal_displacement=U, kn=2.0, preload=1.0, slider=slider, tol=1e-15)
+    r = jenkins_aft(X, 64, 1.0, 0.3, **opts)
+    assert (r.state == STICK).all() and (r.slider != slider).all(axis=1).all()
+    m = (d + 1) * K
+    h, fd = 1e-6, np.zeros((n, m, m))
+    for j in range(m):
+        for sign in (1.0, -1.0):
+            Xp, Up = X.copy(), U.copy()
+            if j < d * K:
+                Xp[:, j // K, j % K] += sign * h
+            else:
+                Up[:, j - d * K] += sign * h
+            rp = jenkins_aft(Xp, 64, 1.0, 0.3, **dict(opts, normal_displacement=Up), jacobian=False)
+            fd[:, :, j] += sign * _vector(rp, "displacement") / (2 * h)
+    assert np.abs(fd - r.jacobian).max() < 1e-6 * np.abs(fd).max()
+    assert np.abs(r.jacobian - np.eye(m)[None] * np.r_[np.ones(d * K), np.zeros(K)]).max() > 0.1
+
+
 # -- the notes' closed forms ---------------------------------------------------------------------
 KT, MU, N0 = 1.0, 0.5, 1.0
 FS = MU * N0

@@ -26,7 +26,7 @@ from .. import memory
 from .._checks import finite_array, positive_int
 from ..errors import InputError
 from .fourier import FourierBasis, check_samples, fourier_basis, harmonics_of
-from .jacobian import jacobian_bytes, jacobian_d1, jacobian_d2
+from .jacobian import jacobian_bytes, jacobian_d1, jacobian_d2, shaken_down
 from .jenkins import element_parameters, initial_slider, steady_cycle
 
 __all__ = ["AFTResult", "jenkins_aft", "jenkins_residual"]
@@ -245,6 +245,7 @@ def jenkins_aft(
             J = jacobian_d1(basis, state, kt, mu, nu, N_raw, normal)
         else:
             J = jacobian_d2(basis, x, T, state, kt, mu, nu, N, N_raw, normal)
+        shaken_down(J, basis, x, N, cycle.slider, s0, state, cycle.periods, kt, mu, nu, normal)
     return AFTResult(
         tangential_force=FT,
         normal_force=FN,

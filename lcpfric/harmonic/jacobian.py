@@ -40,9 +40,9 @@ import functools
 import numpy as np
 
 from .fourier import FourierBasis
-from .march import BACKWARD, SEPARATION, SLIP, STICK
+from .march import BACKWARD, ROUNDING, SEPARATION, SLIP, STICK
 
-__all__ = ["jacobian_d1", "jacobian_d2", "jacobian_bytes", "tables"]
+__all__ = ["jacobian_d1", "jacobian_d2", "shaken_down", "jacobian_bytes", "tables"]
 
 #: float64 values per element and sample held by the d = 2 propagation (A: 4, B: 2 x 3K)
 _CHUNK_BYTES = 64e6
@@ -286,3 +286,80 @@ def _tangential_d2(basis, trial, T, state, kt, mu, nu, N, m):
     DA = (D @ As.reshape(ns, -1)).reshape(K, c, 2, 2)
     DH = DB + np.einsum("kcij,cjm->kcim", DA, H0)
     return np.ascontiguousarray(DH.transpose(1, 2, 0, 3)).reshape(c, 2 * K, m)
+
+
+def shaken_down(J, basis, x, N, begin, slider, state, periods, kt, mu, nu, normal) -> None:
+    """Correct, in place, the blocks of elements that do not slip in their steady cycle but
+    were carried there by slips before it (shakedown).
+
+    Such an element's slider s* is not its history: it is where the slips of the periods
+    before the steady one left it, a function of x and N. Its derivative is propagated
+    forward through those periods from the given slider (fixed): a clip to a bound takes the
+    bound's, ``ds = dx_k ∓ dr_k`` (d = 1); a projection on a disk
+    ``ds = dx_k + n dr_k + (r/|g|)(I - n nᵀ)(ds - dx_k)`` (d = 2, n the outward normal,
+    ``r = μN/kt``). In d = 1 that is the last clip's bound alone. The slider is then constant
+    over the steady cycle, so only the mean rows change: ``dT_0 -= kt ds*``. An element whose
+    slider never moved keeps ``kt I``.
+
+    Parameters
+    ----------
+    J : numpy.ndarray
+        (n, m, m) the blocks, updated in place.
+    basis : FourierBasis
+        The harmonics and samples.
+    x : numpy.ndarray
+        (Ns, n, d) the displacement samples.
+    N : numpy.ndarray
+        (Ns, n) the normal load (clipped).
+    begin, slider : numpy.ndarray
+        (n, d): the steady cycle's slider at its start, and the one given before the march.
+    state : numpy.ndarray
+        int8 (Ns, n).
+    periods : numpy.ndarray
+        (n,) the periods marched (the last one is the steady cycle).
+    kt, mu, nu : numpy.ndarray
+        (n,).
+    normal : bool
+        Whether the blocks have the normal input's columns.
+    """
+    e = np.flatnonzero((begin != slider).any(axis=1) & (state == STICK).all(axis=0))
+    if e.size == 0:
+        return
+    K = basis.size
+    ns, _, d = x.shape
+    m = J.shape[2]
+    xs, r = x[:, e], N[:, e] * (mu / kt)[e]
+    dr_scale = (mu * nu / kt)[e]
+    s = slider[e].copy()
+    ds = np.zeros((e.size, d, m))
+    rows = np.arange(e.size)
+    for p in range(int(periods[e].max()) - 1):
+        active = p < periods[e] - 1  # the periods before each element's steady one
+        for k in range(ns):
+            dx = np.zeros((d, m))
+            for i in range(d):
+                dx[i, i * K : (i + 1) * K] = basis.E[k]
+            dr = np.zeros((e.size, m))
+            if normal:
+                dr[:, d * K :] = (dr_scale * (N[k, e] > 0.0))[:, None] * basis.E[k]
+            g = s - xs[k]
+            norm = np.sqrt((g * g).sum(axis=1))
+            if d == 1:  # the march's max then min
+                lo, hi = xs[k, :, 0] - r[k], xs[k, :, 0] + r[k]
+                for side, mask in ((-1.0, s[:, 0] < lo), (1.0, s[:, 0] > hi)):
+                    mask &= active
+                    ds[mask] = dx[None] + side * dr[mask][:, None, :]
+                s[:, 0] = np.minimum(np.maximum(s[:, 0], lo), hi)
+                continue
+            over = rows[(norm > r[k] * ROUNDING) & active]
+            if over.size:
+                n_ = g[over] / norm[over, None]
+                q = (r[k, over] / norm[over])[:, None, None] * (
+                    np.eye(d)[None] - n_[:, :, None] * n_[:, None, :]
+                )
+                ds[over] = (
+                    dx[None] + n_[:, :, None] * dr[over][:, None, :] + q @ (ds[over] - dx[None])
+                )
+                s[over] = xs[k, over] + g[over] * (r[k, over] / norm[over])[:, None]
+    for i in range(d):
+        J[e, i * K, :] -= kt[e, None] * ds[:, i, :]

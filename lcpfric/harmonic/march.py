@@ -13,12 +13,14 @@ import numpy as np
 
 from ..results.cycle import State
 
-__all__ = ["march_d1", "march_d2", "quantities_d1", "quantities_d2", "STATES"]
+__all__ = ["march_d1", "march_d2", "quantities_d1", "quantities_d2", "STATES", "ROUNDING"]
 
 #: the state codes (lcpfric.results.State): stick, forward slip (every slip in d = 2),
 #: backward slip, separation
 STATES = (int(State.STICK), int(State.FORWARD), int(State.BACKWARD), int(State.SEPARATION))
 STICK, SLIP, BACKWARD, SEPARATION = STATES
+#: a d = 2 slider closer to its circle than this factor of the radius is inside (rounding)
+ROUNDING = 1.0 + 8.0 * np.finfo(float).eps
 
 
 def _periods(step, x, r, slider, max_periods, tol, span_axes):
@@ -120,7 +122,9 @@ def march_d2(x, r, slider, max_periods: int, tol: float):
         for k in range(x.shape[0]):
             g = s - xs[k]
             norm = np.sqrt(g[:, 0] * g[:, 0] + g[:, 1] * g[:, 1])
-            over = np.flatnonzero(norm > rs[k])
+            # a slider within rounding of its circle (put there by an earlier projection) is
+            # inside: re-projecting it would move it by an ulp, a slip of nothing
+            over = np.flatnonzero(norm > rs[k] * ROUNDING)
             if over.size:
                 s[over] = xs[k, over] + g[over] * (rs[k, over] / norm[over])[:, None]
             out[k] = s
