@@ -244,45 +244,53 @@ def _tangential_d2(basis, trial, T, state, kt, mu, nu, N, m):
     ns, c, _ = T.shape
     K = basis.size
     E, D = basis.E, basis.D
-    A = np.broadcast_to(np.eye(2), (c, 2, 2)).copy()
-    B = np.zeros((c, 2, m))
+    # per sample the map H_{k-1} -> H_k is P (H_{k-1} + kt E_k) + μν u E^n_k - kt E_k with
+    # P = β (I - u uᵀ) on a slip, I in stick, 0 in separation: blended, no subsets
+    slip = state == SLIP
+    sep = state == SEPARATION
+    with np.errstate(divide="ignore", invalid="ignore"):
+        norm = np.sqrt(T[..., 0] ** 2 + T[..., 1] ** 2)
+        u0 = np.where(slip, T[..., 0] / norm, 0.0)
+        u1 = np.where(slip, T[..., 1] / norm, 0.0)
+        beta = np.where(slip, mu * N / np.sqrt(trial[..., 0] ** 2 + trial[..., 1] ** 2), 0.0)
+    rest = np.where(sep, 0.0, 1.0)
+    p00 = np.where(slip, beta * u1 * u1, rest)
+    p11 = np.where(slip, beta * u0 * u0, rest)
+    p01 = -beta * u0 * u1
+    a = [np.ones(c), np.zeros(c), np.zeros(c), np.ones(c)]
     As = np.empty((ns, c, 2, 2))
-    Bs = np.empty((ns, c, 2, m))
+    Bs = np.empty((ns, 2, c, m))  # each row's block contiguous
+    B0, B1 = np.zeros((c, m)), np.zeros((c, m))
     for k in range(ns):
-        st = state[k]
-        sl = np.flatnonzero(st == SLIP)
-        if sl.size:
-            t = T[k, sl]
-            u = t / np.linalg.norm(t, axis=1)[:, None]
-            beta = mu[sl] * N[k, sl] / np.linalg.norm(trial[k, sl], axis=1)
-            P = beta[:, None, None] * (np.eye(2)[None] - u[:, :, None] * u[:, None, :])
-            base = B[sl]
-            ek = kt[sl, None] * E[k][None, :]
-            base[:, 0, :K] += ek
-            base[:, 1, K : 2 * K] += ek
-            Bn = np.matmul(P, base)
-            if m > 2 * K:
-                Bn[:, :, 2 * K :] += (mu[sl] * nu[sl])[:, None, None] * u[:, :, None] * E[k]
-            Bn[:, 0, :K] -= ek
-            Bn[:, 1, K : 2 * K] -= ek
-            B[sl] = Bn
-            A[sl] = np.matmul(P, A[sl])
-        sp = np.flatnonzero(st == SEPARATION)
-        if sp.size:
-            A[sp] = 0.0
-            B[sp] = 0.0
-            ek = kt[sp, None] * E[k][None, :]
-            B[sp, 0, :K] = -ek
-            B[sp, 1, K : 2 * K] = -ek
-        As[k] = A
-        Bs[k] = B
+        kE = kt[:, None] * E[k]
+        X0, X1 = B0.copy(), B1.copy()
+        X0[:, :K] += kE
+        X1[:, K : 2 * K] += kE
+        B0, B1 = Bs[k, 0], Bs[k, 1]
+        np.multiply(p00[k, :, None], X0, out=B0)
+        B0 += p01[k, :, None] * X1
+        np.multiply(p11[k, :, None], X1, out=B1)
+        B1 += p01[k, :, None] * X0
+        B0[:, :K] -= kE
+        B1[:, K : 2 * K] -= kE
+        if m > 2 * K:
+            B0[:, 2 * K :] += (mu * nu * u0[k])[:, None] * E[k]
+            B1[:, 2 * K :] += (mu * nu * u1[k])[:, None] * E[k]
+        a = [
+            p00[k] * a[0] + p01[k] * a[2],
+            p00[k] * a[1] + p01[k] * a[3],
+            p01[k] * a[0] + p11[k] * a[2],
+            p01[k] * a[1] + p11[k] * a[3],
+        ]
+        As[k, :, 0, 0], As[k, :, 0, 1], As[k, :, 1, 0], As[k, :, 1, 1] = a
+    A, B = As[-1], Bs[-1].transpose(1, 0, 2)
     # the steady cycle: H_{-1} = A H_{-1} + B at the period's end; no slip and no separation
     # (A = I): the slider is the element's history, H = 0
     moved = (state != STICK).any(axis=0)
     H0 = np.zeros((c, 2, m))
     if moved.any():
         H0[moved] = np.linalg.solve(np.eye(2)[None] - A[moved], B[moved])
-    DB = (D @ Bs.reshape(ns, -1)).reshape(K, c, 2, m)
+    DB = (D @ Bs.reshape(ns, -1)).reshape(K, 2, c, m).transpose(0, 2, 1, 3)
     DA = (D @ As.reshape(ns, -1)).reshape(K, c, 2, 2)
     DH = DB + np.einsum("kcij,cjm->kcim", DA, H0)
     return np.ascontiguousarray(DH.transpose(1, 2, 0, 3)).reshape(c, 2 * K, m)

@@ -24,21 +24,25 @@ ROUNDING = 1.0 + 8.0 * np.finfo(float).eps
 
 
 def _periods(step, x, r, slider, max_periods, tol, span_axes):
-    """Periods of ``step(s0, columns, out) -> s`` until the slider at the start repeats."""
+    """Periods of ``step(s0, columns, out) -> (s, jump)`` until the slider at the start
+    repeats. From the second period on, the next period starts from ``jump`` (a Newton step
+    on the period map) when it is not None, else from ``s``; a period is accepted only when it
+    repeats its own start. Returns also which elements jumped."""
     n = x.shape[1]
     s_all = np.empty_like(x)
     start = np.array(slider, dtype=float)
     begin = start.copy()
     periods = np.zeros(n, dtype=np.int64)
     converged = np.zeros(n, dtype=bool)
+    jumped = np.zeros(n, dtype=bool)
     todo = np.arange(n)
     span = None
-    for _ in range(max_periods):
+    for p in range(max_periods):
         full = todo.size == n
         cols = slice(None) if full else todo
         s0 = start[cols].copy()
         out = s_all if full else np.empty((x.shape[0], todo.size) + x.shape[2:])
-        s = step(s0, cols, out)
+        s, jump = step(s0, cols, out)
         if not full:
             s_all[:, todo] = out
         begin[todo] = s0
@@ -52,11 +56,15 @@ def _periods(step, x, r, slider, max_periods, tol, span_axes):
                 span = np.abs(x).max(axis=span_axes) + r.max(axis=0)
             done |= diff <= tol * span[todo]
         converged[todo[done]] = True
-        start[todo] = s
+        # the first period is the transient from the given slider: marched as it is
+        use = jump is not None and p > 0
+        start[todo] = jump if use else s
+        if use:
+            jumped[todo[~done]] = True
         todo = todo[~done]
         if todo.size == 0:
             break
-    return s_all, begin, periods, converged
+    return s_all, begin, periods, converged, jumped
 
 
 def march_d1(x, r, slider, max_periods: int, tol: float):
@@ -89,12 +97,12 @@ def march_d1(x, r, slider, max_periods: int, tol: float):
             np.maximum(prev, lk[k], out=out[k])
             np.minimum(out[k], hk[k], out=out[k])
             prev = out[k]
-        return prev.copy()
+        return prev.copy(), None  # steady after one period: no acceleration needed
 
-    return _periods(step, x, r, slider, max_periods, tol, 0)
+    return _periods(step, x, r, slider, max_periods, tol, 0)[:4]
 
 
-def march_d2(x, r, slider, max_periods: int, tol: float):
+def march_d2(x, r, slider, max_periods: int, tol: float, accelerate: bool = True):
     """d = 2: s_k = the projection of s_{k-1} on the disk ``|s - x_k| <= r_k`` (radial return).
 
     Parameters
@@ -109,6 +117,10 @@ def march_d2(x, r, slider, max_periods: int, tol: float):
         The cap on the periods.
     tol : float
         The repeat tolerance, relative to ``max |x| + max r``.
+    accelerate : bool, optional
+        From the second period on, start each period from a Newton step on the period map
+        (its derivative is propagated over the samples); a cycle without slips found that way
+        is marched again without (its slider is the history of the plain periods).
 
     Returns
     -------
@@ -116,21 +128,55 @@ def march_d2(x, r, slider, max_periods: int, tol: float):
         As :func:`march_d1`, with the slider's arrays (Ns, n, 2) and (n, 2).
     """
 
-    def step(s, cols, out):
+    def step(s0, cols, out):
         xs, rs = (x, r) if isinstance(cols, slice) else (x[:, cols], r[:, cols])
-        s = s.copy()
+        s = s0.copy()
+        # A = ds_end/ds0, the period map's derivative: a projection's is (r/|g|)(I - n nᵀ)
+        a00, a01, a10, a11 = (np.ones(s.shape[0]), np.zeros(s.shape[0]),
+                              np.zeros(s.shape[0]), np.ones(s.shape[0]))  # fmt: skip
         for k in range(x.shape[0]):
             g = s - xs[k]
-            norm = np.sqrt(g[:, 0] * g[:, 0] + g[:, 1] * g[:, 1])
+            g0, g1 = g[:, 0], g[:, 1]
+            norm = np.sqrt(g0 * g0 + g1 * g1)
             # a slider within rounding of its circle (put there by an earlier projection) is
             # inside: re-projecting it would move it by an ulp, a slip of nothing
-            over = np.flatnonzero(norm > rs[k] * ROUNDING)
-            if over.size:
-                s[over] = xs[k, over] + g[over] * (rs[k, over] / norm[over])[:, None]
+            over = norm > rs[k] * ROUNDING
+            with np.errstate(divide="ignore", invalid="ignore"):
+                f = np.where(over, rs[k] / norm, 1.0)
+            s = np.where(over[:, None], xs[k] + g * f[:, None], s)
             out[k] = s
-        return s
+            # the projection's derivative (r/|g|)(I - n nᵀ) = (f/|g|²) [[g1², -g0 g1],
+            # [-g0 g1, g0²]] on the slips, I elsewhere
+            with np.errstate(divide="ignore", invalid="ignore"):
+                c = np.where(over, f / (norm * norm), 0.0)
+            q00 = np.where(over, c * g1 * g1, 1.0)
+            q11 = np.where(over, c * g0 * g0, 1.0)
+            q01 = -c * g0 * g1
+            a00, a01, a10, a11 = (
+                q00 * a00 + q01 * a10,
+                q00 * a01 + q01 * a11,
+                q01 * a00 + q11 * a10,
+                q01 * a01 + q11 * a11,
+            )
+        A = np.stack([np.stack([a00, a01], -1), np.stack([a10, a11], -1)], -2)
+        # Newton on the period map s0 -> s (piecewise smooth: exact once the slips' pattern
+        # repeats); the next period, marched from the jump, decides whether it is steady
+        M = np.eye(2) - A
+        det = M[:, 0, 0] * M[:, 1, 1] - M[:, 0, 1] * M[:, 1, 0]
+        ok = np.abs(det) > 1e-8
+        jump = s.copy()
+        if ok.any():
+            jump[ok] = s0[ok] + np.linalg.solve(M[ok], (s - s0)[ok][..., None])[..., 0]
+        return s, (jump if accelerate else None)
 
-    return _periods(step, x, r, slider, max_periods, tol, (0, 2))
+    s, begin, periods, converged, jumped = _periods(step, x, r, slider, max_periods, tol, (0, 2))
+    # a cycle without slips has a slider that is history: the Newton steps may have put it
+    # elsewhere than the plain periods from the given slider would, so those are marched again
+    redo = np.flatnonzero(jumped & (s == np.concatenate([begin[None], s[:-1]])).all(axis=(0, 2)))
+    if redo.size and accelerate:
+        again = march_d2(x[:, redo], r[:, redo], slider[redo], max_periods, tol, False)
+        s[:, redo], begin[redo], periods[redo], converged[redo] = again
+    return s, begin, periods, converged
 
 
 def _difference(a, first):
@@ -225,35 +271,36 @@ def quantities_d2(x, N, s, begin, kt, mu):
     tuple of numpy.ndarray
         ``(T, state, W)``: (Ns, n, 2), int8 (Ns, n), (n,).
     """
-    ns, n, _ = x.shape
     ds = _difference(s, begin)
     sep = N <= 0.0
-    moved = (ds != 0.0).any(axis=2) & ~sep
-    T = kt[None, :, None] * (x - s)
-    T[sep] = 0.0
+    moved = ((ds[..., 0] != 0.0) | (ds[..., 1] != 0.0)) & ~sep
+    T = x - s
+    T *= kt[:, None]
+    T *= ~sep[..., None]
     state = moved.view(np.int8) * np.int8(SLIP)
-    state[sep] = SEPARATION
+    state |= sep.view(np.int8) * np.int8(SEPARATION)
     dx = _difference(x, x[-1])
     Tp = np.concatenate([T[-1:], T[:-1]])
-    W = np.einsum("knd,knd->n", dx, 0.5 * (Tp + T))
-    k, e = np.nonzero(state != STICK)
-    if k.size == 0:
-        return T, state, W
-    kp = (k - 1) % ns
-    delta = kt[e, None] * dx[k, e]
-    t0 = Tp[k, e]
-    m = mu[e]
-    n0, dn = N[kp, e], N[k, e] - N[kp, e]
-    a = np.einsum("ij,ij->i", delta, delta) - (m * dn) ** 2
-    b = 2.0 * (np.einsum("ij,ij->i", t0, delta) - m * m * n0 * dn)
-    c = np.minimum(np.einsum("ij,ij->i", t0, t0) - (m * n0) ** 2, 0.0)
+    # on every interval (full arrays: slips are most of them) the instant θ the stick path
+    # T_{k-1} + θ kt Δx reaches μN(θ): 1 in stick
+    delta = dx * kt[:, None]
+    m = mu[None, :]
+    n0 = np.concatenate([N[-1:], N[:-1]])
+    dn = N - n0
+    a = _dot(delta, delta) - (m * dn) ** 2
+    b = 2.0 * (_dot(Tp, delta) - m * m * n0 * dn)
+    c = np.minimum(_dot(Tp, Tp) - (m * n0) ** 2, 0.0)
     root = np.sqrt(np.maximum(b * b - 4.0 * a * c, 0.0))
     with np.errstate(divide="ignore", invalid="ignore"):
         # the upward crossing (-b + √disc) / 2a, in the form without cancellation
         theta = np.where(b > 0, -2.0 * c / (b + root), (root - b) / (2.0 * a))
-    theta = np.clip(np.nan_to_num(theta, nan=0.0, posinf=0.0, neginf=0.0), 0.0, 1.0)
-    t1 = T[k, e]
-    # the trapezoid above corrected to the path through the kink T_θ = t0 + θ Δ
-    path = 0.5 * (theta[:, None] * t0 + t0 + theta[:, None] * delta + (1.0 - theta[:, None]) * t1)
-    corr = np.einsum("ij,ij->i", dx[k, e], path - 0.5 * (t0 + t1))
-    return T, state, W + np.bincount(e, weights=corr, minlength=n)
+    theta = np.where(state == STICK, 1.0, np.nan_to_num(theta, nan=0.0, posinf=0.0, neginf=0.0))
+    theta = np.clip(theta, 0.0, 1.0)[..., None]
+    # W = Σ Δx · (the mean of T along its path: linear to the kink T_θ, then linear to T_k)
+    path = Tp * (1.0 + theta) + delta * theta + T * (1.0 - theta)
+    return T, state, 0.5 * _dot(dx, path).sum(axis=0)
+
+
+def _dot(u, v):
+    """The scalar product over the last axis of length 2 (a sum over it is slow)."""
+    return u[..., 0] * v[..., 0] + u[..., 1] * v[..., 1]
