@@ -280,6 +280,27 @@ def test_d1_is_steady_after_one_period_and_the_cap_is_reported():
     assert r.converged.all() and r.periods.max() > 2
 
 
+def test_d2_newton_steps_reach_the_plain_periods_fixed_point():
+    """The d = 2 period map with Newton steps from the second period: few periods, the same
+    steady slider as plain periods (to the tolerance) where those need many."""
+    from lcpfric.harmonic.march import march_d2
+
+    rng = np.random.default_rng(1)
+    n, ns, H = 3000, 128, 3
+    b = fourier_basis(H, ns)
+    X = rng.normal(size=(n, 2, 2 * H + 1))
+    X[:, :, 1:] /= np.repeat(np.arange(1, H + 1), 2)
+    X *= np.exp(rng.uniform(-1, 4, n))[:, None, None]
+    x = np.ascontiguousarray(np.moveaxis(b.to_samples(X), 2, 0))
+    r = np.full((ns, n), 0.5)
+    plain = march_d2(x, r, np.zeros((n, 2)), 2000, 1e-12, accelerate=False)
+    fast = march_d2(x, r, np.zeros((n, 2)), 2000, 1e-12)
+    assert plain[2].max() >= 30 and fast[2].max() <= 8
+    # plain periods stop within tol of their own start, the fixed point is further: 1e-10
+    span = np.abs(x).max(axis=(0, 2)) + 0.5
+    assert (np.abs(fast[1] - plain[1]).max(axis=1) <= 1e-10 * span).all()
+
+
 # -- the residual's layout -----------------------------------------------------------------------
 def test_residual_layout_and_block_diagonal_jacobian():
     rng = np.random.default_rng(6)

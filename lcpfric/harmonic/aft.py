@@ -69,7 +69,7 @@ class AFTResult:
     slider : numpy.ndarray
         The slider at the start of the steady cycle (before sample 0), (n, d).
     periods : numpy.ndarray
-        The periods marched per element (d = 1: 2, or 1 when the input is a constant).
+        The periods marched per element (d = 1: at most 2; 1 when the first repeats).
     converged : numpy.ndarray
         bool (n,): the slider at the period start repeated.
     basis : FourierBasis

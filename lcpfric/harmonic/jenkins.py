@@ -39,7 +39,12 @@ error against the same polygon finely subdivided falls like 1/Ns (measured order
 from 128 to 1024 samples); against smooth input the force coefficients and W converge at
 order 1 (measured 1.01 and 1.08, 32 to 4096 samples, three harmonics with a varying load).
 Along one axis it is the d = 1 map. Its period map is a composition of projections on convex
-sets (non-expansive); it is iterated until the slider at the period start repeats to ``tol``.
+sets (non-expansive, contracting once the element slips); after the first period (the
+transient from the given slider, marched as it is) each period starts from a Newton step on
+the period map, whose 2 x 2 derivative is propagated over the samples, until a period repeats
+its own start to ``tol`` (measured: at most 6 periods over 10^4 random elements, where plain
+periods took up to 97). A cycle without slips found that way is marched again without Newton
+steps: its slider is the history of the plain periods, not a point a step happened to reach.
 
 The dissipation W per cycle is ``∮ T · dx`` (the stored energy ``|T|²/2kt`` returns) over the
 piecewise-linear cycle: on an interval that ends in slip, T is linear up to the instant the
