@@ -114,6 +114,7 @@ PACKAGES = {
     "lcpfric.exact": "The exact steady states",
     "lcpfric.linalg": "Linear algebra of the steppers",
     "lcpfric.analysis": "Analyses: closed forms and shakedown",
+    "lcpfric.harmonic": "Harmonic balance: Fourier conventions, the AFT of Jenkins elements",
 }
 
 

@@ -76,6 +76,19 @@ _LAZY = {
     "shakedown": "lcpfric.analysis.shakedown",
     "explore_starts": "lcpfric.analysis.starts",
     "StartStudy": "lcpfric.analysis.starts",
+    # contacts for vibration codes: displacement-driven elements, AFT, describing functions,
+    # the amplitude-dependent frequency and damping of a jointed structure
+    "JenkinsElement": "lcpfric.model.jenkins",
+    "JointedStructure": "lcpfric.model.structure",
+    "driven_cycle": "lcpfric.exact.driven",
+    "DrivenCycle": "lcpfric.exact.driven_result",
+    "jenkins_aft": "lcpfric.harmonic",
+    "jenkins_residual": "lcpfric.harmonic",
+    "AFTResult": "lcpfric.harmonic",
+    "describing_functions": "lcpfric.analysis.describing",
+    "DescribingFunctions": "lcpfric.analysis.describing",
+    "modal_damping": "lcpfric.analysis.modal",
+    "ModalDamping": "lcpfric.analysis.modal",
 }
 
 __all__ = [

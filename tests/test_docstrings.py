@@ -21,6 +21,7 @@ PACKAGES = [
     "lcpfric.exact",
     "lcpfric.linalg",
     "lcpfric.analysis",
+    "lcpfric.harmonic",
 ]
 # GL08: no docstring; SS01: no summary; PR01: a parameter not documented; PR02: a documented
 # parameter that does not exist; RT01: no Returns section

@@ -11,7 +11,7 @@ import scipy.sparse
 
 from lcpfric import memory
 from lcpfric.errors import ConvergenceError, ConvergenceWarning, InputError
-from lcpfric.harmonic import fourier_basis, jenkins_aft, jenkins_cycle, jenkins_residual
+from lcpfric.harmonic import fourier_basis, jenkins_aft, jenkins_march, jenkins_residual
 from support import fitted_order
 from support.jenkins_events import reference_cycle
 
@@ -188,7 +188,7 @@ def test_d1_is_exact_for_piecewise_linear_input_against_an_event_driven_referenc
     seen = set()
     for x, N, kt, mu, s0 in _random_polygons(3, 200):
         ref = reference_cycle(x, N, kt, mu, slider=s0)
-        c = jenkins_cycle(x[None], N[None], kt, mu, slider=s0)
+        c = jenkins_march(x[None], N[None], kt, mu, slider=s0)
         scale = kt * np.abs(x).max()
         assert np.abs(c.force[0, 0] - ref["force"]).max() <= 1e-13 * scale
         assert abs(c.dissipation[0] - ref["W"]) <= 1e-13 * scale * np.abs(x).max()
@@ -220,9 +220,9 @@ def test_d1_subdividing_the_polygon_changes_nothing_but_d2_converges_at_first_or
     # the polygon of the clipped normal load (separation included) is the input of the claim
     x, N = b.to_samples(X[:, 0]), np.maximum(b.to_samples(Nc), 0.0)
     assert (N == 0).any()
-    one = jenkins_cycle(x, N, 1.0, 0.5)
+    one = jenkins_march(x, N, 1.0, 0.5)
     xs, Ns = subdivided(x, N, 7)
-    fine = jenkins_cycle(xs, Ns, 1.0, 0.5)
+    fine = jenkins_march(xs, Ns, 1.0, 0.5)
     assert np.abs(fine.force[..., ::7] - one.force).max() < 1e-13
     assert np.allclose(fine.dissipation, one.dissipation, rtol=1e-13, atol=0)
     # d = 2: the error against the same polygon subdivided 32 times, as Ns grows
@@ -230,8 +230,8 @@ def test_d1_subdividing_the_polygon_changes_nothing_but_d2_converges_at_first_or
     for ns in steps:
         b = fourier_basis(3, ns)
         x, N = b.to_samples(X[:1]), np.maximum(b.to_samples(Nc[:1]), 0.0)
-        coarse = jenkins_cycle(x, N, 1.0, 0.5, tol=1e-14)
-        ref = jenkins_cycle(*subdivided(x, N, 32), 1.0, 0.5, tol=1e-14)
+        coarse = jenkins_march(x, N, 1.0, 0.5, tol=1e-14)
+        ref = jenkins_march(*subdivided(x, N, 32), 1.0, 0.5, tol=1e-14)
         errors.append(np.abs(ref.force[..., ::32] - coarse.force).max())
     assert 0.8 < fitted_order(steps, errors) < 1.2
 

@@ -13,7 +13,7 @@
 
 from .aft import AFTResult, jenkins_aft, jenkins_residual
 from .fourier import FourierBasis, check_samples, fourier_basis, harmonics_of
-from .jenkins import JenkinsCycle, jenkins_cycle
+from .jenkins import JenkinsCycle, jenkins_march
 
 __all__ = [
     "AFTResult",
@@ -24,5 +24,5 @@ __all__ = [
     "check_samples",
     "harmonics_of",
     "JenkinsCycle",
-    "jenkins_cycle",
+    "jenkins_march",
 ]

@@ -63,7 +63,7 @@ from .._checks import NONCONVERGENCE, finite_array, positive_int
 from ..errors import ConvergenceError, ConvergenceWarning, InputError
 from .march import STATES, march_d1, march_d2, quantities_d1, quantities_d2
 
-__all__ = ["JenkinsCycle", "jenkins_cycle", "element_parameters", "initial_slider", "steady_cycle"]
+__all__ = ["JenkinsCycle", "jenkins_march", "element_parameters", "initial_slider", "steady_cycle"]
 
 STICK, SLIP, BACKWARD, SEPARATION = STATES
 
@@ -136,7 +136,7 @@ def element_parameters(n: int, kt, mu) -> tuple[np.ndarray, np.ndarray]:
     return out[0], out[1]
 
 
-def jenkins_cycle(
+def jenkins_march(
     displacement,
     normal,
     kt,
@@ -228,7 +228,7 @@ def initial_slider(slider, n: int, d: int) -> np.ndarray:
 
 
 def steady_cycle(x, N, kt, mu, slider, max_periods, tol, on_nonconvergence) -> JenkinsCycle:
-    """:func:`jenkins_cycle` on checked, sample-major arrays (x (Ns, n, d), N (Ns, n) >= 0).
+    """:func:`jenkins_march` on checked, sample-major arrays (x (Ns, n, d), N (Ns, n) >= 0).
 
     Parameters
     ----------
