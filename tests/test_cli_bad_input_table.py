@@ -71,6 +71,8 @@ HALFSPACE = ("--model", "halfspace")
 #: a height map instead of the sphere (the base's --R dropped: it does not apply)
 HEIGHTMAP = ("--R", DROP, "--heightmap", "{tmp}/h.npy", "--spacing", "0.02", "--steps", "8")
 SPHERE = ("--contact", "sphere")
+#: describe's sphere: the element's --kt dropped
+DSPHERE = ("--kt", DROP, "--contact", "sphere", "--R", "10", "--E", "2e5", "--nu", "0.3")
 SPHERE_HS = ("--contact", "sphere", "--contact-model", "halfspace")
 
 NOT_NUMBER = "not a number"
@@ -611,15 +613,21 @@ TABLE = [
     ("describe", "--start", ("--start", "abc"), NOT_NUMBER, 2, "--start"),
     ("describe", "--start", ("--start", "nan"), NOT_FINITE, 2, "--start"),
     ("describe", "--method", ("--method", "fft"), CHOICE, 2, "--method"),
-    (
-        "describe",
-        "--contact",
-        ("--contact", "sphere", "--R", "10", "--E", "2e5", "--nu", "0.3"),
-        NO_APPLY,
-        2,
-        "--contact",
-    ),
-    ("describe", "--contact", ("--contact", "sphere", "--kt", DROP), NO_APPLY, 2, "--contact"),
+    ("describe", "--contact", ("--contact", "cone"), CHOICE, 2, "--contact"),
+    ("describe", "--kt", DSPHERE[2:], NO_APPLY, 2, "--kt"),
+    ("describe", "--kn", (*DSPHERE, "--kn", "1", "--un1", "0.1"), NO_APPLY, 2, "--kn"),
+    ("describe", "--start", (*DSPHERE, "--start", "0.1"), NO_APPLY, 2, "--start"),
+    ("describe", "--method", (*DSPHERE, "--method", "driven"), NO_APPLY, 2, "--method"),
+    ("describe", "--R", (*DSPHERE[:4], *DSPHERE[6:]), REQUIRED, 2, "--R"),
+    ("describe", "--R", (*DSPHERE, "--R", "-10"), RANGE, 2, "--R"),
+    ("describe", "--E", (*DSPHERE, "--E", "0"), RANGE, 2, "--E"),
+    ("describe", "--nu", (*DSPHERE, "--nu", "0.6"), RANGE, 2, "--nu"),
+    ("describe", "--N1", (*DSPHERE, "--N1", "3"), RANGE, 2, "--N1"),
+    ("describe", "--nodes", (*DSPHERE, "--nodes", "0"), RANGE, 2, "--nodes"),
+    ("describe", "--nodes", (*DSPHERE, "--nodes", "abc"), NOT_INT, 2, "--nodes"),
+    ("describe", "--samples", (*DSPHERE, "--N1", "1", "--samples", "4"), RANGE, 2, "--samples"),
+    ("describe", "--samples", (*DSPHERE, "--samples", "x"), NOT_INT, 2, "--samples"),
+    ("describe", "--harmonics", (*DSPHERE, "--harmonics", "2"), RANGE, 2, "--harmonics"),
     ("describe", "--R", ("--R", "10"), NO_APPLY, 2, "--R"),
     ("describe", "--E", ("--E", "2e5"), NO_APPLY, 2, "--E"),
     ("describe", "--nu", ("--nu", "0.3"), NO_APPLY, 2, "--nu"),

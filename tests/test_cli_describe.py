@@ -76,9 +76,27 @@ def test_the_table(capsys):
     assert first[:3] == [0.5, 0.0, 2.0]
 
 
-def test_the_sphere_is_refused(capsys):
-    code = main(["describe", "--contact", "sphere", "--R", "10", "--E", "2e5", "--nu", "0.3",
-                 "--mu", "0.5", "--N0", "100", "--amplitude", "1e-3"])  # fmt: skip
-    err = capsys.readouterr().err
-    assert code == 2 and len(err.strip().splitlines()) == 1
-    assert "--contact" in err and "not yet available" in err
+SPHERE = ["describe", "--contact", "sphere", "--R", "10", "--E", "2e5", "--nu", "0.3",
+          "--mu", "0.5", "--N0", "100"]  # fmt: skip
+
+
+def test_the_sphere_against_mindlin(capsys):
+    """Below gross slip the MDR sphere's W is Mindlin-Deresiewicz's at the force amplitude
+    reached (the springs' closed forms, 2000 springs)."""
+    from lcpfric.model.continuum.closed_forms import mindlin_deresiewicz_W, moduli
+
+    assert main([*SPHERE, "--amplitude", "1e-4:1e-3:4", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["method"] == "closed-form"
+    a0 = (3 * 100 * 10 / (4 * moduli(2e5, 0.3)["E*"])) ** (1 / 3)
+    k_t0 = 2 * a0 * moduli(2e5, 0.3)["G*"]
+    for W, Q in zip(out["W"], out["force_amplitude"]):
+        assert Q < 0.5 * 100
+        assert W == pytest.approx(mindlin_deresiewicz_W(100, Q, 0.5, k_t0), rel=5e-3)
+
+
+def test_the_sphere_with_a_varying_normal_load(capsys):
+    assert main([*SPHERE, "--N1", "30", "--phi", "0.5pi", "--amplitude", "1e-3", "--nodes",
+                 "400", "--samples", "256", "--json"]) == 0  # fmt: skip
+    out = json.loads(capsys.readouterr().out)
+    assert out["method"] == "march" and out["W"] > 0 and out["k_eq"] > 0
