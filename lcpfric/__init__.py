@@ -87,6 +87,7 @@ _LAZY = {
     "AFTResult": "lcpfric.harmonic",
     "describing_functions": "lcpfric.analysis.describing",
     "DescribingFunctions": "lcpfric.analysis.describing",
+    "contact_describing_functions": "lcpfric.analysis.describing_contact",
     "modal_damping": "lcpfric.analysis.modal",
     "ModalDamping": "lcpfric.analysis.modal",
 }

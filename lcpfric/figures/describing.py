@@ -15,7 +15,17 @@ __all__ = ["figure_describing_functions"]
 CURVES = (("#1b4f9c", "-"), ("#d1495b", "--"), ("#2a9d8f", "-."), ("#6d597a", ":"))
 
 
-def figure_describing_functions(curves, kt: float, slip_limit: float, closed=None):
+def figure_describing_functions(
+    curves,
+    kt: float,
+    slip_limit: float,
+    closed=None,
+    *,
+    stiffness: str = "k_t",
+    amplitude_unit: str = r"\mu N_0/k_t",
+    limit_text: str = "slip limit (constant N)",
+    closed_label: str = "closed form (constant N)",
+):
     """Two panels, one above the other: (a) ``k_eq/kt``, (b) ``ω c_eq/kt`` against
     ``a/(μN0/kt)``, log axes; where a curve's damping is zero (it sticks) it is not drawn in (b).
 
@@ -28,8 +38,13 @@ def figure_describing_functions(curves, kt: float, slip_limit: float, closed=Non
     slip_limit : float
         ``μN0/kt``, the amplitude unit.
     closed : tuple of (array_like, dict), optional
-        Amplitudes and :func:`lcpfric.analysis.describing.jenkins_closed_form` of them, marked
-        with open circles.
+        Amplitudes and :func:`lcpfric.analysis.describing.jenkins_closed_form` of them (or any
+        dict with ``c_eq_omega`` and optionally ``k_eq``), marked with open circles.
+    stiffness, amplitude_unit : str, optional
+        The stiffness unit's and the amplitude unit's TeX (the sphere: ``k_{t0}``,
+        ``\mu P_0/k_{t0}``).
+    limit_text, closed_label : str, optional
+        The text along the line at ``a = slip_limit`` and the closed form's legend entry.
 
     Returns
     -------
@@ -49,8 +64,9 @@ def figure_describing_functions(curves, kt: float, slip_limit: float, closed=Non
             a, cf = closed
             r = np.asarray(a, dtype=float) / slip_limit
             kw = dict(ls="none", marker="o", ms=3.4, mfc="none", mew=0.7, color="black",
-                      label="closed form (constant N)")  # fmt: skip
-            ax.plot(r, cf["k_eq"] / kt, **kw)
+                      label=closed_label)  # fmt: skip
+            if "k_eq" in cf:
+                ax.plot(r, cf["k_eq"] / kt, **kw)
             slips = cf["c_eq_omega"] > 0
             bx.plot(r[slips], cf["c_eq_omega"][slips] / kt, **kw)
         for axes in (ax, bx):
@@ -58,15 +74,19 @@ def figure_describing_functions(curves, kt: float, slip_limit: float, closed=Non
             axes.set_yscale("log")
             axes.axvline(1.0, color="0.6", lw=0.6, ls=":")
             axes.grid(True, which="major", color="0.88", lw=0.5)
-        bx.text(0.94, 0.04, "slip limit (constant N)", rotation=90, fontsize=SMALL, color="0.4",
+        bx.text(0.94, 0.04, limit_text, rotation=90, fontsize=SMALL, color="0.4",
                 va="bottom", ha="right", transform=bx.get_xaxis_transform())  # fmt: skip
-        ax.set_ylabel(r"stiffness $k_\mathrm{eq}/k_t$")
-        bx.set_ylabel(r"damping $\omega c_\mathrm{eq}/k_t$")
-        bx.set_xlabel(r"amplitude $a\,/\,(\mu N_0/k_t)$")
+        ax.set_ylabel(rf"stiffness $k_\mathrm{{eq}}/{stiffness}$")
+        bx.set_ylabel(rf"damping $\omega c_\mathrm{{eq}}/{stiffness}$")
+        bx.set_xlabel(rf"amplitude $a\,/\,({amplitude_unit})$")
         ax.set_title("(a) equivalent stiffness", loc="left")
         bx.set_title("(b) equivalent damping", loc="left")
         lo = np.nanmin([np.nanmin(np.where(d.c_eq_omega > 0, d.c_eq_omega, np.nan))
                         for _, d in curves])  # fmt: skip
         bx.set_ylim(bottom=0.5 * lo / kt)
-        ax.legend(loc="lower left", fontsize=SMALL, frameon=False)
+        handles, labels = ax.get_legend_handles_labels()
+        if closed is not None and "k_eq" not in closed[1]:  # the marks are in (b) only
+            handles += bx.get_legend_handles_labels()[0][-1:]
+            labels += [closed_label]
+        ax.legend(handles, labels, loc="lower left", fontsize=SMALL, frameon=False)
         return finish(fig)

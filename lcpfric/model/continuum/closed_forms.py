@@ -25,6 +25,8 @@ from __future__ import annotations
 import math
 from typing import Callable
 
+import numpy as np
+
 from ..._checks import positive
 from ...errors import InputError
 
@@ -34,6 +36,7 @@ __all__ = [
     "cylinder_contact",
     "cattaneo_stick_ratio",
     "mindlin_deresiewicz_W",
+    "mindlin_force",
     "cylinder_W",
     "ciavarella_jager_W",
 ]
@@ -190,6 +193,36 @@ def cattaneo_stick_ratio(x: float, geometry: str = "sphere") -> float:
     if geometry == "cylinder":
         return math.sqrt(1.0 - x)
     raise InputError("geometry", f"must be 'sphere' or 'cylinder', got {geometry!r}")
+
+
+def mindlin_force(delta, P: float, mu: float, k_t0: float) -> np.ndarray:
+    """Sphere at constant P, loaded tangentially from rest to the displacement δ: Mindlin's
+    force ``Q = μP [1 - (1 - δ/δ*)^(3/2)]`` for ``δ < δ* = 3μP/(2 k_t0)``, μP beyond (gross
+    slip); on the first loading, and the force amplitude of a steady cycle ``±δ`` (Masing).
+
+    Parameters
+    ----------
+    delta : float or array_like
+        Displacements, >= 0.
+    P, mu, k_t0 : float
+        Normal load, friction coefficient and the initial tangential stiffness at P, > 0.
+
+    Returns
+    -------
+    numpy.ndarray
+        The tangential forces, the shape of ``delta``.
+
+    Raises
+    ------
+    InputError
+        A parameter out of range (``delta`` < 0 or not finite).
+    """
+    P, mu, k_t0 = positive("P", P), positive("mu", mu), positive("k_t0", k_t0)
+    d = np.asarray(delta, dtype=float)
+    if not np.all(np.isfinite(d)) or np.any(d < 0):
+        raise InputError("delta", "must be finite and >= 0")
+    star = 1.5 * mu * P / k_t0
+    return mu * P * (1.0 - np.clip(1.0 - d / star, 0.0, 1.0) ** 1.5)
 
 
 def mindlin_deresiewicz_W(P: float, Q_amp: float, mu: float, k_t0: float) -> float:
