@@ -1,5 +1,6 @@
-r"""Describing functions of a continuum contact: the MDR sphere under a prescribed tangential
-displacement (issue 39, items 1 and 3 for the sphere).
+r"""Describing functions of a continuum contact under a prescribed tangential displacement (issue
+39, items 1 and 3 for the continuum contacts): the MDR sphere, the half-plane cylinder and the
+3-D half-space.
 
 Under a prescribed rigid-body displacement ``x(t) = a cos ωt`` the springs of the MDR sphere
 (:class:`~lcpfric.model.continuum.mdr.MDRSphere`: spring i of tangential stiffness ``k_i =
@@ -19,6 +20,16 @@ and the contact's force is ``T = Σ T_i``. So
   W as the springs' sum. Against the smooth input the first harmonics and W converge at order 2
   in the samples (measured in ``tests/test_describing_contact.py``).
 
+**The half-plane and the half-space** (d = 1): their nodes are coupled through the
+compliance, so the contact under the motion is a matrix-free
+:class:`~lcpfric.model.ContactSystem` (:func:`~lcpfric.model.continuum.bridge.
+displacement_system`: the body held by the motion, ``K = C_s⁻¹``, loads ``-C_s⁻¹ 1 x(t)``)
+solved to its steady state by the driver with ``active-set`` (``method="active-set"``; ``steps``
+increments per cycle, exact for the loads interpolated linearly between them; events located);
+its tangential force ``T = -Σ F``, whose Fourier coefficients come from the cycle's samples.
+The same route on the MDR sphere gives the springs' closed forms to round-off
+(``tests/test_describing_contact.py``).
+
 The springs that never touch (``N_i = 0`` over the cycle) carry nothing. Against the continuum,
 the Mindlin-Deresiewicz dissipation at the force amplitude reached
 (:func:`~lcpfric.model.continuum.closed_forms.mindlin_deresiewicz_W`) is the check:
@@ -34,7 +45,9 @@ import numpy as np
 
 from ..errors import InputError
 from ..harmonic import fourier_basis, jenkins_march
+from ..model.continuum.bridge import displacement_system
 from ..model.continuum.mdr import MDRSphere
+from ..periodic.driver import steady_state
 from .describing import DescribingFunctions, jenkins_closed_form
 
 __all__ = ["contact_describing_functions"]
@@ -45,54 +58,82 @@ _MAX_BLOCK = 4_000_000
 
 
 def contact_describing_functions(
-    model: MDRSphere, amplitudes, *, samples: int = 1024, harmonics: int = 1
+    model,
+    amplitudes,
+    *,
+    samples: int = 1024,
+    harmonics: int = 1,
+    steps: int = 400,
+    method: str | None = None,
 ) -> DescribingFunctions:
-    """The MDR sphere's describing functions under ``x = a cos ωt`` (module docstring).
+    """A continuum contact's describing functions under ``x = a cos ωt`` (module docstring).
 
     Parameters
     ----------
-    model : MDRSphere
-        The contact (its tangential load is not used: the motion is prescribed). A constant
-        normal load gives the exact sums of the springs' closed forms; a varying one (period
-        2π/ω, phase as given in the model's P) the springs' marched cycles.
+    model : MDRSphere, HalfPlaneCylinder or HalfSpace
+        The contact (its tangential load and support are not used: the motion is prescribed).
+        The MDR sphere: a constant normal load gives the exact sums of the springs' closed
+        forms, a varying one (period 2π/ω, phase as given in the model's P) the springs'
+        marched cycles. The half-plane and the half-space (d = 1): the driver's steady state
+        of the displacement-driven system with ``active-set``.
     amplitudes : float or array_like
         Motion amplitudes a > 0.
     samples : int, optional
         Samples per period of the march (varying normal load only), >= 8.
     harmonics : int, optional
         Harmonics of the force kept in ``force_cos`` / ``force_sin`` (1 for the closed forms).
+    steps : int, optional
+        Increments per cycle of the driver's steady state (``method="active-set"``).
+    method : {None, "closed-form", "march", "active-set"}, optional
+        None: the model's own (above); ``"active-set"`` also for the MDR sphere (a check).
 
     Returns
     -------
     DescribingFunctions
         k_eq, ω c_eq, the loss factor, W and the force amplitude per amplitude; ``method``
-        ``"closed-form"`` or ``"march"``.
+        ``"closed-form"``, ``"march"`` or ``"active-set"``.
 
     Raises
     ------
     InputError
-        A model that is not an MDR sphere, an amplitude <= 0 or not finite, ``samples`` too
-        small for the harmonics, or a closed-form request for more than one harmonic.
+        A model that is not a continuum contact, a half-space with d = 2, an amplitude <= 0 or
+        not finite, ``samples`` too small for the harmonics, a closed-form request for more
+        than one harmonic, or a method that does not apply.
     """
     start = time.perf_counter()
-    if not isinstance(model, MDRSphere):
+    if not hasattr(model, "springs") or not hasattr(model, "normal_problem"):
         raise InputError(
-            "model", f"must be an MDRSphere (the springs of the MDR), got {type(model).__name__}"
+            "model",
+            f"must be a continuum contact (MDRSphere, HalfPlaneCylinder, HalfSpace), got "
+            f"{type(model).__name__}",
         )
     a = np.atleast_1d(np.asarray(amplitudes, dtype=float))
     if a.ndim != 1 or a.size == 0 or not np.all(np.isfinite(a)) or np.any(a <= 0):
         raise InputError("amplitudes", "must be finite numbers > 0")
     omega = 2.0 * math.pi / model.period
-    if model.P.is_constant:
+    mdr = isinstance(model, MDRSphere)
+    own = ("closed-form" if model.P.is_constant else "march") if mdr else "active-set"
+    if method is None:
+        method = own
+    if method not in (own, "active-set"):
+        raise InputError("method", f"{method!r} does not apply to this model: {own!r} or "
+                                   "'active-set'")  # fmt: skip
+    if method == "active-set":
+        if getattr(model, "dims", 1) != 1:
+            raise InputError(
+                "model",
+                "a half-space with d = 2 under a prescribed displacement is not solved yet "
+                "(active-set is matrix-free for d = 1): use dims=1",
+            )
+        out = _driven(model, a, int(steps), int(harmonics))
+    elif model.P.is_constant:
         if harmonics != 1:
             raise InputError(
                 "harmonics", "a constant normal load gives the first harmonic in closed form: 1"
             )
         out = _closed_forms(model, a)
-        method = "closed-form"
     else:
         out = _march(model, a, int(samples), int(harmonics))
-        method = "march"
     k_eq = out["k_eq"]
     with np.errstate(divide="ignore", invalid="ignore"):
         loss = np.where(k_eq > 0, out["c_eq_omega"] / k_eq, np.nan)
@@ -154,6 +195,25 @@ def _march(model, a, samples, harmonics):
         coef[lo : lo + block.size] = basis.to_coefficients(T)
         out["W"][lo : lo + block.size] = cyc.dissipation.reshape(block.size, -1).sum(axis=1)
         out["force_amplitude"][lo : lo + block.size] = np.abs(T).max(axis=1)
+    out["k_eq"] = coef[:, 1] / a
+    out["c_eq_omega"] = -coef[:, 2] / a
+    out["force_cos"] = np.concatenate([coef[:, :1], coef[:, 1::2]], axis=1)
+    out["force_sin"] = np.concatenate([np.zeros((a.size, 1)), coef[:, 2::2]], axis=1)
+    return out
+
+
+def _driven(model, a, steps, harmonics):
+    """The displacement-driven system's steady state by the driver (``active-set``), for each
+    amplitude: T = -Σ F on the grid, its coefficients by the discrete transform."""
+    basis = fourier_basis(harmonics, steps)
+    out = {key: np.zeros(a.size) for key in ("k_eq", "c_eq_omega", "W", "force_amplitude")}
+    coef = np.zeros((a.size, 2 * harmonics + 1))
+    for i, amp in enumerate(a):
+        res = steady_state(displacement_system(model, amp), "active-set", steps)
+        T = -np.asarray(res.F, dtype=float).sum(axis=1)
+        coef[i] = basis.to_coefficients(T[:-1])
+        out["W"][i] = res.W
+        out["force_amplitude"][i] = np.abs(T).max()
     out["k_eq"] = coef[:, 1] / a
     out["c_eq_omega"] = -coef[:, 2] / a
     out["force_cos"] = np.concatenate([coef[:, :1], coef[:, 1::2]], axis=1)

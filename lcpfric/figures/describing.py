@@ -26,7 +26,7 @@ def figure_describing_functions(
     limit_text: str = "slip limit (constant N)",
     closed_label: str = "closed form (constant N)",
 ):
-    """Two panels, one above the other: (a) ``k_eq/kt``, (b) ``ω c_eq/kt`` against
+    r"""Two panels, one above the other: (a) ``k_eq/kt``, (b) ``ω c_eq/kt`` against
     ``a/(μN0/kt)``, log axes; where a curve's damping is zero (it sticks) it is not drawn in (b).
 
     Parameters

@@ -9,6 +9,11 @@ becomes ``B = [1_x 1_y]`` and the load's coefficients ``-C_s⁻¹ B (k_s I + B�
 (Woodbury); the model's ``springs()`` then gives ``C_s⁻¹ B`` as an ``(n·2, 2)`` array. It needs
 ``k_support > 0``: under pure load control K is singular (a common slip of every node is a rigid
 shift of the body).
+
+Under a prescribed rigid-body displacement ``x(t)`` (along x) the body is held by the motion, not
+by a support: the limit ``k_s -> ∞`` with ``Q / k_s = x``, so ``K = C_s⁻¹`` and
+``F = K v - C_s⁻¹ B e_x x(t)`` (:func:`displacement_system`); the force the contact transmits
+to the body is ``T = -Σ F_x``. No support stiffness is needed.
 """
 
 from __future__ import annotations
@@ -22,7 +27,7 @@ from ...errors import InputError
 from ..loads import Harmonic, Periodic
 from ..system import ContactSystem
 
-__all__ = ["contact_system", "SupportedCompliance"]
+__all__ = ["contact_system", "displacement_system", "SupportedCompliance"]
 
 
 class SupportedCompliance(LinearOperator):
@@ -98,4 +103,64 @@ def contact_system(model) -> ContactSystem:
         model.normal_model(),
         dims=d,
         compliance=SupportedCompliance(Cs, cdiag, ks, d),
+    )
+
+
+def displacement_system(model, amplitude: float, offset: float = 0.0) -> ContactSystem:
+    """The contact under the prescribed rigid-body displacement ``x(t) = offset + amplitude
+    cos ωt`` along x (ω = 2π / the model's period), as a matrix-free
+    :class:`~lcpfric.model.ContactSystem` (module docstring): its unknowns the nodes' slips,
+    its compliance the nodes' own ``C_s`` (the body held by the motion), its loads
+    ``-C_s⁻¹ B e_x x(t)``, its normal reactions the model's. The contact's tangential force is
+    ``T = -Σ F_x`` of the system's forces.
+
+    Parameters
+    ----------
+    model : ContactModel
+        An MDR sphere, a half-plane cylinder or a half-space (its tangential load and support
+        are not used).
+    amplitude, offset : float
+        The motion's amplitude (>= 0) and mean.
+
+    Returns
+    -------
+    ContactSystem
+        The displacement-driven contact.
+
+    Raises
+    ------
+    InputError
+        A coupled model (dissimilar materials), an amplitude < 0 or not finite, or a model
+        that cannot give its entry loads.
+    """
+    if getattr(model, "coupling", None) is not None:
+        raise InputError(
+            "model",
+            f"the two materials couple the pressure with the shear (Dundurs' beta = "
+            f"{model.beta:.4g}): not a ContactSystem",
+        )
+    a, x0 = float(amplitude), float(offset)
+    if not (math.isfinite(a) and a >= 0.0):
+        raise InputError("amplitude", f"must be finite and >= 0, got {amplitude!r}")
+    if not math.isfinite(x0):
+        raise InputError("offset", f"must be finite, got {offset!r}")
+    Cs, w, cdiag = model.springs()
+    d = model.dims
+    m = np.asarray(cdiag).size
+    coef = -(
+        np.asarray(w, dtype=float).reshape(-1) if d == 1 else np.asarray(w).reshape(m, 2)[:, 0]
+    )
+    omega = 2.0 * math.pi / model.period
+    # c x(t) = c x0 + |c| a sin(ωt + π/2 (+ π where c < 0))
+    loads = tuple(
+        Harmonic(c * x0, abs(c) * a, 0.5 * math.pi + (math.pi if c < 0 else 0.0), omega)
+        for c in coef
+    )
+    return ContactSystem(
+        None,
+        np.full(m // d, model.mu),
+        loads,
+        model.normal_model(),
+        dims=d,
+        compliance=SupportedCompliance(Cs, cdiag, math.inf, d),
     )
