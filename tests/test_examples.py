@@ -52,6 +52,13 @@ def test_two_harmonic(tmp_path):
     assert len(re.findall(r"^\s*\d\.\d\d\s+\d\.\d\d\s+(True|False)", out, re.M)) == 5
 
 
+def test_pyharm_forced_response(tmp_path):
+    """Runs with or without pyHarm (without it, lcpfric's own harmonic-balance loop alone)."""
+    need_modules("matplotlib")
+    out = run("pyharm_forced_response.py", tmp_path=tmp_path)
+    assert "closed form" in out
+
+
 def test_multi_node(tmp_path):
     out = run("multi_node.py", tmp_path=tmp_path)
     assert "converged True" in out

@@ -160,7 +160,7 @@ def jenkins_aft(
     preload=0.0,
     slider=None,
     jacobian: bool = True,
-    max_periods: int = 200,
+    max_periods: int = 2000,
     tol: float = 1e-12,
     on_nonconvergence: str = "raise",
 ) -> AFTResult:

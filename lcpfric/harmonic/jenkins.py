@@ -143,7 +143,7 @@ def jenkins_march(
     mu,
     *,
     slider=None,
-    max_periods: int = 200,
+    max_periods: int = 2000,
     tol: float = 1e-12,
     on_nonconvergence: str = "raise",
 ) -> JenkinsCycle:

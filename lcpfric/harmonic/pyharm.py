@@ -68,7 +68,7 @@ def _import_pyharm():
     except ImportError:
         err = MissingDependency(
             "lcpfric's pyHarm element needs the optional package 'pyHarm', which is not "
-            "installed; install it with: pip install pyharm-os"
+            'installed; install it with: pip install pyharm-os (or pip install "lcpfric[pyharm]")'
         )
         err.name = "pyHarm"
         raise err from None

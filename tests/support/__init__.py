@@ -52,6 +52,7 @@ EXTRAS = {
     "osqp": "osqp",
     "qpsolvers": "qpsolvers",
     "cvxpy": "cvxpy",
+    "pyHarm": "pyharm",
 }
 
 
