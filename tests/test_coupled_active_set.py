@@ -11,20 +11,10 @@ import pytest
 import lcpfric
 from lcpfric.analysis.starts import start_from_ratios
 from lcpfric.errors import InputError
-from lcpfric.model import ContactSystem, Harmonic, IndependentSprings
+from lcpfric.model import ContactSystem
 from lcpfric.scene import make_scene
 from lcpfric.steppers.active_set import ActiveSetStepper
-
-
-def two_nodes(c=1.0):
-    """The two-node system of tests/test_coupled_explicit.py."""
-    return ContactSystem(
-        np.array([[2.824, 0.764], [0.764, 2.740]]),
-        friction=np.array([0.625, 0.407]),
-        tangential_loads=(Harmonic(0.0, 1.442, 3.388), Harmonic(0.0, 1.429, 1.351)),
-        normal=IndependentSprings((Harmonic(4.314, 0.951, 4.160), Harmonic(3.202, 0.334, 5.216))),
-        coupling=c * np.array([[0.952, -0.096], [-0.015, -1.532]]),
-    )
+from support.coupled_cases import B3, coupled_node, full_slip_system, separating_node, two_nodes
 
 
 def chain3():
@@ -67,41 +57,22 @@ def test_active_set_on_a_coupled_chain():
     assert r.W == pytest.approx(W, rel=1e-3)
 
 
-# a well-posed 3-node system (every K + diag(s) B a P-matrix) on which the convex backends'
-# plain fixed point on N does not contract (tests/test_coupled_backends.py): the pattern
-# iteration solves its coupled box LCP directly
-K3 = np.array([[2.734, -0.493, -2.086], [-0.493, 0.638, 0.419], [-2.086, 0.419, 3.676]])
-B3 = np.array([[-0.096, 1.124, -0.566], [-0.086, 0.132, -0.505], [0.255, 0.855, 0.079]])
-
-
 def test_a_step_where_the_fixed_point_on_N_does_not_contract():
-    P = np.full(3, 10.0)
-    u_end = np.full(3, 0.5)
-    Q = -K3 @ u_end - (P + B3 @ u_end)  # F = -f N at the end, f = 1
-    system = ContactSystem(
-        K3,
-        np.ones(3),
-        tuple(Harmonic(q, 0.0, 0.0) for q in Q),
-        IndependentSprings(tuple(Harmonic(p, 0.0, 0.0) for p in P)),
-        coupling=B3,
-    )
+    """The well-posed 3-node system on which the convex backends' plain fixed point on N does
+    not contract (tests/test_coupled_backends.py): the pattern iteration solves its coupled box
+    LCP directly."""
+    system = full_slip_system()
     stepper = ActiveSetStepper()
     scene = make_scene(system, 8)
     end = stepper.step(scene, 0, stepper.init(scene, np.zeros(3)))
     assert np.allclose(end.u, 0.5, atol=1e-12)
-    N = P + B3 @ end.u
+    N = 10.0 + B3 @ end.u
     assert np.allclose(end.F, -N, atol=1e-12)  # every node on its lower limit, f = 1
     assert stepper.stats(end)["iterations"] <= 3
 
 
 def test_a_coupled_single_node_against_exact():
-    s = ContactSystem(
-        np.array([[2.0]]),
-        np.array([0.5]),
-        (Harmonic(0.0, 3.0, 0.0),),
-        IndependentSprings((Harmonic(4.0, 0.5, 1.0),)),
-        coupling=np.array([[-1.2]]),
-    )
+    s = coupled_node()
     W = lcpfric.steady_state(s, "exact").W
     r = lcpfric.steady_state(s, "active-set", 400)
     assert r.W == pytest.approx(lcpfric.steady_state(s, "explicit", 400).W, rel=1e-12)
@@ -109,15 +80,8 @@ def test_a_coupled_single_node_against_exact():
 
 
 def test_active_set_names_a_separating_node():
-    s = ContactSystem(
-        np.array([[2.0]]),
-        np.array([0.5]),
-        (Harmonic(0.0, 3.0, 0.0),),
-        IndependentSprings((Harmonic(1.0, 0.0, 0.0),)),
-        coupling=np.array([[-1.9]]),
-    )
     with pytest.raises(InputError, match="node 0.*reaches zero at t = ") as exc:
-        lcpfric.steady_state(s, "active-set", 200)
+        lcpfric.steady_state(separating_node(), "active-set", 200)
     assert exc.value.parameter == "normal_loads"
 
 

@@ -11,42 +11,16 @@ import lcpfric
 from lcpfric.analysis.starts import start_from_ratios
 from lcpfric.backends.clarabel_ import ClarabelStepper
 from lcpfric.errors import InputError, SolverError
-from lcpfric.model import ContactSystem, Harmonic, IndependentSprings
 from lcpfric.scene import make_scene
 from support import need_modules
+from support.coupled_cases import coupled_node, full_slip_system, separating_node, two_nodes
 
 need_modules("clarabel", "osqp")  # every test here runs the convex backends
 
 
-def two_nodes(c=1.0):
-    """The two-node system of tests/test_coupled_explicit.py."""
-    return ContactSystem(
-        np.array([[2.824, 0.764], [0.764, 2.740]]),
-        friction=np.array([0.625, 0.407]),
-        tangential_loads=(Harmonic(0.0, 1.442, 3.388), Harmonic(0.0, 1.429, 1.351)),
-        normal=IndependentSprings((Harmonic(4.314, 0.951, 4.160), Harmonic(3.202, 0.334, 5.216))),
-        coupling=c * np.array([[0.952, -0.096], [-0.015, -1.532]]),
-    )
-
-
-# a well-posed 3-node system (every K + diag(s) B a P-matrix) whose fixed point does not
-# contract on the full forward slip: the spectral radius of K^-1 B there is 1.043
-K3 = np.array([[2.734, -0.493, -2.086], [-0.493, 0.638, 0.419], [-2.086, 0.419, 3.676]])
-B3 = np.array([[-0.096, 1.124, -0.566], [-0.086, 0.132, -0.505], [0.255, 0.855, 0.079]])
-
-
 def full_slip_step(**options):
     """One increment from u = 0 whose exact end state slips every node forward to u = 0.5."""
-    P = np.full(3, 10.0)
-    u_end = np.full(3, 0.5)
-    Q = -K3 @ u_end - (P + B3 @ u_end)  # F = -f N at the end, f = 1
-    system = ContactSystem(
-        K3,
-        np.ones(3),
-        tuple(Harmonic(q, 0.0, 0.0) for q in Q),
-        IndependentSprings(tuple(Harmonic(p, 0.0, 0.0) for p in P)),
-        coupling=B3,
-    )
+    system = full_slip_system()
     stepper = ClarabelStepper(**options)
     scene = make_scene(system, 8)
     return stepper, stepper.step(scene, 0, stepper.init(scene, np.zeros(3)))
@@ -98,13 +72,7 @@ def test_a_fixed_point_that_does_not_contract_raises_the_typed_error():
 
 
 def test_a_coupled_single_node_against_exact():
-    s = ContactSystem(
-        np.array([[2.0]]),
-        np.array([0.5]),
-        (Harmonic(0.0, 3.0, 0.0),),
-        IndependentSprings((Harmonic(4.0, 0.5, 1.0),)),
-        coupling=np.array([[-1.2]]),
-    )
+    s = coupled_node()
     W = lcpfric.steady_state(s, "exact").W
     r = lcpfric.steady_state(s, "clarabel", 400)
     assert W > 0.1
@@ -113,15 +81,8 @@ def test_a_coupled_single_node_against_exact():
 
 
 def test_a_separating_node_is_named():
-    s = ContactSystem(
-        np.array([[2.0]]),
-        np.array([0.5]),
-        (Harmonic(0.0, 3.0, 0.0),),
-        IndependentSprings((Harmonic(1.0, 0.0, 0.0),)),
-        coupling=np.array([[-1.9]]),
-    )
     with pytest.raises(InputError, match="node 0.*reaches zero at t = ") as exc:
-        lcpfric.steady_state(s, "clarabel", 200)
+        lcpfric.steady_state(separating_node(), "clarabel", 200)
     assert exc.value.parameter == "normal_loads"
 
 

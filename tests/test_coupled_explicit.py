@@ -9,17 +9,7 @@ import pytest
 import lcpfric
 from lcpfric.analysis.starts import start_from_ratios
 from lcpfric.errors import InputError
-from lcpfric.model import ContactSystem, Harmonic, IndependentSprings
-
-
-def two_nodes(c=1.0):
-    return ContactSystem(
-        np.array([[2.824, 0.764], [0.764, 2.740]]),
-        friction=np.array([0.625, 0.407]),
-        tangential_loads=(Harmonic(0.0, 1.442, 3.388), Harmonic(0.0, 1.429, 1.351)),
-        normal=IndependentSprings((Harmonic(4.314, 0.951, 4.160), Harmonic(3.202, 0.334, 5.216))),
-        coupling=c * np.array([[0.952, -0.096], [-0.015, -1.532]]),
-    )
+from support.coupled_cases import separating_node, two_nodes
 
 
 def test_explicit_converges_to_exact_from_a_start():
@@ -44,15 +34,8 @@ def test_both_methods_share_the_default_start():
 
 
 def test_explicit_names_a_separating_node():
-    s = ContactSystem(
-        np.array([[2.0]]),
-        np.array([0.5]),
-        (Harmonic(0.0, 3.0, 0.0),),
-        IndependentSprings((Harmonic(1.0, 0.0, 0.0),)),
-        coupling=np.array([[-1.9]]),
-    )
     with pytest.raises(InputError, match="node 0.*reaches zero at t = ") as exc:
-        lcpfric.steady_state(s, "explicit", 200)
+        lcpfric.steady_state(separating_node(), "explicit", 200)
     assert exc.value.parameter == "normal_loads"
 
 

@@ -69,9 +69,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError, SolverError
+from ..errors import SolverError
 from ..steppers.dissipation import increment_dissipation
-from ..steppers.coupled_path import coupled_path, pattern_point
+from ..steppers.coupled_path import compressed, coupled_path, pattern_point
 
 __all__ = ["CoupledPlan", "CoupledIncrements"]
 
@@ -194,21 +194,13 @@ class CoupledIncrements:
                 f"{self.label}: the coupled fixed point on the normal reactions did not converge "
                 f"in {self.fixed_point_max} convex solves in increment {k} (to t = {t:.6g}): "
                 f"measured contraction {measured:.3g} per iteration (last change {change:.3g}, "
-                f"tolerance {tol:.3g}); {why}; or use method 'exact' or 'explicit' (the rate "
-                f"LCP with K + diag(s f) B)",
+                f"tolerance {tol:.3g}); {why}; or use method 'active-set' (the coupled LCP "
+                f"directly), 'exact' or 'explicit' (the rate LCP with K + diag(s f) B)",
                 backend=self.label,
                 status="coupled_fixed_point",
                 residuals={"contraction": float(measured), "bound": kappa},
             )
-        N = Pt + B @ u1
-        if not np.all(N > 0.0):
-            i = int(np.argmin(N))
-            t = scene.t[k] + frac * (scene.t[j] - scene.t[k])
-            raise InputError(
-                "normal_loads",
-                f"the normal reaction of node {i} reaches zero at t = {t:.12g}: separation of "
-                "a node of a coupled system is not modelled",
-            )
+        compressed(Pt + B @ u1, scene.t[k] + frac * (scene.t[j] - scene.t[k]))
         stats["fixed_point_iterations"] = stats.get("fixed_point_iterations", 0) + it
         if ratios:
             stats["fixed_point_max_ratio"] = max(

@@ -36,8 +36,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError, SolverError
-from .coupled_path import coupled_path, pattern_point
+from ..errors import SolverError
+from .coupled_path import compressed, coupled_path, pattern_point
 
 __all__ = ["CoupledPatterns"]
 
@@ -62,15 +62,7 @@ class CoupledPatterns:
         def end_state(ua, frac):
             Qt, Pt = Q0 + frac * (Q1 - Q0), P0 + frac * (P1 - P0)
             u1, sigma = self._coupled_pattern(plan, K, B, f, ua, Qt, Pt, stats, k)
-            N = Pt + B @ u1
-            if not np.all(N > 0.0):
-                i = int(np.argmin(N))
-                t = cp.t[k] + frac * (cp.t[k + 1] - cp.t[k])
-                raise InputError(
-                    "normal_loads",
-                    f"the normal reaction of node {i} reaches zero at t = {t:.12g}: separation "
-                    "of a node of a coupled system is not modelled",
-                )
+            N = compressed(Pt + B @ u1, cp.t[k] + frac * (cp.t[k + 1] - cp.t[k]))
             Fc = Qt + K @ u1
             F1, s = self._finish(plan, u1 - ua, Fc, f * N, contact, stats, k)
             last.update(Fc=Fc, s=s)

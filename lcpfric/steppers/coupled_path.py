@@ -18,10 +18,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InputError
 from .dissipation import increment_dissipation
 from .rates import REL, coupled_matrix, first_event, path_is_exact, slip_rates
 
-__all__ = ["coupled_rates", "coupled_path", "pattern_point"]
+__all__ = ["coupled_rates", "coupled_path", "pattern_point", "compressed"]
 
 
 def coupled_rates(K, B, f):
@@ -145,3 +146,31 @@ def pattern_point(K, B, f, Q, P, ua, sigma, limit):
     except np.linalg.LinAlgError:
         return None
     return u
+
+
+def compressed(N, t: float):
+    """A coupled system's normal reactions ``N = P + B u`` at the instant t, or
+    :class:`~lcpfric.errors.InputError` naming the node whose reaction is not a compression and
+    the instant (separation of a coupled node is not modelled: it would need its normal
+    stiffness).
+
+    Parameters
+    ----------
+    N : (n,) ndarray
+        The normal reactions.
+    t : float
+        The instant (for the message).
+
+    Returns
+    -------
+    (n,) ndarray
+        N, when every reaction is positive.
+    """
+    if np.all(N > 0.0):
+        return N
+    i = int(np.argmin(N))
+    raise InputError(
+        "normal_loads",
+        f"the normal reaction of node {i} reaches zero at t = {t:.12g}: separation of a node "
+        "of a coupled system is not modelled",
+    )

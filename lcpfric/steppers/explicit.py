@@ -35,6 +35,7 @@ from ..errors import InputError, SolverError
 from ..results import CycleResult, State, StepState
 from .base import Stepper
 from .dissipation import increment_dissipation, scalar_share
+from .coupled_path import compressed
 from .rates import EPS8, REL, coupled_matrix, limit_crossings, slip_rates
 
 if TYPE_CHECKING:
@@ -281,17 +282,8 @@ def _on_limits(F, bound, forward, backward):
 
 
 def _compressed(N, scene, k, tau):
-    """A coupled system's normal reactions N = P + B u, or :class:`InputError` naming the node
-    whose reaction is not a compression and the instant (separation is not modelled)."""
-    if np.all(N > 0.0):
-        return N
-    i = int(np.argmin(N))
-    t = scene.t[k] + tau * (scene.t[k + 1] - scene.t[k])
-    raise InputError(
-        "normal_loads",
-        f"the normal reaction of node {i} reaches zero at t = {t:.12g}: separation of a "
-        "node of a coupled system is not modelled",
-    )
+    """:func:`~.coupled_path.compressed` at the fraction tau of increment k."""
+    return compressed(N, scene.t[k] + tau * (scene.t[k + 1] - scene.t[k]))
 
 
 def _single_node_cycle(scene, state):
