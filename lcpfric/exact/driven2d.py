@@ -34,8 +34,6 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
-
 import numpy as np
 from scipy.integrate import solve_ivp
 
@@ -43,6 +41,7 @@ from .. import _checks
 from ..errors import ConvergenceError, InputError, SolverError
 from ..model.loads import Fourier
 from ..results import State
+from .driven2d_result import DrivenCycle2D
 from .trig import TWO_PI, TrigPoly, periodic_sign_changes, sign_changes
 
 __all__ = ["DrivenCycle2D", "driven_cycle_2d"]
@@ -50,78 +49,6 @@ __all__ = ["DrivenCycle2D", "driven_cycle_2d"]
 STICK, SLIP, SEPARATION = int(State.STICK), int(State.FORWARD), int(State.SEPARATION)
 #: where a slip heading into separation joins it: F below this fraction of max F
 F_FLOOR = 1e-10
-
-
-@dataclass(frozen=True)
-class DrivenCycle2D:
-    """The steady periodic cycle of a displacement-driven Jenkins element in d = 2.
-
-    Made by :func:`driven_cycle_2d`.
-
-    Parameters
-    ----------
-    omega, t, x, N, T, slider, state, events, W, force_cos, force_sin, force_amplitude
-        The cycle (see Attributes).
-    cycles, converged, change, seconds
-        How it was found (see Attributes).
-
-    Attributes
-    ----------
-    omega : float
-        The fundamental angular frequency; the period is 2π/ω.
-    t : ndarray
-        Instants over one period ``[0, 2π/ω]``: equally spaced samples and every event.
-    x : ndarray
-        The motion (x, y) at ``t``, shape (2, len(t)).
-    N : ndarray
-        The normal load ``max(0, N)`` at ``t``.
-    T : ndarray
-        The tangential force ``kt (X - S)`` at ``t``, shape (2, len(t)).
-    slider : ndarray
-        The slider S at ``t``, shape (2, len(t)).
-    state : ndarray of int8
-        :class:`~lcpfric.results.State` at ``t``: STICK, FORWARD (slip, in any direction; as
-        :func:`lcpfric.harmonic.jenkins_march` in d = 2) or SEPARATION.
-    events : ndarray
-        The instants in (0, 2π/ω) where the state changes.
-    W : float
-        The dissipation per cycle ``∮ μN |dS|``.
-    force_cos, force_sin : ndarray
-        Shape (2, harmonics + 1): ``T_i ≈ force_cos[i, 0] + Σ_k force_cos[i, k] cos kωt +
-        force_sin[i, k] sin kωt`` (``force_sin[:, 0] = 0``); i = 0 for T_x, 1 for T_y.
-    force_amplitude : float
-        ``max |T|`` over the samples and events.
-    cycles : int
-        The cycles run from the start until the slider at t = 0 repeated.
-    converged : bool
-        True when it repeated within the tolerance.
-    change : float
-        The slider's change over the last cycle, relative to the slip scale μ max N / kt.
-    seconds : float
-        Wall time.
-    """
-
-    omega: float
-    t: np.ndarray
-    x: np.ndarray
-    N: np.ndarray
-    T: np.ndarray
-    slider: np.ndarray
-    state: np.ndarray
-    events: np.ndarray
-    W: float
-    force_cos: np.ndarray
-    force_sin: np.ndarray
-    force_amplitude: float
-    cycles: int
-    converged: bool
-    change: float
-    seconds: float
-
-    @property
-    def first_harmonic(self) -> np.ndarray:
-        """``[[A_x, B_x], [A_y, B_y]]``: ``T_i ≈ A_i cos ωt + B_i sin ωt`` (first harmonic)."""
-        return np.stack((self.force_cos[:, 1], self.force_sin[:, 1]), axis=1)
 
 
 def _load(name: str, value) -> Fourier:
@@ -167,24 +94,18 @@ class _Element:
     def X(self, th):
         return np.array([self.x(th), self.y(th)])
 
-    def dX(self, th):
-        return np.array([self.dx(th), self.dy(th)])
-
     @staticmethod
     def next_at(angles, theta):
         i = np.searchsorted(angles, theta, side="left")
         return float(angles[i]) if i < angles.size else TWO_PI
 
     def separated_at_start(self) -> bool:
-        roots = np.r_[self.separations, self.recontacts]
-        if roots.size == 0:
+        """θ = 0 inside a separation: the next sign change of N is a re-contact."""
+        if self.recontacts.size == 0:
             return False
-        kinds = np.r_[np.ones(self.separations.size), np.zeros(self.recontacts.size)]
-        at_zero = roots == 0.0
-        last = np.nonzero(at_zero)[0] if at_zero.any() else [int(np.argmax(roots))]
-        return bool(kinds[last[0]])
+        return self.next_at(self.recontacts, 0.0) < self.next_at(self.separations, 0.0)
 
-    def stick_force(self, S, theta0):
+    def stick_force(self, S):
         """T_x, T_y as trigonometric polynomials for the slider fixed at S."""
         return self.kt * (self.x - S[0]), self.kt * (self.y - S[1])
 
@@ -192,7 +113,7 @@ class _Element:
         """The first instant in (a, b) where ``|T|² - F²`` rises through zero; inf if none."""
         if b <= a:
             return math.inf
-        tx, ty = self.stick_force(S, a)
+        tx, ty = self.stick_force(S)
         g = tx * tx + ty * ty - (self.mu * self.mu) * (self.N * self.N)
         if g.degree == 0:
             return math.inf
@@ -239,16 +160,9 @@ class _Element:
         atol[1] = 1e-14 * max(self.Fmax * self.span, 1e-300)
         if b <= a:
             return b, "end", None, u0
-        sol = solve_ivp(
-            rhs,
-            (a, b),
-            u0,
-            method="DOP853",
-            rtol=self.rtol,
-            atol=atol,
-            events=(stick_event, sep_event),
-            dense_output=True,
-        )
+        events = (stick_event, sep_event)
+        opts = dict(method="DOP853", rtol=self.rtol, atol=atol, events=events, dense_output=True)
+        sol = solve_ivp(rhs, (a, b), u0, **opts)
         if sol.status < 0:
             raise SolverError(
                 f"driven cycle 2d: the slip's integration failed at θ = {sol.t[-1]:.17g}: "
@@ -264,7 +178,7 @@ class _Element:
 
     def recontact(self, theta):
         """The state after re-contact at θ (T = 0): slip along X' (its φ) or stick."""
-        d = self.dX(theta)
+        d = (self.dx(theta), self.dy(theta))
         if self.kt * math.hypot(d[0], d[1]) > self.mu * self.dN(theta):
             return SLIP, math.atan2(d[1], d[0])
         return STICK, 0.0
@@ -353,7 +267,7 @@ class _Element:
         if st == SEPARATION or b <= a:
             return out, 0.0
         if st == STICK:
-            for i, f in enumerate(self.stick_force(data, a)):
+            for i, f in enumerate(self.stick_force(data)):
                 m = f.moments(a, b, H)
                 out[i, 0], out[i, 1] = m.real, -m.imag
             return out, 0.0
