@@ -26,8 +26,9 @@ until F falls to ``1e-10`` of its largest value, and then joins the separation (
 out is of order ``F²/F'``, below the tolerance).
 
 Cycles are run from the slider's start at t = 0 until the slider at t = 0 repeats to ``tol``
-times the slip scale ``μ max N / kt``. Along one axis (y = 0) this is the d = 1 cycle of
-:func:`lcpfric.exact.driven.driven_cycle`.
+times the slip scale ``μ max N / kt`` (and so does its distance to the fixed point, estimated
+from the last two cycles' contraction: slow near the slip limit). Along one axis (y = 0) this
+is the d = 1 cycle of :func:`lcpfric.exact.driven.driven_cycle`.
 """
 
 from __future__ import annotations
@@ -313,7 +314,9 @@ def driven_cycle_2d(
     rtol : float, optional
         The relative tolerance of the slip's integration (DOP853).
     tol : float, optional
-        Periodicity: the slider at t = 0 repeats within ``tol`` times ``μ max N / kt``.
+        Periodicity: the slider at t = 0 repeats within ``tol`` times ``μ max N / kt``, and so
+        does its distance to the fixed point estimated from the contraction over the last two
+        cycles (a slow contraction, near the slip limit, runs further).
     max_cycles : int, optional
         Cap on the cycles, >= 1.
 
@@ -363,14 +366,17 @@ def driven_cycle_2d(
     state, S, phi = el.start_state(np.array(S, dtype=float))
     max_events = 100 + 8 * (xp.degree + yp.degree + Np.degree + 2)
     floor = 16.0 * np.finfo(float).eps * el.span
-    change, converged = math.inf, False
+    change, converged, last = math.inf, False, math.inf
     for cycles in range(1, max_cycles + 1):
         segs, state_end, S_end, phi_end = el.run(state, S, phi, max_events)
         diff = float(np.hypot(*(S_end - S)))
         change = diff / el.scale
-        if diff <= tol * el.scale + floor:
+        # the distance left to the fixed point, for a contraction by q per cycle: diff q/(1-q)
+        q = min(diff / last, 0.99) if last > floor else 0.0
+        if diff <= tol * el.scale + floor and diff * q / (1.0 - q) <= tol * el.scale + floor:
             converged = True
             break
+        last = diff
         state, S, phi = state_end, S_end, phi_end
     if not converged:
         raise ConvergenceError(
