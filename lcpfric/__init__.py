@@ -82,6 +82,8 @@ _LAZY = {
     "JointedStructure": "lcpfric.model.structure",
     "driven_cycle": "lcpfric.exact.driven",
     "DrivenCycle": "lcpfric.exact.driven_result",
+    "driven_cycle_2d": "lcpfric.exact.driven2d",
+    "DrivenCycle2D": "lcpfric.exact.driven2d_result",
     "jenkins_aft": "lcpfric.harmonic",
     "jenkins_residual": "lcpfric.harmonic",
     "AFTResult": "lcpfric.harmonic",
