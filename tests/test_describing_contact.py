@@ -125,3 +125,24 @@ def test_the_half_space_sphere_against_mindlin():
         contact_describing_functions(d2, [1e-3])
     with pytest.raises(InputError, match="method"):
         contact_describing_functions(hs, [1e-3], method="march")
+
+
+def test_the_sphere_under_a_prescribed_approach():
+    """A normal displacement instead of a load: P(t) is Hertz's load of the approach d(t), 0
+    where d <= 0 (the contact separates), and the describing functions follow it."""
+    from lcpfric.model.continuum.closed_forms import moduli
+
+    d = Harmonic(1e-2, 0.5e-2, 0.0)
+    m = MDRSphere.under_approach(1.0, 1.0, 0.3, 0.3, d, nodes=300)
+    t = np.linspace(0.0, m.period, 9)
+    Es = moduli(1.0, 0.3)["E*"]
+    np.testing.assert_allclose(m.P(t), 4 / 3 * Es * d(t) ** 1.5, rtol=1e-13)
+    np.testing.assert_allclose(m.approach(m.P(t)), d(t), rtol=1e-13)
+    apart = MDRSphere.under_approach(1.0, 1.0, 0.3, 0.3, Harmonic(1e-2, 1.5e-2, 0.0), nodes=300)
+    assert np.min(apart.P(t)) == 0.0  # separated over part of the cycle
+    a = np.array([0.3, 3.0]) * apart.mu * apart.P0 / apart.k_t0
+    W = [contact_describing_functions(apart, a, samples=ns).W for ns in (1024, 2048)]
+    assert np.all(W[1] > 0)
+    np.testing.assert_allclose(W[1], W[0], rtol=2e-3)
+    with pytest.raises(InputError, match="approach"):
+        MDRSphere.under_approach(1.0, 1.0, 0.3, 0.3, Harmonic(-1e-3, 1e-2, 0.0))

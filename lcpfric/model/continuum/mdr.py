@@ -181,6 +181,56 @@ class MDRSphere(ContactModel):
         self.x = (np.arange(self.nodes) + 0.5) * self.dx
         self.k = np.full(self.nodes, 2.0 * self.moduli["G*"] * self.dx)
 
+    @classmethod
+    def under_approach(
+        cls, R: float | None, E: float, nu: float, mu: float, approach, Q=0.0, **options
+    ) -> MDRSphere:
+        """The sphere under a prescribed normal approach ``d(t)`` (a normal displacement)
+        instead of a normal load: its load is ``P(t)``, the load whose approach is ``d(t)``
+        (``2 E* (a g(a) - G(a))`` at the radius ``g(a) = d``, found by bisection to round-off),
+        0 where ``d <= 0`` (the bodies apart: the contact separates, as a prescribed normal
+        displacement makes it).
+
+        Parameters
+        ----------
+        R, E, nu, mu : float
+            As for the constructor.
+        approach : Load or float
+            The approach ``d(t)`` (its mean > 0: the bodies in contact on average).
+        Q : Load or float, optional
+            The tangential load (unused when the tangential motion is prescribed).
+        **options
+            The constructor's keywords (``nodes``, ``profile``, ``k_support``, ``E2``,
+            ``nu2``).
+
+        Returns
+        -------
+        MDRSphere
+            The model, its P a :class:`~lcpfric.model.loads.Periodic` load of the approach's
+            period.
+
+        Raises
+        ------
+        InputError
+            The constructor's, or an approach whose mean is not > 0 (named ``approach``).
+        """
+        from ..load_base import Periodic
+        from .base import load
+
+        d = load("approach", approach)
+        if not d.mean > 0:
+            raise InputError("approach", f"its mean must be > 0 (in contact), got {d.mean!r}")
+        unit = cls(R, E, nu, mu, 1.0, 0.0, **{**options, "nodes": MIN_NODES})  # E*, profile
+
+        def P(t):
+            dt = np.asarray(d(np.asarray(t, dtype=float)), dtype=float)
+            return unit.load_at_radius(_radius_at(unit.profile, np.maximum(dt, 0.0)))
+
+        period = d.period if not d.is_constant else 1.0
+        if d.is_constant:
+            return cls(R, E, nu, mu, float(P(0.0)), Q, **options)
+        return cls(R, E, nu, mu, Periodic(P, period), Q, **options)
+
     # -- the normal problem ---------------------------------------------------------------------
     def radius(self, t: ArrayLike) -> np.ndarray:
         """Contact radius a(t) (0 in separation): Hertz's for the sphere.
@@ -338,3 +388,21 @@ class ClosedFormNormal:
     def solution(self, t):
         m = self.model
         return m.mu * m.normal_forces(t), m.radius(t), {}
+
+
+def _radius_at(profile, d: np.ndarray) -> np.ndarray:
+    """The contact radius ``a`` with ``g(a) = d`` (g increasing from g(0) = 0), by bisection to
+    round-off, vectorized; 0 where ``d <= 0``."""
+    d = np.asarray(d, dtype=float)
+    hi = np.ones_like(d)
+    for _ in range(200):  # bracket: double until g(hi) >= d
+        short = np.asarray(profile.g(hi), dtype=float) < d
+        if not short.any():
+            break
+        hi = np.where(short, 2.0 * hi, hi)
+    lo = np.zeros_like(d)
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        below = np.asarray(profile.g(mid), dtype=float) < d
+        lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
+    return np.where(d > 0.0, 0.5 * (lo + hi), 0.0)
