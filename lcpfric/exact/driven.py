@@ -48,7 +48,7 @@ from .trig import TWO_PI, TrigPoly, periodic_sign_changes, solve_bracket
 __all__ = ["driven_cycle", "fundamental", "DrivenCycle"]
 
 
-def fundamental(*loads) -> float:
+def fundamental(*loads, names=("motion", "normal")) -> float:
     """The fundamental angular frequency of Fourier loads: the smallest ω of those that vary,
     every other a whole multiple of it (1.0 if none varies).
 
@@ -56,6 +56,8 @@ def fundamental(*loads) -> float:
     ----------
     *loads : Fourier
         The loads.
+    names : sequence of str, optional
+        Their names, for the error (the parameter named).
 
     Returns
     -------
@@ -71,7 +73,7 @@ def fundamental(*loads) -> float:
     if not omegas:
         return 1.0
     omega = min(omegas)
-    for ld, name in zip(loads, ("motion", "normal")):
+    for ld, name in zip(loads, names):
         if any(ld.amplitudes):
             r = ld.omega / omega
             if abs(r - round(r)) > 1e-12 * r:

@@ -42,6 +42,7 @@ from .. import _checks
 from ..errors import ConvergenceError, InputError, SolverError
 from ..model.loads import Fourier
 from ..results import State
+from .driven import fundamental
 from .driven2d_result import DrivenCycle2D
 from .trig import TWO_PI, TrigPoly, periodic_sign_changes, sign_changes
 
@@ -58,22 +59,6 @@ def _load(name: str, value) -> Fourier:
     if isinstance(value, (int, float, np.floating, np.integer)) and not isinstance(value, bool):
         return Fourier(_checks.finite(name, value))
     raise InputError(name, f"must be a Fourier load or a number, got {type(value).__name__}")
-
-
-def _fundamental(loads: dict) -> float:
-    varying = {k: ld for k, ld in loads.items() if any(ld.amplitudes)}
-    if not varying:
-        return 1.0
-    omega = min(ld.omega for ld in varying.values())
-    for name, ld in varying.items():
-        r = ld.omega / omega
-        if abs(r - round(r)) > 1e-12 * r:
-            raise InputError(
-                name,
-                f"its angular frequency {ld.omega:g} must be a whole multiple of the "
-                f"fundamental {omega:g}",
-            )
-    return omega
 
 
 class _Element:
@@ -354,7 +339,7 @@ def driven_cycle_2d(
     max_cycles = _checks.positive_int("max_cycles", max_cycles)
     if loads["normal"].mean <= 0:
         raise InputError("normal", f"the mean normal load must be > 0, got {loads['normal'].mean}")
-    omega = _fundamental(loads)
+    omega = fundamental(*loads.values(), names=tuple(loads))
     xp, yp, Np = (TrigPoly.from_load(ld, omega) for ld in loads.values())
     el = _Element(kt, mu, xp, yp, Np, harmonics, rtol)
     if start is None:
