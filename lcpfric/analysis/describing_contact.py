@@ -84,8 +84,11 @@ def contact_describing_functions(
         Harmonics of the force kept in ``force_cos`` / ``force_sin`` (1 for the closed forms).
     steps : int, optional
         Increments per cycle of the driver's steady state (``method="active-set"``).
-    method : {None, "closed-form", "march", "active-set"}, optional
-        None: the model's own (above); ``"active-set"`` also for the MDR sphere (a check).
+    method : str, optional
+        None: the model's own (above): ``"closed-form"`` or ``"march"`` for the MDR sphere,
+        ``"active-set"`` for the others; any method of the driver that takes the
+        displacement-driven system (``"active-set"`` also for the MDR sphere, a check;
+        ``"clarabel"`` for a half-space with d = 2 on a small grid, C formed from products).
 
     Returns
     -------
@@ -96,9 +99,10 @@ def contact_describing_functions(
     Raises
     ------
     InputError
-        A model that is not a continuum contact, a half-space with d = 2, an amplitude <= 0 or
-        not finite, ``samples`` too small for the harmonics, a closed-form request for more
-        than one harmonic, or a method that does not apply.
+        A model that is not a continuum contact, a half-space with d = 2 and
+        ``method="active-set"``, an amplitude <= 0 or not finite, ``samples`` too small for
+        the harmonics, a closed-form request for more than one harmonic, or a method that does
+        not apply.
     """
     start = time.perf_counter()
     if not hasattr(model, "springs") or not hasattr(model, "normal_problem"):
@@ -112,20 +116,24 @@ def contact_describing_functions(
         raise InputError("amplitudes", "must be finite numbers > 0")
     omega = 2.0 * math.pi / model.period
     mdr = isinstance(model, MDRSphere)
+    d = getattr(model, "dims", 1)
     own = ("closed-form" if model.P.is_constant else "march") if mdr else "active-set"
     if method is None:
         method = own
-    if method not in (own, "active-set"):
-        raise InputError("method", f"{method!r} does not apply to this model: {own!r} or "
-                                   "'active-set'")  # fmt: skip
-    if method == "active-set":
-        if getattr(model, "dims", 1) != 1:
+    if method in ("closed-form", "march") and method != own:
+        raise InputError(
+            "method",
+            f"{method!r} does not apply to this model: {own!r} or a method of the driver "
+            "('active-set', 'clarabel', ...)",
+        )
+    if method not in ("closed-form", "march"):  # the driver's: any method the system takes
+        if d != 1 and method == "active-set":
             raise InputError(
-                "model",
-                "a half-space with d = 2 under a prescribed displacement is not solved yet "
-                "(active-set is matrix-free for d = 1): use dims=1",
+                "method",
+                "'active-set' is matrix-free for d = 1 only: for a half-space with d = 2 under "
+                "a prescribed displacement give method='clarabel' (small grids: C is formed)",
             )
-        out = _driven(model, a, int(steps), int(harmonics))
+        out = _driven(model, a, int(steps), int(harmonics), method, d)
     elif model.P.is_constant:
         if harmonics != 1:
             raise InputError(
@@ -202,15 +210,16 @@ def _march(model, a, samples, harmonics):
     return out
 
 
-def _driven(model, a, steps, harmonics):
-    """The displacement-driven system's steady state by the driver (``active-set``), for each
-    amplitude: T = -Σ F on the grid, its coefficients by the discrete transform."""
+def _driven(model, a, steps, harmonics, method, d):
+    """The displacement-driven system's steady state by the driver (``method``), for each
+    amplitude: T = -Σ F_x on the grid, its coefficients by the discrete transform."""
     basis = fourier_basis(harmonics, steps)
     out = {key: np.zeros(a.size) for key in ("k_eq", "c_eq_omega", "W", "force_amplitude")}
     coef = np.zeros((a.size, 2 * harmonics + 1))
     for i, amp in enumerate(a):
-        res = steady_state(displacement_system(model, amp), "active-set", steps)
-        T = -np.asarray(res.F, dtype=float).sum(axis=1)
+        res = steady_state(displacement_system(model, amp), method, steps)
+        F = np.asarray(res.F, dtype=float)
+        T = -F.reshape(F.shape[0], -1, d)[:, :, 0].sum(axis=1)
         coef[i] = basis.to_coefficients(T[:-1])
         out["W"][i] = res.W
         out["force_amplitude"][i] = np.abs(T).max()
