@@ -9,7 +9,7 @@ import pytest
 import lcpfric
 from lcpfric.analysis.starts import start_from_ratios
 from lcpfric.errors import InputError
-from support.coupled_cases import separating_node, two_nodes
+from support.coupled_cases import pair_order, separating_node, two_nodes
 
 
 def test_explicit_converges_to_exact_from_a_start():
@@ -42,12 +42,7 @@ def test_explicit_names_a_separating_node():
 @pytest.mark.slow
 def test_explicit_order_on_a_coupled_pair():
     """The least-squares order over 100..6400 steps (measured 2.50)."""
-    s = two_nodes()
-    u0 = start_from_ratios(s, [-0.8, 0.0])
-    W = lcpfric.steady_state(s, "exact", u0=u0).W
-    ns = np.array([100, 200, 400, 800, 1600, 3200, 6400])
-    err = [abs(lcpfric.steady_state(s, "explicit", n, u0=u0, tol=1e-12).W - W) for n in ns]
-    assert -np.polyfit(np.log(ns), np.log(err), 1)[0] >= 1.8
+    assert pair_order("explicit") >= 1.8
 
 
 def test_series_and_approach_of_a_coupled_steady_state():
