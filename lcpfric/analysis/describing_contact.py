@@ -26,9 +26,17 @@ compliance, so the contact under the motion is a matrix-free
 displacement_system`: the body held by the motion, ``K = C_s⁻¹``, loads ``-C_s⁻¹ 1 x(t)``)
 solved to its steady state by the driver with ``active-set`` (``method="active-set"``; ``steps``
 increments per cycle, exact for the loads interpolated linearly between them; events located);
-its tangential force ``T = -Σ F``, whose Fourier coefficients come from the cycle's samples.
+its tangential force ``T = -Σ F``, whose Fourier coefficients come from the cycle's records
+(the grid's instants and the events between them) by the trapezoidal rule
+(:func:`~lcpfric.harmonic.trapezoid_coefficients`: the discrete transform on a uniform grid).
 The same route on the MDR sphere gives the springs' closed forms to round-off
 (``tests/test_describing_contact.py``).
+
+**A prescribed normal approach** instead of a normal load: ``MDRSphere.under_approach``,
+``HalfPlaneCylinder.under_approach`` and ``HalfSpace.under_approach`` build the model whose
+load ``P(t)`` is the one of the approach ``d(t)`` (:mod:`lcpfric.model.continuum.approach`;
+exact for the discretized contact, 0 where the bodies are apart), and the routes above apply
+unchanged: with similar materials the normal problem does not see the shear.
 
 The springs that never touch (``N_i = 0`` over the cycle) carry nothing. Against the continuum,
 the Mindlin-Deresiewicz dissipation at the force amplitude reached
@@ -44,7 +52,7 @@ import time
 import numpy as np
 
 from ..errors import InputError
-from ..harmonic import fourier_basis, jenkins_march
+from ..harmonic import fourier_basis, jenkins_march, trapezoid_coefficients
 from ..model.continuum.bridge import displacement_system
 from ..model.continuum.mdr import MDRSphere
 from ..periodic.driver import steady_state
@@ -212,15 +220,15 @@ def _march(model, a, samples, harmonics):
 
 def _driven(model, a, steps, harmonics, method, d):
     """The displacement-driven system's steady state by the driver (``method``), for each
-    amplitude: T = -Σ F_x on the grid, its coefficients by the discrete transform."""
-    basis = fourier_basis(harmonics, steps)
+    amplitude: T = -Σ F_x at the records, its coefficients by the trapezoidal rule."""
     out = {key: np.zeros(a.size) for key in ("k_eq", "c_eq_omega", "W", "force_amplitude")}
     coef = np.zeros((a.size, 2 * harmonics + 1))
     for i, amp in enumerate(a):
         res = steady_state(displacement_system(model, amp), method, steps)
         F = np.asarray(res.F, dtype=float)
         T = -F.reshape(F.shape[0], -1, d)[:, :, 0].sum(axis=1)
-        coef[i] = basis.to_coefficients(T[:-1])
+        # the records: the grid's instants and the events between them (placed by the driver)
+        coef[i] = trapezoid_coefficients(res.t, T, model.period, harmonics)
         out["W"][i] = res.W
         out["force_amplitude"][i] = np.abs(T).max()
     out["k_eq"] = coef[:, 1] / a

@@ -17,7 +17,13 @@
 
 from .aft import AFTResult, jenkins_aft, jenkins_residual
 from .balance import ForcedResponse, forced_response, harmonic_residual
-from .fourier import FourierBasis, check_samples, fourier_basis, harmonics_of
+from .fourier import (
+    FourierBasis,
+    check_samples,
+    fourier_basis,
+    harmonics_of,
+    trapezoid_coefficients,
+)
 from .jenkins import JenkinsCycle, jenkins_march
 
 __all__ = [
@@ -29,6 +35,7 @@ __all__ = [
     "jenkins_residual",
     "FourierBasis",
     "fourier_basis",
+    "trapezoid_coefficients",
     "check_samples",
     "harmonics_of",
     "JenkinsCycle",

@@ -30,7 +30,13 @@ import numpy as np
 from .._checks import positive_int
 from ..errors import InputError
 
-__all__ = ["FourierBasis", "fourier_basis", "check_samples", "harmonics_of"]
+__all__ = [
+    "FourierBasis",
+    "fourier_basis",
+    "check_samples",
+    "harmonics_of",
+    "trapezoid_coefficients",
+]
 
 
 @dataclass(frozen=True, eq=False)
@@ -202,3 +208,42 @@ def fourier_basis(harmonics: int, samples: int) -> FourierBasis:
     for a in (tau, E, D):
         a.setflags(write=False)
     return FourierBasis(H, ns, tau, E, D)
+
+
+def trapezoid_coefficients(t, x, period: float, harmonics: int) -> np.ndarray:
+    """The coefficients ``[c0, a1, b1, ..., aH, bH]`` (module docstring) of a periodic signal
+    known at records ``(t_j, x_j)`` of any spacing (a cycle's records with its events), by the
+    trapezoidal rule of ``x cos hωt`` and ``x sin hωt``: on a uniform grid this is the discrete
+    transform ``D`` (spectrally accurate for a smooth signal), on any grid second order.
+
+    Parameters
+    ----------
+    t : array_like
+        Increasing instants ``t_0 .. t_n`` with ``t_n = t_0 + period``.
+    x : array_like
+        The values at them.
+    period : float
+        The period.
+    harmonics : int
+        H >= 1.
+
+    Returns
+    -------
+    ndarray
+        ``(2H + 1,)`` coefficients.
+    """
+    t, x = np.asarray(t, dtype=float), np.asarray(x, dtype=float)
+    H = positive_int("harmonics", harmonics, minimum=1)
+    w = np.zeros(t.size)  # the trapezoidal weights
+    dt = np.diff(t)
+    w[:-1] += 0.5 * dt
+    w[1:] += 0.5 * dt
+    wx = w * x / period
+    # the angle reduced to [0, 2π) before the harmonics multiply it
+    tau = 2.0 * np.pi * (((t - t[0]) / period) % 1.0) + 2.0 * np.pi * (t[0] / period)
+    out = np.empty(2 * H + 1)
+    out[0] = wx.sum()
+    for h in range(1, H + 1):
+        out[2 * h - 1] = 2.0 * np.dot(wx, np.cos(h * tau))
+        out[2 * h] = 2.0 * np.dot(wx, np.sin(h * tau))
+    return out

@@ -34,6 +34,7 @@ __all__ = [
     "moduli",
     "hertz_contact",
     "cylinder_contact",
+    "cylinder_approach",
     "cattaneo_stick_ratio",
     "mindlin_deresiewicz_W",
     "mindlin_force",
@@ -165,6 +166,39 @@ def cylinder_contact(P: float, R: float, E: float, nu: float) -> dict:
     P, R = positive("P", P), positive("R", R)
     a = math.sqrt(4.0 * P * R / (math.pi * moduli(E, nu)["E*"]))
     return {"a": a, "p0": 2.0 * P / (math.pi * a)}
+
+
+def cylinder_approach(P, R: float, E: float, nu: float, datum: float) -> np.ndarray:
+    """Cylinder in plane strain, P per unit length: the approach of the points at distance ℓ
+    (``datum``) from the contact, ``δ = (2P/(π E*)) (ln(2ℓ/a) + 1/2)`` (Hertz's pressure on
+    the half-plane's logarithmic kernel measured from ℓ; cf. Johnson, Contact Mechanics, §5.6).
+
+    Parameters
+    ----------
+    P : float or array_like
+        Normal loads per unit length, >= 0 (0 gives 0).
+    R, E, nu : float
+        As for :func:`cylinder_contact`.
+    datum : float
+        ℓ > 0, larger than the half-width a.
+
+    Returns
+    -------
+    ndarray
+        δ, the shape of ``P``.
+
+    Raises
+    ------
+    InputError
+        A parameter out of range.
+    """
+    R, datum = positive("R", R), positive("datum", datum)
+    Es = moduli(E, nu)["E*"]
+    P = np.asarray(P, dtype=float)
+    a = np.sqrt(4.0 * np.maximum(P, 0.0) * R / (math.pi * Es))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = 2.0 * P / (math.pi * Es) * (np.log(2.0 * datum / a) + 0.5)
+    return np.where(P > 0.0, out, 0.0)
 
 
 def cattaneo_stick_ratio(x: float, geometry: str = "sphere") -> float:

@@ -44,15 +44,16 @@ import numpy as np
 from ... import _checks
 from ...errors import InputError, SolverError
 from ...linalg import DenseBlock
+from .approach import entry_loads
 from .base import ContactModel
-from .closed_forms import cylinder_contact
+from .closed_forms import cylinder_contact, moduli
 
 if TYPE_CHECKING:
     from scipy.sparse.linalg import LinearOperator
 
     from ..loads import Load
 
-__all__ = ["HalfPlaneCylinder", "NormalProblem", "MAX_NODES", "log_kernel", "entry_loads"]
+__all__ = ["HalfPlaneCylinder", "NormalProblem", "MAX_NODES", "log_kernel"]
 
 #: largest number of elements (the influence matrix is dense: 8 N² bytes)
 MAX_NODES = 6000
@@ -96,6 +97,13 @@ class HalfPlaneCylinder(ContactModel):
         two elements) beyond it on each side.
     profile : callable, optional
         The gap profile ``h(x)`` (default the cylinder's ``x² / (2R)``).
+    datum : float, optional
+        The distance ℓ from the contact at which the displacements are measured (module
+        docstring: the approach is relative to it), at least twice the grid's length
+        (default: twice the grid's length).
+    half_width : float, optional
+        The half-width the grid's elements span (default Hertz's at the largest load,
+        ``a_max``).
 
     Attributes
     ----------
@@ -143,10 +151,14 @@ class HalfPlaneCylinder(ContactModel):
         k_support: float = 0.0,
         nodes: int = 400,
         profile: Callable | None = None,
+        datum: float | None = None,
+        half_width: float | None = None,
     ) -> None:
         super().__init__(E, nu, mu, P, Q, k_support, nodes)
         self.R = _checks.positive("R", R)
         self.a_max = cylinder_contact(self.P_max, self.R, self.E, self.nu)["a"]
+        if half_width is not None:
+            self.a_max = _checks.positive("half_width", half_width)
         self.a0 = cylinder_contact(self.P0, self.R, self.E, self.nu)["a"]
         self.dx = 2.0 * self.a_max / self.nodes
         extra = max(2, math.ceil(0.03 * self.nodes))
@@ -161,7 +173,16 @@ class HalfPlaneCylinder(ContactModel):
         self.x = (np.arange(N) - (N - 1) / 2.0) * self.dx
         h = (profile or (lambda x: x * x / (2.0 * self.R)))(self.x)
         self.h = _checks.finite_array("profile", h).reshape(N)
-        datum = 2.0 * N * self.dx
+        if datum is None:
+            datum = 2.0 * N * self.dx
+        elif not _checks.positive("datum", datum) >= 2.0 * N * self.dx:
+            raise InputError(
+                "datum",
+                f"must be finite and at least twice the grid's length, "
+                f"{2.0 * N * self.dx:.6g} (the influence matrix is then positive definite), "
+                f"got {datum!r}",
+            )
+        self.datum = float(datum)
         col = log_kernel(np.arange(N), self.dx, self.moduli["E*"], datum)
         from scipy.linalg import toeplitz
 
@@ -172,6 +193,61 @@ class HalfPlaneCylinder(ContactModel):
         #: an element's force scale (the increments' tolerances are relative to it)
         self.force_scale = self.mu * self.P_max * self.dx / (2 * self.a_max)
         self.nodes = N  # the unknowns of the grid
+
+    @classmethod
+    def under_approach(
+        cls, R: float, E: float, nu: float, mu: float, approach, Q=0.0, *, datum: float, **options
+    ) -> HalfPlaneCylinder:
+        """The cylinder under a prescribed normal approach ``d(t)`` of the points at distance
+        ℓ (``datum``) from the contact, instead of a normal load: its load is ``P(d(t))``,
+        exact for the grid (:class:`~.approach.ApproachTable`), 0 where the bodies are apart.
+        The grid spans Hertz's half-width at the largest approach
+        (:func:`~.closed_forms.cylinder_approach`) unless ``half_width`` is given.
+
+        Parameters
+        ----------
+        R, E, nu, mu : float
+            As for the constructor.
+        approach : Load or float
+            The approach ``d(t)`` (its mean > 0).
+        Q : Load or float, optional
+            The tangential load (unused when the tangential motion is prescribed).
+        datum : float
+            ℓ: the bodies' size, at least twice the grid's length.
+        **options
+            The constructor's ``nodes``, ``profile``, ``k_support``, ``half_width``.
+
+        Returns
+        -------
+        HalfPlaneCylinder
+            The model, its P a :class:`~lcpfric.model.loads.Periodic` load.
+
+        Raises
+        ------
+        InputError
+            The constructor's, an approach whose mean is not > 0, or a ``datum`` too small for
+            the largest approach (its contact wider than ℓ).
+        """
+        from scipy.optimize import brentq
+
+        from .approach import ApproachTable, approach_load, prescribed_approach
+        from .closed_forms import cylinder_approach
+
+        d, d_max = prescribed_approach(approach)
+        ell = _checks.positive("datum", datum)
+        if "half_width" not in options:  # the load of the approach d_max: δ(P) grows up to a = ℓ
+            top = math.pi * moduli(E, nu)["E*"] * ell * ell / (4.0 * R)
+            if cylinder_approach(top, R, E, nu, ell) <= d_max:
+                raise InputError(
+                    "datum",
+                    f"ℓ = {ell:.6g} is too small for the largest approach {d_max:.6g} (the "
+                    f"contact would be wider than ℓ): ℓ is the bodies' size",
+                )
+            P_top = brentq(lambda P: cylinder_approach(P, R, E, nu, ell) - d_max, 0.0, top)
+            options["half_width"] = cylinder_contact(P_top, R, E, nu)["a"]
+        grid = cls(R, E, nu, mu, 1.0, 0.0, datum=ell, **options)  # the grid (any load)
+        table = ApproachTable(grid.A, grid.h, grid.dx, d_max)
+        return cls(R, E, nu, mu, approach_load(table, d), Q, datum=ell, **options)
 
     # -- the normal problem ---------------------------------------------------------------------
     def normal_problem(self) -> NormalProblem:
@@ -349,50 +425,3 @@ class NormalProblem:
         if len(self.cache) < 100_000:
             self.cache[P] = p
         return p
-
-
-def entry_loads(A: np.ndarray, h: np.ndarray, area: float, P_max: float) -> np.ndarray:
-    """Per element of a boundary-element grid (dense influence matrix A per unit pressure, gap
-    h at zero approach, element area), the normal load at which it comes into contact (inf: not
-    below ``P_max``). Exact for the discrete problem: with the contact set fixed, pressures and
-    gaps are affine in the load, so each next element's entry is where its gap, an affine
-    function of the approach d, reaches zero; one solve per change of the set (elements that
-    enter together, as symmetric ones do, are added together). Assumes the set only grows with
-    the load (a convex surface)."""
-    h = np.asarray(h, dtype=float).ravel()
-    N = h.size
-    levels = np.full(N, np.inf)
-    S = np.flatnonzero(h <= h.min() + 1e-14 * (np.abs(h).max() + 1e-300))
-    levels[S] = 0.0
-    block = DenseBlock(A)
-    P = 0.0
-    for _ in range(N):
-        block.set(S)
-        z, y = np.zeros(N), np.zeros(N)
-        e = np.zeros(N)
-        e[S] = 1.0
-        idx, zz = block.solve(e)
-        z[idx] = zz
-        hh = np.zeros(N)
-        hh[S] = h[S]
-        idx, yy = block.solve(hh)
-        y[idx] = yy
-        Z, Y = z.sum(), y.sum()
-        Az, Ay = A[:, S] @ z[S], A[:, S] @ y[S]
-        d_now = (P / area + Y) / Z
-        closing = 1.0 - Az
-        out = np.ones(N, dtype=bool)
-        out[S] = False
-        with np.errstate(divide="ignore", invalid="ignore"):
-            d_star = np.where(out & (closing > 0), (h - Ay) / closing, np.inf)
-        d_star[d_star < d_now * (1 - 1e-12)] = np.inf
-        d_next = float(d_star.min())
-        if not np.isfinite(d_next):
-            break
-        P = (d_next * Z - Y) * area
-        if P > P_max:
-            break
-        new = np.flatnonzero(d_star <= d_next + 1e-12 * abs(d_next))
-        levels[new] = P
-        S = np.union1d(S, new)
-    return levels

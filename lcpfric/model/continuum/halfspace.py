@@ -31,6 +31,7 @@ import numpy as np
 
 from ... import _checks, memory
 from ...errors import InputError
+from .approach import DENSE_MAX, entry_loads, halfspace_under_approach
 from .base import ContactModel
 from .closed_forms import moduli
 from .dissimilar import attach, pair
@@ -52,8 +53,6 @@ MAX_GRID = 2048
 MIN_ACROSS = 8
 #: bytes per point of the FFT's padded grid at the peak, by d (:meth:`HalfSpace.memory_estimate`)
 MEMORY_PER_POINT = {1: 240, 2: 500}
-#: most elements for the exact entry loads (dense influence matrix) of ``system()``
-DENSE_MAX = 2000
 
 
 class HalfSpace(ContactModel):
@@ -342,6 +341,8 @@ class HalfSpace(ContactModel):
         model.R, model.flat_radius, model.a_max, model.grid_across = R, b, a_max, grid
         return model
 
+    under_approach = classmethod(halfspace_under_approach)
+
     @staticmethod
     def _grid(grid, a_max):
         grid = _checks.positive_int("grid", grid, MIN_ACROSS)
@@ -426,7 +427,7 @@ class HalfSpace(ContactModel):
     def entry_loads(self) -> np.ndarray:
         """Per element, the normal load at which it enters the contact (dense: small grids).
 
-        By :func:`~lcpfric.model.continuum.halfplane.entry_loads`, exact for the discrete
+        By :func:`~lcpfric.model.continuum.approach.entry_loads`, exact for the discrete
         problem.
 
         Returns
@@ -439,8 +440,6 @@ class HalfSpace(ContactModel):
         InputError
             More than 2000 elements (named ``grid``).
         """
-        from .halfplane import entry_loads
-
         if self.nodes > DENSE_MAX:
             raise InputError(
                 "grid",
