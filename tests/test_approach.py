@@ -132,7 +132,7 @@ def test_trapezoid_coefficients():
 def test_describing_functions_under_an_approach():
     """The half-space sphere under an oscillating approach against the MDR sphere under the
     same approach (the describing functions of a varying normal load): within 1 % at grid 16
-    (measured 0.36-0.49 % in W; 0.08-0.11 % at grid 32, benchmarks/validation/describing.py)."""
+    (measured 0.25-0.45 % in W, 0.37-0.50 % in k_eq; benchmarks/validation/approach.py)."""
     from lcpfric.analysis.describing_contact import contact_describing_functions
     from lcpfric.model.continuum.mdr import MDRSphere
 
