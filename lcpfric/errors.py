@@ -268,3 +268,9 @@ class ResolutionWarning(UserWarning):
     No element slipped over the steady cycle (W = 0), where the exact contact may slip in a
     zone thinner than an element (:func:`lcpfric.steady_state`).
     """
+
+
+class MultipleSteadyStates(UserWarning):
+    """Several periodic steady states of different dissipation were found for one input (the
+    dynamic single node, from different starts): the result is the one reached from the given
+    start (or the first start), and lists all (:attr:`lcpfric.results.DynamicExtras.orbits`)."""

@@ -82,6 +82,10 @@ class ExactSolver:
         samples = _checks.positive_int("steps_per_cycle", steps_per_cycle, 4)
         if isinstance(model, ContactSystem):
             return self._system_steady_state(model, samples, start, max_cycles, u0)
+        if model.is_dynamic:  # a mass: the dynamic node's orbit (lcpfric.exact.dynamic)
+            from .dynamic_api import dynamic_steady_state
+
+            return dynamic_steady_state(model, samples, u0, self.name)
         if u0 is not None or model.k21:  # a start, or Klarbring's node: its one-node system
             res = self._system_steady_state(model.system(), samples, start, max_cycles, u0)
             fields = model.from_system(res.W_cycles, res.v[:, 0], res.F[:, 0], res.N[:, 0])

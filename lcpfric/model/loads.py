@@ -29,7 +29,7 @@ from .load_base import Load, Periodic
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
-__all__ = ["Load", "Harmonic", "Fourier", "Periodic", "LoadSet"]
+__all__ = ["Load", "Harmonic", "Fourier", "Periodic", "LoadSet", "scaled_load"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -277,3 +277,40 @@ class LoadSet:
         for i in self.others:
             out[..., i] = self.loads[i](t)
         return out
+
+
+def scaled_load(load: Load, factor: float, drop_mean: bool = False) -> Load:
+    """``factor * (load - mean if drop_mean)``, keeping a harmonic load harmonic.
+
+    Parameters
+    ----------
+    load : Load
+        The load.
+    factor : float
+        The factor.
+    drop_mean : bool, optional
+        Subtract the load's mean first.
+
+    Returns
+    -------
+    Load
+        A :class:`Harmonic`, :class:`Fourier` or :class:`Periodic` load.
+    """
+    shift = load.mean if drop_mean else 0.0
+    if isinstance(load, Harmonic):
+        return Harmonic(
+            factor * (load.mean - shift), factor * load.amplitude, load.phase, load.omega
+        )
+    if isinstance(load, Fourier):
+        return Fourier(
+            factor * (load.mean - shift),
+            tuple(factor * a for a in load.amplitudes),
+            load.phases,
+            load.omega,
+        )
+    return Periodic(
+        lambda t: factor * (load(t) - shift),
+        load.period,
+        mean=factor * (load.mean - shift),
+        derivative=lambda t: factor * load.derivative(t),
+    )

@@ -17,7 +17,8 @@ import numpy as np
 
 from .. import _checks
 from ..errors import InputError
-from .loads import Fourier, Harmonic, Load, Periodic
+from .inertia import Inertia
+from .loads import Harmonic, Load, scaled_load
 from .normal import IndependentSprings
 from .normalization import W_from_W_hat, W_hat_from_W, check_units
 from .system import ContactSystem
@@ -30,7 +31,7 @@ if TYPE_CHECKING:
 __all__ = ["SingleNode", "W_hat_from_W", "W_from_W_hat"]
 
 
-class SingleNode:
+class SingleNode(Inertia):
     """The single-node system of the paper (Fig. 2).
 
     Tangential spring k11, normal spring k22, Coulomb friction f, loads
@@ -65,6 +66,11 @@ class SingleNode:
         ``f |k21| < k11`` (Klarbring's condition). Solved by ``exact`` and ``explicit`` through
         :meth:`system` (a coupled one-node system; a node whose reaction reaches zero is refused
         by name).
+    mass, damping : float, optional
+        The node's mass m and viscous damping c (default 0: the paper's quasi-static node):
+        then ``m v'' + c v' + k11 v = F - Q`` (:mod:`lcpfric.model.inertia`; β = ω/Ω0,
+        Ω0 = sqrt(k11/m), ζ = c / (2 sqrt(k11 m))), solved by ``exact``. Damping needs a mass;
+        ζ = 0 at β = 1 (the undamped resonance) is refused.
 
     Attributes
     ----------
@@ -110,8 +116,12 @@ class SingleNode:
         tangential_load: Load | None = None,
         dimensional: bool = True,
         k21: float = 0.0,
+        mass: float = 0.0,
+        damping: float = 0.0,
     ) -> None:
         self.k11 = _checks.positive("k11", k11)
+        self.mass = _checks.nonnegative("mass", mass)
+        self.damping = _checks.nonnegative("damping", damping)
         self.k22 = _checks.positive("k22", k22)
         self.f = _checks.positive("f", f)
         self.k21 = _checks.finite("k21", k21)
@@ -163,12 +173,16 @@ class SingleNode:
                 f"must have the normal load's period {periods[0]}, got {periods[1]}",
             )
         self._system = None
+        self._check_dynamics()
 
     @classmethod
-    def normalized(cls, P1: float, Q1: float, phi: float = 0.0) -> SingleNode:
+    def normalized(
+        cls, P1: float, Q1: float, phi: float = 0.0, *, beta: float = 0.0, zeta: float = 0.0
+    ) -> SingleNode:
         """The dimensionless system of Eqs. (8)-(10): P̂ = 1 + P̂1 sin ωt, Q̂ = Q̂1 sin(ωt + φ).
 
-        That is k11 = f = P0 = ω = 1, so that its W is ``Q̂1 Ŵ``.
+        That is k11 = f = P0 = ω = 1, so that its W is ``Q̂1 Ŵ``; with ``beta`` > 0 the dynamic
+        node of frequency ratio β = ω/Ω0 and damping ratio ζ (m = β², c = 2ζβ).
 
         Parameters
         ----------
@@ -178,6 +192,8 @@ class SingleNode:
             Normalized tangential amplitude Q̂1, >= 0.
         phi : float, optional
             Phase φ of Q relative to P, radians.
+        beta, zeta : float, optional
+            β >= 0 (0: quasi-static) and ζ >= 0.
 
         Returns
         -------
@@ -189,7 +205,11 @@ class SingleNode:
         InputError
             A parameter out of range or not finite.
         """
-        return cls(k11=1.0, f=1.0, P0=1.0, P1=P1, Q1=Q1, omega=1.0, phi=phi, dimensional=False)
+        beta, zeta = _checks.nonnegative("beta", beta), _checks.nonnegative("zeta", zeta)
+        if zeta > 0 and beta == 0:
+            raise InputError("zeta", "needs beta > 0 (a massless node is quasi-static)")
+        dyn = {"mass": beta * beta, "damping": 2.0 * zeta * beta}  # k11 = f = P0 = ω = 1
+        return cls(1.0, 1.0, 1.0, P1, Q1, 1.0, phi, dimensional=False, **dyn)
 
     # -- the paper's parameters -------------------------------------------------------------------
     @property
@@ -373,8 +393,8 @@ class SingleNode:
             self._system = ContactSystem(
                 stiffness=np.array([[1.0]]),
                 friction=np.array([1.0]),
-                tangential_loads=(_scaled(self.tangential_load, 1.0 / fp0, drop_mean=not b),),
-                normal=IndependentSprings((_scaled(self.normal_load, 1.0 / self.P0),)),
+                tangential_loads=(scaled_load(self.tangential_load, 1.0 / fp0, drop_mean=not b),),
+                normal=IndependentSprings((scaled_load(self.normal_load, 1.0 / self.P0),)),
                 coupling=np.array([[b]]) if b else None,
             )
         return self._system
@@ -421,30 +441,10 @@ class SingleNode:
             core = f"P1_hat={p1:.6g}, Q1_hat={q1:.6g}, phi={phi:.6g}"
         else:
             core = f"normal_load={self.normal_load!r}, tangential_load={self.tangential_load!r}"
+        if self.is_dynamic:
+            core += f", beta={self.beta:.6g}, zeta={self.zeta:.6g}"
         if not self.dimensional:
             return f"SingleNode.normalized({core})"
         return (
             f"SingleNode(k11={self.k11:g}, f={self.f:g}, P0={self.P0:g}, k22={self.k22:g}, {core})"
         )
-
-
-def _scaled(load: Load, factor: float, drop_mean: bool = False) -> Load:
-    """``factor * (load - mean if drop_mean)``, keeping a harmonic load harmonic."""
-    shift = load.mean if drop_mean else 0.0
-    if isinstance(load, Harmonic):
-        return Harmonic(
-            factor * (load.mean - shift), factor * load.amplitude, load.phase, load.omega
-        )
-    if isinstance(load, Fourier):
-        return Fourier(
-            factor * (load.mean - shift),
-            tuple(factor * a for a in load.amplitudes),
-            load.phases,
-            load.omega,
-        )
-    return Periodic(
-        lambda t: factor * (load(t) - shift),
-        load.period,
-        mean=factor * (load.mean - shift),
-        derivative=lambda t: factor * load.derivative(t),
-    )

@@ -27,6 +27,7 @@ from .. import _checks, memory
 from ..errors import ConvergenceError, ConvergenceWarning, InputError
 from ..methods import CLOSED_FORM, get_stepper
 from ..model import ContactSystem, SingleNode
+from ..model.inertia import dynamic_method
 from ..model.coupling import coupled_start
 from ..model.system_checks import admissible_start
 from ..results import SteadyState
@@ -265,7 +266,8 @@ def steady_state(
         )
     if coupled:  # the methods that solve it, and one default start for all of them
         u0 = coupled_start(model, solver.name, u0)
-    checked = u0 is not None and isinstance(model, (SingleNode, ContactSystem))
+    dynamic = dynamic_method(model, solver.name)
+    checked = u0 is not None and isinstance(model, (SingleNode, ContactSystem)) and not dynamic
     if checked:
         u0 = admissible_start(model if isinstance(model, ContactSystem) else model.system(), u0)
     if solver.kind == CLOSED_FORM:

@@ -27,6 +27,7 @@ __all__ = [
     "BatchResult",
     "Normalization",
     "ContactExtras",
+    "DynamicExtras",
 ]
 
 
@@ -88,6 +89,46 @@ class ContactExtras:
 
 
 @dataclass(frozen=True)
+class DynamicExtras:
+    """What the steady state of a node with a mass adds (:attr:`SteadyState.dynamics`).
+
+    Parameters
+    ----------
+    beta, zeta, amplitude, velocity, floquet, stable, orbits, newton_iterations, periods
+        Kept as the attributes of the same names (see Attributes).
+
+    Attributes
+    ----------
+    beta, zeta : float
+        ω/Ω0 and the damping ratio.
+    amplitude : float
+        ``(max v - min v) / 2`` over the steady cycle, in the node's units.
+    velocity : ndarray
+        dv/dt at the instants ``t`` of the result.
+    floquet : ndarray
+        The orbit's Floquet multipliers (complex; a stick phase makes one of them 0).
+    stable : bool
+        Both multipliers inside the unit circle.
+    orbits : tuple of dict
+        Every distinct periodic orbit found from the starts tried: ``W``, ``amplitude``,
+        ``stable``, ``start`` (more than one: a :class:`~lcpfric.errors.MultipleSteadyStates`
+        warning was issued).
+    newton_iterations, periods : int
+        Newton's iterations on the period map, and periods of motion computed in all.
+    """
+
+    beta: float
+    zeta: float
+    amplitude: float
+    velocity: np.ndarray
+    floquet: np.ndarray
+    stable: bool
+    orbits: tuple
+    newton_iterations: int
+    periods: int
+
+
+@dataclass(frozen=True)
 class SteadyState:
     """The periodic steady state found by :func:`lcpfric.steady_state`.
 
@@ -107,6 +148,8 @@ class SteadyState:
         Required; each is kept as the attribute of the same name (see Attributes).
     seconds, change, message, solver_stats, normalization, W_hat_cycles, changes, contact
         Likewise; ``seconds`` is required, the others are optional.
+    dynamics
+        Likewise, optional.
 
     Attributes
     ----------
@@ -147,6 +190,9 @@ class SteadyState:
         last is ``change``): how the cycles settled. None for the closed form.
     contact : ContactExtras or None
         A continuum contact's normalized dissipation and geometry; None for other models.
+    dynamics : DynamicExtras or None
+        A node with a mass: its amplitude, velocity, Floquet multipliers and the orbits found;
+        None for the quasi-static models.
     W_hat, v_hat, W_normalized, steps_per_cycle, success
         Properties (below).
     """
@@ -171,6 +217,7 @@ class SteadyState:
     W_hat_cycles: np.ndarray | None = None
     changes: np.ndarray | None = None
     contact: ContactExtras | None = None
+    dynamics: DynamicExtras | None = None
 
     def _norm(self, name: str) -> Normalization:
         if self.normalization is None:
