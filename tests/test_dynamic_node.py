@@ -137,11 +137,29 @@ def test_bad_input():
 
 def test_several_steady_states_are_never_picked_silently(monkeypatch):
     """Orbits of different W from different starts: a MultipleSteadyStates warning naming them,
-    and every orbit listed in the result (two starts forced to different orbits here by giving
-    the second a start on a different stuck state: same W = 0 is one orbit, so the check uses a
-    slipping case with a start on the rest family that is not periodic)."""
+    and every orbit in the result (the starts' orbits forced apart here: a random search of 400
+    inputs with 5 starts each found no input with two, benchmarks/results/dynamic-node.md)."""
+    import lcpfric.exact.dynamic as dyn
+    import lcpfric.exact.dynamic_api as api
+
     node = lcpfric.SingleNode.normalized(0.0, 3.0, 0.0, beta=0.8, zeta=0.0)
     with warnings.catch_warnings():
         warnings.simplefilter("error", MultipleSteadyStates)
         r = lcpfric.steady_state(node, "exact")  # one orbit: no warning
     assert len(r.dynamics.orbits) == 1
+    true = dyn.periodic_orbit
+
+    def shifted(nd, start, **kw):  # the second start "finds" an orbit of twice the W
+        orb = true(nd, start, **kw)
+        if start[0] != 0.0 or start[1] != 0.0:
+            from dataclasses import replace
+
+            orb = replace(orb, J=2 * orb.J, stable=False)
+        return orb
+
+    monkeypatch.setattr(api, "periodic_orbit", shifted)
+    with pytest.warns(MultipleSteadyStates, match="2 periodic steady states.*unstable"):
+        r = lcpfric.steady_state(node, "exact")
+    assert len(r.dynamics.orbits) == 2
+    assert r.dynamics.orbits[0]["start"] == "rest" and r.W == r.dynamics.orbits[0]["W"]
+    assert r.dynamics.orbits[1]["W"] == pytest.approx(2 * r.W)

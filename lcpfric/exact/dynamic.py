@@ -114,18 +114,27 @@ class DynamicNode:
         return None
 
 
-def _first_root(fun, dfun, th0, th1, cell, after_rest, noise=0.0):
-    """The first θ in (th0, th1] where ``fun`` (> 0 just after th0) reaches 0, or None:
-    sign changes on a grid refined by Brent's method, local minima between samples tested.
-    ``after_rest``: fun starts from 0 (at rest); the samples until it exceeds ``noise`` (its
-    round-off: u' is a difference of terms of its own scale) are the rest."""
+def _first_root(seg, sign, th0, th1, cell, after_rest, noise=0.0):
+    """The first θ in (th0, th1] where ``fun = sign u'`` of the segment (> 0 just after th0)
+    reaches 0, or None: sign changes on a grid refined by Brent's method, local minima between
+    samples tested. ``after_rest``: fun starts from 0 (at rest); the samples until it exceeds
+    ``noise`` (its round-off: u' is a difference of terms of its own scale) are the rest."""
+
+    def fun(t):
+        return sign * seg.state1(t)[1]
+
+    def dfun(t):
+        u, du = seg.state1(t)
+        return sign * seg.acceleration1(t, u, du)
+
     n = max(2, math.ceil((th1 - th0) / cell))
     grid = np.linspace(th0, th1, n + 1)
     if after_rest:  # fun ~ τ² (release) or ~ τ (reversal): a geometric sub-grid in cell 1
         sub = th0 + (grid[1] - th0) * np.geomspace(2.0**-30, 1.0, 31)
         grid = np.concatenate([[th0], sub, grid[2:]])
-    f = np.asarray(fun(grid), dtype=float)
-    d = np.asarray(dfun(grid), dtype=float)
+    y = seg.state(grid)
+    f = sign * y[1]
+    d = sign * seg.acceleration(grid, y)
     start = 0
     if after_rest:
         pos = np.flatnonzero(f[1:] > noise)
@@ -202,8 +211,8 @@ def period_map(node: DynamicNode, z, theta0: float = 0.0, record: bool = False) 
             stop = min(th_end, sep[1]) if sep else th_end
             seg = Segment(node.osc, free_forcing(node.Q1, node.phi), th, y)
             _extrema(node, seg, th, stop, run)
-            y = seg.state(stop)
-            Jac = node.osc.propagator(stop - th) @ Jac
+            y = np.array(seg.state1(stop))
+            Jac = np.reshape(node.osc.propagator1(stop - th), (2, 2)) @ Jac
             if record:
                 run.segments.append((th, stop, SEPARATION, seg))
             th = stop
@@ -216,8 +225,8 @@ def period_map(node: DynamicNode, z, theta0: float = 0.0, record: bool = False) 
         sep = node.separation_within(th, th_end)
         limit = min(th_end, sep[0]) if sep and sep[0] > th else th_end
         stop = _first_root(
-            lambda t: s * seg.state(t)[1],
-            lambda t: s * seg.acceleration(t),
+            seg,
+            s,
             th,
             limit,
             node.cell,
@@ -226,8 +235,8 @@ def period_map(node: DynamicNode, z, theta0: float = 0.0, record: bool = False) 
         )
         end = limit if stop is None else stop
         J += _quadrature(lambda t: node.n(t) * s * seg.state(t)[1], th, end, node.cell)
-        Jac = node.osc.propagator(end - th) @ Jac
-        y = seg.state(end)
+        Jac = np.reshape(node.osc.propagator1(end - th), (2, 2)) @ Jac
+        y = np.array(seg.state1(end))
         if record:
             run.segments.append((th, end, mode, seg))
         run.u_min, run.u_max = min(run.u_min, y[0]), max(run.u_max, y[0])
@@ -239,14 +248,14 @@ def period_map(node: DynamicNode, z, theta0: float = 0.0, record: bool = False) 
         y[1] = 0.0
         F = y[0] + node.q(th)
         n = node.n(th)
-        a_old = float(seg.acceleration(th, y))
+        a_old = seg.acceleration1(th, y[0], 0.0)
         if abs(F) <= n:  # stick
             mode = STICK
             Jac = np.array([[1.0, 0.0], [0.0, 0.0]]) @ Jac
         else:  # reversal
             mode = -s
             new = Segment(node.osc, slip_forcing(-s, node.P1, node.Q1, node.phi), th, y)
-            a_new = float(new.acceleration(th, y))
+            a_new = new.acceleration1(th, y[0], 0.0)
             ratio = a_new / a_old if a_old != 0.0 else 1.0
             Jac = np.array([[1.0, 0.0], [0.0, ratio]]) @ Jac
             after_rest = True
@@ -270,8 +279,8 @@ def _extrema(node, seg, th0, th1, run):
     run.u_min, run.u_max = min(run.u_min, float(y[0].min())), max(run.u_max, float(y[0].max()))
     v = y[1]
     for i in np.flatnonzero(np.sign(v[:-1]) * np.sign(v[1:]) < 0):
-        t = brentq(lambda s: seg.state(s)[1], grid[i], grid[i + 1], xtol=1e-15)
-        u = float(seg.state(t)[0])
+        t = brentq(lambda s: seg.state1(s)[1], grid[i], grid[i + 1], xtol=1e-15)
+        u = seg.state1(t)[0]
         run.u_min, run.u_max = min(run.u_min, u), max(run.u_max, u)
 
 
@@ -311,7 +320,7 @@ class DynamicOrbit:
 
 
 def periodic_orbit(
-    node: DynamicNode, start, *, warmup: int = 4, max_iter: int = 40, tol: float = 1e-12
+    node: DynamicNode, start, *, warmup: int = 1, max_iter: int = 40, tol: float = 1e-12
 ) -> DynamicOrbit:
     """Newton's method on the period map from ``start`` (after ``warmup`` periods of motion).
 
@@ -321,15 +330,15 @@ def periodic_orbit(
         Newton's method did not reach ``tol`` (status ``"newton"``).
     """
     z = np.array(start, dtype=float)
-    periods = 0
+    run = period_map(node, z)
+    periods = 1
     for _ in range(warmup):
-        z = period_map(node, z).z
+        z = run.z
+        run = period_map(node, z)
         periods += 1
     scale = max(1.0, node.Q1, abs(z[0]), abs(z[1]) * node.osc.beta)
     res = math.inf
-    for it in range(1, max_iter + 1):
-        run = period_map(node, z)
-        periods += 1
+    for it in range(1, max_iter + 1):  # run: the period from z
         r = run.z - z
         res = float(np.max(np.abs(r)))
         if res <= tol * scale:
@@ -339,20 +348,23 @@ def periodic_orbit(
             step = -np.linalg.solve(A, r)
         except np.linalg.LinAlgError:
             step = -np.linalg.lstsq(A, r, rcond=None)[0]
-        # backtracking on the residual: the map is piecewise smooth
+        # backtracking on the residual (the map is piecewise smooth); the accepted trial's
+        # period is the next iteration's
         lam, best = 1.0, None
         for _ in range(30):
             trial = z + lam * step
             tr = period_map(node, trial)
             periods += 1
-            tres = float(np.max(np.abs(tr.z - trial)))
-            if tres < res:
-                best = trial
+            if float(np.max(np.abs(tr.z - trial))) < res:
+                best = (trial, tr)
                 break
             lam *= 0.5
         if best is None:  # no decrease along Newton's direction: a period of motion instead
-            best = run.z
-        z = best
+            z = run.z
+            run = period_map(node, z)
+            periods += 1
+        else:
+            z, run = best
     else:
         raise SolverError(
             f"dynamic single node: the periodic orbit not found (|Φ(z) - z| = {res:.3g} after "
@@ -360,7 +372,7 @@ def periodic_orbit(
             backend="exact",
             status="newton",
         )
-    final = period_map(node, z)
+    final = run
     mult = np.linalg.eigvals(final.jacobian)
     amp = 0.5 * (final.u_max - final.u_min)
     return DynamicOrbit(
@@ -371,6 +383,6 @@ def periodic_orbit(
         # a cycle stuck throughout: a neutral family of rest states (multiplier 1), each stable
         stable=bool(np.all(np.abs(mult) < 1.0 - 1e-9)) or (final.J == 0.0 and final.z[1] == 0.0),
         iterations=it,
-        periods=periods + 1,
+        periods=periods,
         residual=res,
     )

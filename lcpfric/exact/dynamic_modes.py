@@ -80,6 +80,27 @@ class Oscillator:
         return e[..., None, None] * (C[..., None, None] * np.eye(2) + S[..., None, None] * N)
 
 
+    def propagator1(self, s: float) -> tuple[float, float, float, float]:
+        """``E(s)`` for a scalar s, as ``(E00, E01, E10, E11)`` (scalar arithmetic: the event
+        searches' many single evaluations)."""
+        mu, nu2, b = self.mu, self.nu2, self.beta
+        n00, n10, n11 = -mu, -1.0 / self.b2, -2.0 * self.zeta / b - mu  # N = M - μ I; N01 = 1
+        if nu2 < 0.0:
+            w = math.sqrt(-nu2)
+            C, S = math.cos(w * s), math.sin(w * s) / w
+        elif nu2 > 0.0:
+            nu = math.sqrt(nu2)
+            if nu * max(1.0, abs(s)) > 1e-3:
+                e1, e2 = math.exp((mu + nu) * s), math.exp((mu - nu) * s)
+                p, m = 0.5 * (e1 + e2), 0.5 * (e1 - e2) / nu
+                return p + m * n00, m, m * n10, p + m * n11
+            C, S = math.cosh(nu * s), math.sinh(nu * s) / nu
+        else:
+            C, S = 1.0, s
+        e = math.exp(mu * s)
+        return e * (C + S * n00), e * S, e * S * n10, e * (C + S * n11)
+
+
 def slip_forcing(s: int, P1: float, Q1: float, phi: float) -> tuple[float, float, float]:
     """The forcing ``-s n(θ) - q(θ)`` of slip in the direction s."""
     return -float(s), -Q1 * math.sin(phi), -s * P1 - Q1 * math.cos(phi)
@@ -112,6 +133,7 @@ class Segment:
         self.theta_a = float(theta_a)
         ya = np.asarray(y_a, dtype=float)
         self.h0 = ya - self._particular(self.theta_a)
+        self.h0 = (float(self.h0[0]), float(self.h0[1]))
 
     def _particular(self, theta):
         c, s = np.cos(theta), np.sin(theta)
@@ -121,7 +143,23 @@ class Segment:
         """``(u, u')`` at θ (scalar or array: ``(2,)`` or ``(2, n)``)."""
         theta = np.asarray(theta, dtype=float)
         E = self.osc.propagator(theta - self.theta_a)
-        return self._particular(theta) + np.moveaxis(E @ self.h0, -1, 0)
+        return self._particular(theta) + np.moveaxis(E @ np.asarray(self.h0), -1, 0)
+
+    def state1(self, theta: float) -> tuple[float, float]:
+        """``(u, u')`` at a scalar θ (scalar arithmetic)."""
+        c, s = math.cos(theta), math.sin(theta)
+        e00, e01, e10, e11 = self.osc.propagator1(theta - self.theta_a)
+        h0, h1 = self.h0[0], self.h0[1]
+        return (
+            self.p0 + self.A * c + self.B * s + e00 * h0 + e01 * h1,
+            -self.A * s + self.B * c + e10 * h0 + e11 * h1,
+        )
+
+    def acceleration1(self, theta: float, u: float, du: float) -> float:
+        """u'' at a scalar θ in the state ``(u, u')``."""
+        g0, gc, gs = self.g
+        g = g0 + gc * math.cos(theta) + gs * math.sin(theta)
+        return (g - self.osc.damp * du - u) / self.osc.b2
 
     def acceleration(self, theta, y=None) -> np.ndarray:
         """u'' at θ from the equation of motion."""

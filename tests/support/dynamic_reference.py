@@ -27,9 +27,11 @@ def one_period(P1, Q1, phi, beta, zeta, z, theta0=0.0):
     def n(t):
         return 1.0 + P1 * math.sin(t)
 
-    def rhs(F):
+    def rhs(F, s=0.0):
+        # J' = s n u' (not n |u'|: smooth through the stop, where the integrator's last step
+        # reaches past the event and is cut back by its dense output)
         def f(t, y):
-            return [y[1], (F(t) - q(t) - c * y[1] - y[0]) / b2, n(t) * abs(y[1]) if F(t) else 0.0]
+            return [y[1], (F(t) - q(t) - c * y[1] - y[0]) / b2, s * n(t) * y[1]]
 
         return f
 
@@ -75,7 +77,7 @@ def one_period(P1, Q1, phi, beta, zeta, z, theta0=0.0):
         if P1 > 1.0:
             events.append(_event(lambda t, y: n(t), -1))
         sol = solve_ivp(
-            rhs(F),
+            rhs(F, s),
             (th, end),
             [u, du, 0.0],
             method="DOP853",

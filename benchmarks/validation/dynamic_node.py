@@ -1,0 +1,150 @@
+"""The dynamic single node's exact steady state (issue 40, item 2): against Den Hartog's closed
+form, against an independent event-driven integration, its cost per point, and the
+quasi-static limit.
+
+Usage::
+
+    OPENBLAS_NUM_THREADS=1 python benchmarks/validation/dynamic_node.py [--out PATH]
+
+* Den Hartog (1930): ζ = 0, constant N, motion without stops: ``Ŵ = 4 sqrt(V² - (U/Q̂1)²)``,
+  ``V = 1/(1 - β²)``, ``U = tan(π/(2β))/β``, and the amplitude ``Q̂1 Ŵ / 4`` (W = 4 F X);
+* random inputs with stops, damping, a varying normal load and separation: the orbit's start
+  integrated over one period by DOP853 (rtol 1e-12) with its own events
+  (``tests/support/dynamic_reference.py``) returns to itself with the same W and amplitude;
+* the time per point (median over those inputs; two starts each, rest and the linear
+  response) and the periods of motion it took;
+* β -> 0: the relative difference with the quasi-static ``exact`` Ŵ, and its rate.
+"""
+
+from __future__ import annotations
+
+import sys as _sys
+from pathlib import Path as _Path
+
+_ROOT = _Path(__file__).resolve().parents[2]
+_sys.path[:0] = [str(_ROOT), str(_ROOT / "benchmarks"), str(_ROOT / "tests")]
+
+from _report import results_file  # noqa: E402 (benchmarks/ on the path above)
+import argparse  # noqa: E402
+import math  # noqa: E402
+import time  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from lcpfric import exact_W_hat  # noqa: E402
+from lcpfric.exact.dynamic_api import dynamic_cycle  # noqa: E402
+from support.dynamic_reference import one_period  # noqa: E402
+
+
+def den_hartog() -> None:
+    print("## 1. Den Hartog: ζ = 0, constant N, no stops\n")
+    print("| β | Q̂1 | Ŵ (closed form) | rel. error in Ŵ | rel. error in the amplitude |")
+    print("|---|---|---|---|---|")
+    worst = 0.0
+    for beta, Q1 in [
+        (0.6, 4.0),
+        (0.7, 5.0),
+        (0.8, 2.0),
+        (0.9, 8.0),
+        (1.2, 3.0),
+        (1.5, 2.0),
+        (2.5, 3.0),
+        (4.0, 3.0),
+    ]:
+        V = 1.0 / (1.0 - beta**2)
+        U = math.tan(math.pi / (2 * beta)) / beta
+        W = 4.0 * math.sqrt(V**2 - (U / Q1) ** 2)
+        cyc = dynamic_cycle(0.0, Q1, 0.3, beta, 0.0)
+        eW = abs(cyc.W_hat / W - 1)
+        eA = abs(cyc.orbit.amplitude / (Q1 * W / 4) - 1)
+        worst = max(worst, eW, eA)
+        print(f"| {beta} | {Q1} | {W:.12g} | {eW:.1e} | {eA:.1e} |")
+    print(f"\nlargest relative error: {worst:.1e} (goal 1e-9)\n")
+
+
+def reference(count: int = 60) -> list:
+    print("## 2. Against an independent integration (DOP853, rtol 1e-12)\n")
+    rng = np.random.default_rng(40)
+    rows, times, periods = [], [], []
+    kinds = {"stops": 0, "separation": 0, "damped": 0, "varying N": 0}
+    for _ in range(count):
+        P1 = float(rng.choice([0.0, rng.uniform(0.1, 0.95), rng.uniform(1.05, 3.0)]))
+        Q1, phi = rng.uniform(0.5, 5.0), rng.uniform(0, 2 * math.pi)
+        beta, zeta = rng.uniform(0.2, 3.0), float(rng.choice([0.0, 0.02, 0.1, 0.5]))
+        if zeta == 0.0 and abs(beta - 1.0) < 0.05:
+            continue
+        start = time.perf_counter()
+        cyc = dynamic_cycle(P1, Q1, phi, beta, zeta)
+        times.append(time.perf_counter() - start)
+        o = cyc.orbit
+        periods.append(sum(x.periods for x, _ in cyc.orbits))
+        z, J, lo, hi = one_period(P1, Q1, phi, beta, zeta, o.z)
+        scale = max(1.0, float(np.max(np.abs(o.z))))
+        rows.append(
+            (
+                float(np.max(np.abs(z - o.z))) / scale,
+                abs(J - o.J) / max(1.0, o.J),
+                abs((hi - lo) / 2 - o.amplitude) / max(1.0, o.amplitude),
+            )
+        )
+        kinds["stops"] += int(np.min(np.abs(o.floquet)) < 1e-12)
+        kinds["separation"] += int(P1 > 1)
+        kinds["damped"] += int(zeta > 0)
+        kinds["varying N"] += int(P1 > 0)
+    r = np.array(rows)
+    print(
+        f"{len(rows)} random inputs ({', '.join(f'{v} {k}' for k, v in kinds.items())}; "
+        "'stops': a stick phase on the orbit)\n"
+    )
+    print("| quantity | largest relative difference |")
+    print("|---|---|")
+    for name, col in zip(("state after one period", "W", "amplitude"), r.T):
+        print(f"| {name} | {col.max():.1e} |")
+    print("\ngoal: 1e-9\n")
+    return [times, periods]
+
+
+def timing(times, periods) -> None:
+    print("## 3. Time per point\n")
+    t = np.array(times) * 1e3
+    print(
+        f"median {np.median(t):.2f} ms, 90th percentile {np.percentile(t, 90):.2f} ms "
+        f"(goal: median <= 2 ms); periods of motion per point: median "
+        f"{np.median(periods):.0f} (two starts)\n"
+    )
+
+
+def quasi_static() -> None:
+    print("## 4. The quasi-static limit β -> 0 (ζ = 0.05)\n")
+    print("| P̂1, Q̂1, φ | β | Ŵ dynamic | rel. difference with quasi-static | rate |")
+    print("|---|---|---|---|---|")
+    for P1, Q1, phi in [(0.5, 2.0, 0.7), (1.5, 1.5, 2.0), (0.0, 3.0, 0.0)]:
+        qs = float(exact_W_hat(P1, Q1, phi))
+        prev = None
+        for beta in (0.1, 0.03, 0.01, 0.003, 0.001):
+            W = dynamic_cycle(P1, Q1, phi, beta, 0.05).W_hat
+            d = abs(W / qs - 1)
+            rate = f"{math.log(prev[1] / d) / math.log(prev[0] / beta):.2f}" if prev else ""
+            print(f"| {P1}, {Q1}, {phi} | {beta} | {W:.12g} | {d:.2e} | {rate} |")
+            prev = (beta, d)
+    print()
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", default=str(_ROOT / "benchmarks/results/dynamic-node.md"))
+    args = parser.parse_args(argv)
+    with results_file(
+        None if args.out == "-" else args.out,
+        "The dynamic single node, exact",
+        "validation/dynamic_node.py",
+        markdown=True,
+    ):
+        den_hartog()
+        times, periods = reference()
+        timing(times, periods)
+        quasi_static()
+
+
+if __name__ == "__main__":
+    main()
