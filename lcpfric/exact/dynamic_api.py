@@ -18,22 +18,10 @@ import numpy as np
 
 from .. import _checks
 from ..errors import MultipleSteadyStates
-from ..results import DynamicExtras, State, SteadyState
-from .dynamic import (
-    SEPARATION,
-    SLIP_B,
-    SLIP_F,
-    STICK,
-    DynamicNode,
-    DynamicOrbit,
-    period_map,
-    periodic_orbit,
-)
-from .dynamic_modes import free_forcing
+from ..results import DynamicExtras, SteadyState
+from .dynamic import DynamicNode, DynamicOrbit, period_map, periodic_orbit
 
 __all__ = ["dynamic_cycle", "dynamic_steady_state", "DynamicCycle"]
-
-_STATE = {STICK: State.STICK, SLIP_F: State.FORWARD, SLIP_B: State.BACKWARD}
 
 
 class DynamicCycle:
@@ -56,29 +44,15 @@ class DynamicCycle:
 
     def sample(self, theta):
         """``(u, u', F, state)`` at the angles θ in [0, 2π] of the cycle."""
+        from . import dynamic_kernels as kern
+
         if self._run is None:
-            self._run = period_map(self.node, self.orbit.z, record=True)
-        theta = np.asarray(theta, dtype=float)
-        u, du = np.empty(theta.size), np.zeros(theta.size)
-        F, st = np.zeros(theta.size), np.empty(theta.size, dtype=np.int8)
-        q = self.node.q(theta)
-        n = self.node.n(theta)
-        for a, b, mode, seg in self._run.segments:
-            on = (theta >= a) & (theta <= b)
-            if not on.any():
-                continue
-            if mode == STICK:
-                u[on] = seg
-                F[on] = seg + q[on]
-                st[on] = State.STICK
-                continue
-            y = seg.state(theta[on])
-            u[on], du[on] = y[0], y[1]
-            if mode == SEPARATION:
-                F[on], st[on] = 0.0, State.SEPARATION
-            else:
-                F[on], st[on] = -mode * n[on], _STATE[mode]
-        return u, du, F, st
+            self._run = period_map(self.node, self.orbit.z)
+        theta = np.ascontiguousarray(theta, dtype=float)
+        out = np.empty((4, theta.size))
+        segs = self._run.segments
+        kern.sample(self.node.params, segs, segs.shape[0], theta, out)
+        return out[0], out[1], out[2], out[3].astype(np.int8)
 
 
 def dynamic_cycle(P1, Q1, phi, beta, zeta, *, start=None) -> DynamicCycle:
@@ -111,8 +85,9 @@ def dynamic_cycle(P1, Q1, phi, beta, zeta, *, start=None) -> DynamicCycle:
     beta = _checks.positive("beta", beta)
     zeta = _checks.nonnegative("zeta", zeta)
     node = DynamicNode(P1, Q1, phi, beta, zeta)
-    _, A, B = node.osc.particular(*free_forcing(Q1, phi))
-    starts = [("rest", (0.0, 0.0)), ("linear response", (A, B))]
+    from . import dynamic_kernels as kern  # numba: compiled on first use
+
+    starts = [("rest", (0.0, 0.0)), ("linear response", kern.linear_response(node.params))]
     if start is not None:
         starts.insert(0, ("given", tuple(float(x) for x in start)))
     found: list[tuple[DynamicOrbit, str]] = []
