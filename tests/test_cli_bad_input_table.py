@@ -168,11 +168,28 @@ def _solve_rows(sub):
     ]
 
 
+def _dynamics_rows(sub):
+    """--mass and --damping (dissipation, loop)."""
+    return [
+        (sub, "--mass", ("--mass", "abc"), NOT_NUMBER, 2, "--mass"),
+        (sub, "--mass", ("--mass", "nan"), NOT_FINITE, 2, "--mass"),
+        (sub, "--mass", ("--mass", "-1"), RANGE, 2, "--mass"),
+        (sub, "--mass", ("--mass", "0.5", "--method", "explicit"), CONFLICT, 2, "--method"),
+        (sub, "--damping", ("--damping", "inf"), NOT_FINITE, 2, "--damping"),
+        (sub, "--damping", ("--damping", "-0.1", "--mass", "1"), RANGE, 2, "--damping"),
+        (sub, "--damping", ("--damping", "0.1"), CONFLICT, 2, "--damping"),
+        # the undamped resonance: ω = Ω0 with no damping (unbounded)
+        (sub, "--mass", ("--mass", "1"), RANGE, 2, "--omega"),
+    ]
+
+
 TABLE = [
     *_case_rows("dissipation"),
     *_solve_rows("dissipation"),
+    *_dynamics_rows("dissipation"),
     *_case_rows("loop"),
     *_solve_rows("loop"),
+    *_dynamics_rows("loop"),
     ("loop", "--out", ("--out", "{tmp}/l.txt"), CHOICE, 2, "--out"),
     ("loop", "--out", ("--out", "{tmp}/nodir/l.png"), MISSING, 2, "--out"),
     ("loop", "--out", ("--out", ""), UNUSABLE, 2, "--out"),

@@ -52,6 +52,31 @@ def configure(p) -> None:
         help="where the steps of a time-stepping method go (default: contact)",
     )
     _common.add_memory_option(p)
+    g = p.add_argument_group(
+        "dynamics",
+        "A mass (and a viscous damper) on the node: m v'' + c v' + k11 v = F - Q, solved by "
+        "exact (normalized input: k11 = omega = 1, so m = beta^2 and c = 2 zeta beta)",
+    )
+    g.add_argument("--mass", default=None, metavar="M", help="the node's mass (default 0)")
+    g.add_argument("--damping", default=None, metavar="C", help="viscous damping (default 0)")
+
+
+def _with_dynamics(model, args):
+    """The node with the --mass and --damping given (unchanged without them)."""
+    from .. import _checks
+    from ..model import SingleNode
+
+    given = {
+        k: _checks.parse_number(getattr(args, k, None), f"--{k}")
+        for k in ("mass", "damping")
+        if getattr(args, k, None) is not None
+    }
+    if not given:
+        return model
+    keep = ("k11", "f", "P0", "P1", "Q1", "omega", "phi", "Q0", "k22")
+    return SingleNode(
+        **{k: getattr(model, k) for k in keep}, dimensional=model.dimensional, **given
+    )
 
 
 def solve(args):
@@ -81,6 +106,7 @@ def solve(args):
     _common.check_memory(_common.steady_state_bytes(steps, method), args, "--steps", what)
 
     model, assumed = _common.case_from_args(args)
+    model = _with_dynamics(model, args)
     from ..periodic import steady_state
 
     t0 = time.perf_counter()
@@ -108,6 +134,16 @@ def run(args) -> int:
         )
         if exact:
             out["time_steps"] = 0
+        if res.dynamics is not None:
+            d = res.dynamics
+            out.update(
+                amplitude=d.amplitude,
+                floquet=[[float(x.real), float(x.imag)] for x in d.floquet],
+                stable=d.stable,
+                beta=d.beta,
+                zeta=d.zeta,
+                orbits=len(d.orbits),
+            )
         if assumed:
             out["assumed"] = assumed
         print(json.dumps(out))
@@ -119,6 +155,14 @@ def run(args) -> int:
     print(f"W_hat  = {res.W_hat:.12g}   (dimensionless dissipation per cycle, Eq. 7)")
     if model.dimensional:
         print(f"W      = {res.W:.12g}   (dissipation per cycle, Eq. 5)")
+    if res.dynamics is not None:
+        d = res.dynamics
+        mult = ", ".join(f"{abs(x):.6g}" for x in d.floquet)
+        print(
+            f"dynamic: beta = {d.beta:.6g}, zeta = {d.zeta:.6g}; amplitude = {d.amplitude:.10g} "
+            f"((max v - min v)/2); |Floquet multipliers| = {mult} "
+            f"({'stable' if d.stable else 'unstable'}); {len(d.orbits)} orbit(s) found"
+        )
     if exact:
         print(
             f"method = exact: closed form (no time steps); time series sampled at {samples} "
