@@ -13,7 +13,8 @@ Usage::
   (``tests/support/dynamic_reference.py``) returns to itself with the same W and amplitude;
 * the time per point (median over those inputs; two starts each, rest and the linear
   response) and the periods of motion it took;
-* β -> 0: the relative difference with the quasi-static ``exact`` Ŵ, and its rate.
+* β -> 0: the relative difference with the quasi-static ``exact`` Ŵ, and its rate;
+* the figure ``docs/dynamic_node.png`` / ``.pdf``: Ŵ and the amplitude through resonance.
 """
 
 from __future__ import annotations
@@ -130,9 +131,44 @@ def quasi_static() -> None:
     print()
 
 
+def figure(out_dir: _Path) -> None:
+    from lcpfric.figures.dynamic import figure_dynamic_node
+    from lcpfric.figures.style import save
+
+    print("## 5. Through resonance (the figure)\n")
+    P1, Q1, phi = 0.0, 2.0, 0.0
+    beta = np.geomspace(0.05, 4.0, 240)
+    curves, counts = [], []
+    start = time.perf_counter()
+    for zeta in (0.0, 0.05, 0.2):
+        b = beta[np.abs(beta - 1.0) > 2e-3] if zeta == 0.0 else beta
+        cyc = [dynamic_cycle(P1, Q1, phi, x, zeta) for x in b]
+        W = np.interp(beta, b, [c.W_hat for c in cyc])
+        X = np.interp(beta, b, [c.orbit.amplitude / Q1 for c in cyc])  # u / Q̂1 = k11 v / Q1
+        counts.append(len(b))
+        curves.append((rf"$\zeta = {zeta:g}$", W, X))
+    seconds = time.perf_counter() - start
+    dh = []
+    for x in np.geomspace(0.1, 4.0, 25):
+        V, U = 1.0 / (1.0 - x * x), math.tan(math.pi / (2 * x)) / x
+        # where the motion has no stops (no stick phase: no Floquet multiplier 0)
+        if abs(x - 1.0) > 0.02 and V * V - (U / Q1) ** 2 > 0:
+            if np.min(np.abs(dynamic_cycle(P1, Q1, phi, x, 0.0).orbit.floquet)) > 1e-12:
+                dh.append((x, 4 * math.sqrt(V * V - (U / Q1) ** 2)))
+    dh = np.array(dh)
+    fig = figure_dynamic_node(
+        beta, curves, float(exact_W_hat(P1, Q1, phi)), (dh[:, 0], dh[:, 1], dh[:, 1] / 4),
+        title=r" ($\hat Q_1 = 2$, constant N)",
+    )  # fmt: skip
+    paths = save(fig, out_dir, "dynamic_node", ("png", "pdf"))
+    print(f"{sum(counts)} points in {seconds:.2f} s; wrote {', '.join(p.name for p in paths)} "
+          "(Den Hartog's closed form where the motion has no stops)\n")  # fmt: skip
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default=str(_ROOT / "benchmarks/results/dynamic-node.md"))
+    parser.add_argument("--figures", default=str(_ROOT / "docs"))
     args = parser.parse_args(argv)
     with results_file(
         None if args.out == "-" else args.out,
@@ -144,6 +180,7 @@ def main(argv=None) -> None:
         times, periods = reference()
         timing(times, periods)
         quasi_static()
+        figure(_Path(args.figures))
 
 
 if __name__ == "__main__":

@@ -1,0 +1,65 @@
+"""The dynamic single node through resonance as a figure (:func:`figure_dynamic_node`): the
+dissipation per cycle Ŵ and the displacement amplitude against the frequency ratio β = ω/Ω0 for
+several damping ratios, with the quasi-static Ŵ and Den Hartog's closed form marked; a journal
+column wide (:mod:`lcpfric.exact.dynamic`)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .describing import CURVES
+from .style import COLUMN_WIDTH, SMALL, figure, finish, style
+
+__all__ = ["figure_dynamic_node"]
+
+
+def figure_dynamic_node(beta, curves, quasi_static: float, den_hartog=None, title: str = ""):
+    r"""Two panels, one above the other: (a) Ŵ, (b) the amplitude ``k11 X / Q1`` against β
+    (log axes), one curve per damping ratio; the quasi-static Ŵ a dotted line in (a); Den
+    Hartog's closed form (ζ = 0, constant N, no stops) open circles.
+
+    Parameters
+    ----------
+    beta : array_like
+        The frequency ratios of the curves.
+    curves : sequence of (str, array_like, array_like)
+        Label, Ŵ and the amplitude ``k11 X / Q1`` at each β.
+    quasi_static : float
+        The quasi-static Ŵ (β -> 0).
+    den_hartog : tuple of (array_like, array_like, array_like), optional
+        β, Ŵ and amplitude of the closed form.
+    title : str, optional
+        The load case, in the top panel's title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (its ``savefig`` embeds TrueType fonts).
+    """
+    b = np.asarray(beta, dtype=float)
+    with style():
+        fig = figure(figsize=(COLUMN_WIDTH, 4.3), layout="constrained")
+        ax, bx = fig.subplots(2, 1, sharex=True)
+        for i, (label, W, X) in enumerate(curves):
+            colour, ls = CURVES[i % len(CURVES)]
+            ax.plot(b, W, ls=ls, color=colour, label=label)
+            bx.plot(b, X, ls=ls, color=colour, label=label)
+        ax.axhline(quasi_static, color="0.45", lw=0.8, ls=":", label="quasi-static")
+        if den_hartog is not None:
+            db, dW, dX = (np.asarray(x, dtype=float) for x in den_hartog)
+            kw = dict(ls="none", marker="o", ms=3.4, mfc="none", mew=0.7, color="black",
+                      label="Den Hartog")  # fmt: skip
+            ax.plot(db, dW, **kw)
+            bx.plot(db, dX, **kw)
+        for axes in (ax, bx):
+            axes.set_xscale("log")
+            axes.axvline(1.0, color="0.6", lw=0.6, ls=":")
+            axes.grid(True, which="major", color="0.88", lw=0.5)
+            axes.set_yscale("log")
+        ax.set_ylabel(r"dissipation $\hat W$")
+        bx.set_ylabel(r"amplitude $k_{11} X / Q_1$")
+        bx.set_xlabel(r"frequency ratio $\beta = \omega / \Omega_0$")
+        ax.set_title(f"(a) dissipation per cycle{title}", loc="left")
+        bx.set_title("(b) displacement amplitude", loc="left")
+        ax.legend(loc="upper left", fontsize=SMALL, frameon=False)
+        return finish(fig)
