@@ -163,3 +163,20 @@ def test_several_steady_states_are_never_picked_silently(monkeypatch):
     assert len(r.dynamics.orbits) == 2
     assert r.dynamics.orbits[0]["start"] == "rest" and r.W == r.dynamics.orbits[0]["W"]
     assert r.dynamics.orbits[1]["W"] == pytest.approx(2 * r.W)
+
+
+def test_the_motor_with_its_inertia():
+    """The paper's motor as the dynamic node (M on k11, ζ): W tends to the quasi-static W as the
+    joint stiffens (Ω/Ω0 -> 0 at fixed speed; measured 4.2e-5 at Ω/Ω0 = 1e-2, f = 0.3, 3 times
+    the separation speed), and resonance is refused without damping."""
+    from lcpfric.paper.motor import Motor
+
+    base = Motor(M=20.0, delta=0.5e-3, P0=2000.0, k11=5e8)
+    Om = 3.0 * base.separation_speed()
+    stiff = Motor(M=20.0, delta=0.5e-3, P0=2000.0, k11=20.0 * (Om / 1e-2) ** 2)
+    assert Om / stiff.natural_frequency() == pytest.approx(1e-2)
+    W, Wqs = stiff.dynamic_dissipation(Om, 0.3), stiff.dissipation(Om, 0.3)
+    assert W == pytest.approx(Wqs, rel=1e-4)
+    assert W != Wqs
+    with pytest.raises(InputError, match="Omega"):
+        base.dynamic_dissipation(base.natural_frequency(), 0.3, zeta=0.0)

@@ -10,7 +10,7 @@ import numpy as np
 from .describing import CURVES
 from .style import COLUMN_WIDTH, SMALL, figure, finish, style
 
-__all__ = ["figure_dynamic_node"]
+__all__ = ["figure_dynamic_node", "figure_motor_dynamic"]
 
 
 def figure_dynamic_node(beta, curves, quasi_static: float, den_hartog=None, title: str = ""):
@@ -62,4 +62,57 @@ def figure_dynamic_node(beta, curves, quasi_static: float, den_hartog=None, titl
         ax.set_title(f"(a) dissipation per cycle{title}", loc="left")
         bx.set_title("(b) displacement amplitude", loc="left")
         ax.legend(loc="upper left", fontsize=SMALL, frameon=False)
+        return finish(fig)
+
+
+def figure_motor_dynamic(ratio, rows, zeta: float, band: float = 0.05):
+    r"""The paper's motor (Fig. 9) through resonance: (a) W per revolution against Ω/Ω0 for
+    each friction coefficient, dynamic (solid) and quasi-static (dotted, same colour), log axes;
+    (b) the quasi-static estimate's relative error ``W_qs / W - 1`` with the ±``band`` band.
+
+    Parameters
+    ----------
+    ratio : array_like
+        Ω/Ω0 of the curves.
+    rows : sequence of (float, array_like, array_like)
+        f, the dynamic W and the quasi-static W [J] at each ratio.
+    zeta : float
+        The damping ratio (in the title).
+    band : float, optional
+        The tolerance band drawn in (b).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (its ``savefig`` embeds TrueType fonts).
+    """
+    from .style import ramp
+
+    r = np.asarray(ratio, dtype=float)
+    colours = ramp(len(rows))
+    with style():
+        fig = figure(figsize=(COLUMN_WIDTH, 4.6), layout="constrained")
+        ax, bx = fig.subplots(2, 1, sharex=True)
+        for colour, (f, W, Wqs) in zip(colours, rows):
+            W, Wqs = np.asarray(W, dtype=float), np.asarray(Wqs, dtype=float)
+            pos = W > 0
+            ax.plot(r[pos], 1e3 * W[pos], color=colour, lw=1.1, label=f"$f = {f:g}$")
+            ax.plot(r[Wqs > 0], 1e3 * Wqs[Wqs > 0], color=colour, lw=0.9, ls=":")
+            with np.errstate(divide="ignore", invalid="ignore"):
+                err = np.where(pos, Wqs / W - 1.0, np.nan)
+            bx.plot(r, 100.0 * err, color=colour, lw=1.0)
+        ax.plot([], [], color="0.3", ls=":", lw=0.9, label="quasi-static")
+        bx.axhspan(-100 * band, 100 * band, color="0.9", lw=0)
+        for axes in (ax, bx):
+            axes.set_xscale("log")
+            axes.axvline(1.0, color="0.6", lw=0.6, ls=":")
+            axes.grid(True, which="major", color="0.88", lw=0.5)
+        ax.set_yscale("log")
+        bx.set_yscale("symlog", linthresh=10.0)
+        ax.set_ylabel("W per revolution [mJ]")
+        bx.set_ylabel(r"$W_\mathrm{qs}/W - 1$ [%]")
+        bx.set_xlabel(r"speed ratio $\Omega / \Omega_0$")
+        ax.set_title(rf"(a) dissipation, $\zeta = {zeta:g}$", loc="left")
+        bx.set_title(rf"(b) quasi-static error (band $\pm{100 * band:g}$ %)", loc="left")
+        ax.legend(loc="upper left", fontsize=SMALL, frameon=False, ncol=2)
         return finish(fig)

@@ -9,6 +9,10 @@ the joint with P0; the out-of-balance force gives loads of the form of Eq. (1) w
 a straight line of slope 1/f on the φ = 5π/10 map of Fig. 4. The dissipation per revolution is
 ``W = f P0 Q1 Ŵ / k11`` (Eq. 6), with k11 the tangential stiffness of the joint. The analysis is
 quasi-static: it holds for ``Ω ≪ Ω0 = sqrt(k11 / M)``.
+
+Beyond it (issue 40, item 6), :meth:`Motor.dynamic_dissipation`: the motor's mass M on the
+joint's stiffness k11 with a viscous damping ratio ζ is the dynamic single node with
+``β = Ω/Ω0`` (:mod:`lcpfric.exact.dynamic`), solved exactly.
 """
 
 from __future__ import annotations
@@ -77,6 +81,43 @@ class Motor:
         f = _checks.positive("f", f)
         W_hat = exact_W_hat(self.P1_hat(Omega), self.Q1_hat(Omega, f), self.phi)
         out = f * self.P0 * np.asarray(self.force(Omega)) * np.asarray(W_hat) / self.k11
+        return out if out.ndim else float(out)
+
+    def dynamic_dissipation(self, Omega, f: float, zeta: float = 0.05):
+        """Energy dissipated per revolution, W [J], with the rotor's inertia: the dynamic node
+        of mass M, damping ratio ζ and β = Ω/Ω0 (exact; module docstring).
+
+        Parameters
+        ----------
+        Omega : float or array_like
+            Speeds [rad/s], > 0 (ζ = 0 refuses Ω = Ω0: the undamped resonance).
+        f : float
+            Friction coefficient, > 0.
+        zeta : float, optional
+            Damping ratio, >= 0.
+
+        Returns
+        -------
+        float or ndarray
+            W at each speed.
+
+        Raises
+        ------
+        InputError
+            A speed <= 0 or not finite, f <= 0, ζ < 0, or ζ = 0 at Ω = Ω0.
+        """
+        from ..errors import InputError
+        from ..exact.dynamic_api import dynamic_cycle
+
+        Omega = _checks.finite_array("Omega", Omega, nonneg=True)
+        f, zeta = _checks.positive("f", f), _checks.nonnegative("zeta", zeta)
+        out = np.empty(Omega.shape)
+        for i, Om in np.ndenumerate(Omega):
+            beta = Om / self.natural_frequency()
+            if not beta > 0 or (zeta == 0 and math.isclose(beta, 1.0, rel_tol=1e-9)):
+                raise InputError("Omega", f"must be > 0 and not Ω0 without damping, got {Om}")
+            cyc = dynamic_cycle(self.P1_hat(Om), self.Q1_hat(Om, f), self.phi, beta, zeta)
+            out[i] = f * self.P0 * self.force(Om) * cyc.W_hat / self.k11
         return out if out.ndim else float(out)
 
     def natural_frequency(self) -> float:
