@@ -62,6 +62,7 @@ def test_every_subcommand_is_listed(capsys):
         "paper-claims",
         "modal",
         "describe",
+        "frf",
     }
 
 

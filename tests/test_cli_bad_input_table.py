@@ -63,6 +63,10 @@ BASE = {
         (("--kt", "1"), ("--mu", "0.5"), ("--N0", "2"), ("--amplitude", "3")),
         (),
     ),
+    "frf": (
+        (("--P1", "0.5"), ("--Q1", "2"), ("--mass", "1"), ("--damping", "0.1"), ("--omega", "0.5")),
+        (),
+    ),
 }
 
 # configurations the rows add to the base
@@ -568,6 +572,32 @@ TABLE = [
     ("system", "--method", ("--method", "nosuch"), CHOICE, 2, "--method"),
     ("system", "--method", ("--method", "projection"), NO_APPLY, 2, "--method"),
     # -- modal: the file's fields are named after --file
+    ("frf", "--P1", ("--P1", "abc"), NOT_NUMBER, 2, "--P1"),
+    ("frf", "--P1", ("--P1", "-1"), RANGE, 2, "--P1"),
+    ("frf", "--P1", ("--P1", DROP), REQUIRED, 2, "--P1"),
+    ("frf", "--Q1", ("--Q1", "nan"), NOT_FINITE, 2, "--Q1"),
+    ("frf", "--Q1", ("--Q1", "-2"), RANGE, 2, "--Q1"),
+    ("frf", "--phi", ("--phi", "abc"), NOT_NUMBER, 2, "--phi"),
+    ("frf", "--k11", ("--k11", "-1"), RANGE, 2, "--k11"),
+    ("frf", "--f", ("--f", "0"), RANGE, 2, "--f"),
+    ("frf", "--P0", ("--P0", "inf"), NOT_FINITE, 2, "--P0"),
+    ("frf", "--mass", ("--mass", "0"), RANGE, 2, "--mass"),
+    ("frf", "--mass", ("--mass", "abc"), NOT_NUMBER, 2, "--mass"),
+    ("frf", "--mass", ("--mass", DROP), REQUIRED, 2, "--mass"),
+    ("frf", "--damping", ("--damping", "-0.1"), RANGE, 2, "--damping"),
+    ("frf", "--damping", ("--damping", "nan"), NOT_FINITE, 2, "--damping"),
+    ("frf", "--omega", ("--omega", "0"), RANGE, 2, "--omega"),
+    ("frf", "--omega", ("--omega", "abc"), NOT_NUMBER, 2, "--omega"),
+    ("frf", "--omega", ("--omega", "1:2"), NOT_NUMBER, 2, "--omega"),
+    ("frf", "--omega", ("--omega", DROP), REQUIRED, 2, "--omega"),
+    # the undamped resonance inside the range: ω = Ω0 with no damping
+    ("frf", "--omega", ("--omega", "0.5,1", "--damping", "0"), RANGE, 2, "--omega"),
+    ("frf", "--samples", ("--samples", "8"), RANGE, 2, "--samples"),
+    ("frf", "--samples", ("--samples", "2.5"), NOT_INT, 2, "--samples"),
+    ("frf", "--out", ("--out", "{tmp}/r.txt"), CHOICE, 2, "--out"),
+    ("frf", "--out", ("--out", "{tmp}/nodir/r.png"), MISSING, 2, "--out"),
+    ("frf", "--out", ("--out", "{tmp}/dir"), UNUSABLE, 2, "--out"),
+    ("frf", "--json", ("--json", "yes"), UNKNOWN, 2, "yes"),
     ("modal", "--file", ("--file", "{tmp}/none.npz"), MISSING, 2, "--file"),
     ("modal", "--file", ("--file", "{tmp}/file"), UNUSABLE, 2, "--file"),
     ("modal", "--file", ("--file", "{tmp}/h.npy"), UNUSABLE, 2, "--file"),
@@ -671,6 +701,7 @@ EXEMPT = {
     ("paper-claims", "--json"): "a flag: it has no value to be wrong",
     ("system", "--json"): "a flag: it has no value to be wrong",
     ("modal", "--json"): "a flag: it has no value to be wrong",
+    ("frf", "--json"): "a flag: it has no value to be wrong",
     ("describe", "--json"): "a flag: it has no value to be wrong",
 }
 

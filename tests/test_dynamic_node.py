@@ -180,3 +180,44 @@ def test_the_motor_with_its_inertia():
     assert W != Wqs
     with pytest.raises(InputError, match="Omega"):
         base.dynamic_dissipation(base.natural_frequency(), 0.3, zeta=0.0)
+
+
+def test_the_frequency_response_of_a_nearly_frictionless_node():
+    """f -> 0: the linear oscillator's amplitude Q1/k / sqrt((1-β²)² + (2ζβ)²) and lag
+    atan2(2ζβ, 1 - β²) (within the friction's 1e-4 of the load)."""
+    from lcpfric.analysis.frequency_response import frequency_response
+
+    node = lcpfric.SingleNode(k11=1.0, f=1e-4, P0=1.0, Q1=1.0, omega=1.0, mass=1.0, damping=0.2)
+    w = np.array([0.3, 0.9, 1.0, 1.2, 2.0])
+    r = frequency_response(node, w)
+    lin = 1.0 / np.sqrt((1 - w**2) ** 2 + (0.2 * w) ** 2)
+    np.testing.assert_allclose(r.amplitude, lin, rtol=5e-4)
+    np.testing.assert_allclose(r.phase, np.arctan2(0.2 * w, 1 - w**2), atol=5e-4)
+    assert np.all(r.stable) and np.all(r.orbits == 1) and r.method == "exact"
+    np.testing.assert_allclose(r.beta, w)
+    with pytest.raises(InputError, match="node"):
+        frequency_response(lcpfric.SingleNode(Q1=1.0), [1.0])
+    with pytest.raises(InputError, match="omega"):
+        frequency_response(node, [1.0, -1.0])
+
+
+def test_the_dynamic_figures(tmp_path):
+    """The three figures are drawn (their content: benchmarks/validation/dynamic_node.py and
+    motor_dynamic.py)."""
+    from support import need_modules
+
+    need_modules("matplotlib")
+    from lcpfric.analysis.frequency_response import frequency_response
+    from lcpfric.figures.dynamic import (
+        figure_dynamic_node,
+        figure_frequency_response,
+        figure_motor_dynamic,
+    )
+
+    node = lcpfric.SingleNode.normalized(0.5, 2.0, 0.7, beta=1.0, zeta=0.1)
+    r = frequency_response(node, np.linspace(0.5, 1.5, 5))
+    figure_frequency_response(r).savefig(tmp_path / "frf.png")
+    b = np.array([0.5, 1.0, 2.0])
+    figure_dynamic_node(b, [("z", b + 1, b)], 1.5, (b, b + 1, b)).savefig(tmp_path / "d.pdf")
+    figure_motor_dynamic(b, [(0.3, b, 1.1 * b)], 0.05).savefig(tmp_path / "m.png")
+    assert all((tmp_path / n).stat().st_size > 0 for n in ("frf.png", "d.pdf", "m.png"))

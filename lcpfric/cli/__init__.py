@@ -13,6 +13,7 @@ subcommand         module               what it does
 ``contact``        :mod:`.contact`      W of a continuum contact (Hertz sphere, MDR)
 ``modal``          :mod:`.modal`        ω(a), ζ(a) of a jointed structure's mode (.npz file)
 ``describe``       :mod:`.describe`     a Jenkins element's k_eq, ω c_eq, W against amplitude
+``frf``            :mod:`.frf`          the node with a mass: W, amplitude, phase against ω
 ``methods``        :mod:`.methods`      the methods usable on this installation
 ``map``            :mod:`.map`          a dissipation map over (φ, P̂1, Q̂1), to NetCDF
 ``figures``        :mod:`.figures`      the paper's figures
@@ -48,6 +49,7 @@ COMMANDS = {
     "contact": "contact",
     "modal": "modal",
     "describe": "describe",
+    "frf": "frf",
     "methods": "methods",
     "map": "map",
     "figures": "figures",

@@ -10,7 +10,7 @@ import numpy as np
 from .describing import CURVES
 from .style import COLUMN_WIDTH, SMALL, figure, finish, style
 
-__all__ = ["figure_dynamic_node", "figure_motor_dynamic"]
+__all__ = ["figure_dynamic_node", "figure_motor_dynamic", "figure_frequency_response"]
 
 
 def figure_dynamic_node(beta, curves, quasi_static: float, den_hartog=None, title: str = ""):
@@ -115,4 +115,55 @@ def figure_motor_dynamic(ratio, rows, zeta: float, band: float = 0.05):
         ax.set_title(rf"(a) dissipation, $\zeta = {zeta:g}$", loc="left")
         bx.set_title(rf"(b) quasi-static error (band $\pm{100 * band:g}$ %)", loc="left")
         ax.legend(loc="upper left", fontsize=SMALL, frameon=False, ncol=2)
+        return finish(fig)
+
+
+def figure_frequency_response(res, title: str = ""):
+    r"""A frequency response (:class:`~lcpfric.analysis.frequency_response.FrequencyResponse`)
+    in three panels, one above the other: (a) W, (b) the amplitude, (c) the phase against ω
+    (Ω0 marked); unstable orbits as open circles.
+
+    Parameters
+    ----------
+    res : FrequencyResponse
+        The response.
+    title : str, optional
+        Appended to the top panel's title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (its ``savefig`` embeds TrueType fonts).
+    """
+    w = np.asarray(res.omega)
+    omega0 = float(np.median(w / np.asarray(res.beta)))
+    colour = CURVES[0][0]
+    with style():
+        fig = figure(figsize=(COLUMN_WIDTH, 5.2), layout="constrained")
+        ax, bx, cx = fig.subplots(3, 1, sharex=True)
+        for axes, y in ((ax, res.W), (bx, res.amplitude), (cx, res.phase)):
+            axes.plot(w, y, color=colour, lw=1.1, marker="." if w.size < 40 else None, ms=3)
+            bad = ~np.asarray(res.stable)
+            if bad.any():
+                axes.plot(w[bad], np.asarray(y)[bad], ls="none", marker="o", ms=3.4, mfc="none",
+                          mew=0.7, color="black", label="unstable orbit")  # fmt: skip
+            axes.axvline(omega0, color="0.6", lw=0.6, ls=":")
+            axes.grid(True, which="major", color="0.88", lw=0.5)
+        if w.max() > w.min() * 20:
+            for axes in (ax, bx, cx):
+                axes.set_xscale("log")
+        if np.all(np.asarray(res.W) > 0) and res.W.max() > 50 * res.W.min():
+            ax.set_yscale("log")
+        if res.amplitude.max() > 50 * res.amplitude.min() > 0:
+            bx.set_yscale("log")
+        cx.set_yticks([0.0, np.pi / 2, np.pi], ["0", r"$\pi/2$", r"$\pi$"])
+        ax.set_ylabel("W per cycle")
+        bx.set_ylabel("amplitude")
+        cx.set_ylabel("phase lag")
+        cx.set_xlabel(r"forcing frequency $\omega$ ($\Omega_0$ dotted)")
+        ax.set_title(f"(a) dissipation{title}", loc="left")
+        bx.set_title("(b) amplitude (max v - min v)/2", loc="left")
+        cx.set_title(r"(c) lag of $v$ behind $-Q$", loc="left")
+        if (~np.asarray(res.stable)).any():
+            ax.legend(loc="upper left", fontsize=SMALL, frameon=False)
         return finish(fig)
