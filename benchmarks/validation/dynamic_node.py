@@ -105,6 +105,68 @@ def reference(count: int = 60) -> list:
     return [times, periods]
 
 
+def extreme(count: int = 150) -> None:
+    print("## 2b. Extreme inputs against the same integration\n")
+    rng = np.random.default_rng(7)
+    worst, where, n = [0.0, 0.0, 0.0], None, 0
+    for _ in range(count):
+        P1 = float(rng.choice([0.0, rng.uniform(0.1, 0.99), rng.uniform(1.01, 20.0)]))
+        Q1, phi = float(10 ** rng.uniform(-1, 2)), rng.uniform(0, 2 * math.pi)
+        beta = float(10 ** rng.uniform(-1.3, 1.0))
+        zeta = float(rng.choice([0.0, 1e-3, 0.3, 1.0, 2.5]))
+        if zeta == 0.0 and abs(beta - 1.0) < 0.02:
+            continue
+        o = dynamic_cycle(P1, Q1, phi, beta, zeta).orbit
+        z, J, lo, hi = one_period(P1, Q1, phi, beta, zeta, o.z)
+        e = (
+            float(np.max(np.abs(z - o.z))) / max(1.0, float(np.max(np.abs(o.z)))),
+            abs(J - o.J) / max(1.0, o.J),
+            abs((hi - lo) / 2 - o.amplitude) / max(1.0, o.amplitude),
+        )
+        if e[0] > worst[0]:
+            where = (P1, Q1, phi, beta, zeta)
+        worst = [max(a, b) for a, b in zip(worst, e)]
+        n += 1
+    print(f"{n} inputs: P̂1 0 to 20, Q̂1 0.1 to 100, β 0.05 to 10, ζ 0 to 2.5 (critically and "
+          "over-damped included)\n")  # fmt: skip
+    print("| quantity | largest relative difference |")
+    print("|---|---|")
+    for name, x in zip(("state after one period", "W", "amplitude"), worst):
+        print(f"| {name} | {x:.1e} |")
+    print(f"\nthe largest state difference at (P̂1, Q̂1, φ, β, ζ) = "
+          f"{tuple(round(x, 4) for x in where)}; each segment of the exact path integrated "
+          f"by DOP853 from its start to its end: {_segments_check(*where):.1e} (largest "
+          "difference at the segments' ends): the paths differ in a decision at an event, "
+          "not in the segments\n")  # fmt: skip
+
+
+def _segments_check(P1, Q1, phi, beta, zeta) -> float:
+    """Integrate each segment of the exact path (its mode, from its start) to its end."""
+    from scipy.integrate import solve_ivp
+
+    from lcpfric.exact.dynamic import period_map
+
+    cyc = dynamic_cycle(P1, Q1, phi, beta, zeta)
+    segs = period_map(cyc.node, cyc.orbit.z).segments
+    worst = 0.0
+    for i in range(segs.shape[0] - 1):
+        a, b, mode, u, du = segs[i]
+        if mode == 0:
+            continue
+        s = 0.0 if mode == 2 else -mode
+
+        def rhs(t, y, s=s):
+            F = s * (1.0 + P1 * math.sin(t))
+            return [y[1], (F - Q1 * math.sin(t + phi) - 2 * zeta * beta * y[1] - y[0]) / beta**2]
+
+        sol = solve_ivp(rhs, (a, b), [u, du], method="DOP853", rtol=1e-13, atol=1e-16)
+        end = segs[i + 1, 3:5].copy()
+        if segs[i + 1, 2] == 0 or (mode != 2 and segs[i + 1, 2] == -mode):
+            end[1] = sol.y[1, -1]  # a stop: the next segment starts at rest by definition
+        worst = max(worst, float(np.max(np.abs(sol.y[:, -1] - end))))
+    return worst
+
+
 def timing(times, periods) -> None:
     print("## 3. Time per point\n")
     t = np.array(times) * 1e3
@@ -178,6 +240,7 @@ def main(argv=None) -> None:
     ):
         den_hartog()
         times, periods = reference()
+        extreme()
         timing(times, periods)
         quasi_static()
         figure(_Path(args.figures))
