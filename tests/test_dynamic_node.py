@@ -45,6 +45,8 @@ CASES = [  # P̂1, Q̂1, φ, β, ζ: stops, damping, varying N, separation
     (2.5, 3.0, 5.0, 1.1, 0.05),
     (0.0, 1.2, 0.0, 3.0, 0.0),
     (0.9, 1.5, 3.5, 0.45, 0.3),
+    # undamped, apart most of the cycle: Newton's method wanders, the motion settles it
+    (7.425847668078969, 0.202010965564611, 4.097521069034529, 0.5762922569587907, 0.0),
 ]
 
 

@@ -42,6 +42,44 @@ class DynamicCycle:
         self.W_hat = orbit.J / node.Q1 if node.Q1 > 0 else 0.0
         self._run = None
 
+    def verify(self, samples: int = 2048) -> float:
+        """Check the orbit over its cycle: every constraint at ``samples`` instants (a stuck
+        force within the limit, a slip along its force, no force in separation, no contact
+        force where N < 0) to 1e-9 of the loads' scale; return the largest violation.
+
+        Raises
+        ------
+        SolverError
+            A violation (status ``"verification"``): a wrong answer is never returned.
+        """
+        from ..errors import SolverError
+
+        node = self.node
+        theta = np.linspace(0.0, 2.0 * np.pi, samples, endpoint=False)
+        u, du, F, st = self.sample(theta)
+        n = node.n(theta)
+        vscale = max(1e-300, float(np.max(np.abs(du), initial=0.0)))
+        fscale = 1.0 + node.Q1 + node.P1
+        over = np.zeros(theta.size)
+        stick, fwd, bwd, sep = st == 0, st == 1, st == 2, st == 3
+        over[stick] = np.maximum(np.abs(F[stick]) - n[stick], 0.0) / fscale
+        over[fwd] = np.maximum(-du[fwd], 0.0) / vscale
+        over[bwd] = np.maximum(du[bwd], 0.0) / vscale
+        over[sep] = np.maximum(n[sep], 0.0) / fscale
+        contact = ~sep
+        over[contact] = np.maximum(over[contact], np.maximum(-n[contact], 0.0) / fscale)
+        worst = float(over.max(initial=0.0))
+        if worst > 1e-9:
+            k = int(np.argmax(over))
+            raise SolverError(
+                f"dynamic single node: the orbit violates a constraint by {worst:.3g} (relative) "
+                f"at θ = {theta[k]:.6g} (state {int(st[k])})",
+                backend="exact",
+                status="verification",
+            )
+        self.violation = worst
+        return worst
+
     def sample(self, theta):
         """``(u, u', F, state)`` at the angles θ in [0, 2π] of the cycle."""
         from . import dynamic_kernels as kern
@@ -118,7 +156,9 @@ def dynamic_cycle(P1, Q1, phi, beta, zeta, *, start=None) -> DynamicCycle:
             MultipleSteadyStates,
             stacklevel=3,
         )
-    return DynamicCycle(node, found[0][0], found)
+    cyc = DynamicCycle(node, found[0][0], found)
+    cyc.verify()
+    return cyc
 
 
 def dynamic_steady_state(model, samples: int, u0=None, name: str = "exact") -> SteadyState:
