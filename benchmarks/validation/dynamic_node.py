@@ -167,6 +167,37 @@ def _segments_check(P1, Q1, phi, beta, zeta) -> float:
     return worst
 
 
+def robustness(count: int = 1500) -> None:
+    import warnings
+
+    print("## 2c. Robustness: extreme inputs solved and verified\n")
+    rng = np.random.default_rng(11)
+    solved, warned, failed, slowest = 0, 0, [], 0.0
+    for _ in range(count):
+        P1 = float(rng.choice([0.0, rng.uniform(0.1, 0.99), rng.uniform(1.01, 20.0)]))
+        Q1, phi = float(10 ** rng.uniform(-1, 2)), rng.uniform(0, 2 * math.pi)
+        beta = float(10 ** rng.uniform(-1.3, 1.0))
+        zeta = float(rng.choice([0.0, 1e-3, 0.3, 1.0, 2.5]))
+        if zeta == 0.0 and abs(beta - 1.0) < 0.02:
+            continue
+        start = time.perf_counter()
+        try:
+            with warnings.catch_warnings(record=True) as w:
+                warnings.simplefilter("always")
+                dynamic_cycle(P1, Q1, phi, beta, zeta)  # verified over its cycle, or raises
+            solved += 1
+            warned += bool(w)
+        except Exception as exc:  # noqa: BLE001 - counted and shown
+            failed.append(((P1, Q1, phi, beta, zeta), str(exc)[:100]))
+        slowest = max(slowest, time.perf_counter() - start)
+    print(f"{solved} of {solved + len(failed)} inputs solved and verified (P̂1 0 to 20, Q̂1 0.1 "
+          f"to 100, β 0.05 to 10, ζ 0 to 2.5); {warned} with several orbits; slowest "
+          f"{slowest:.2f} s")  # fmt: skip
+    for case, text in failed:
+        print(f"- failed at {case}: {text}")
+    print()
+
+
 def timing(times, periods) -> None:
     print("## 3. Time per point\n")
     t = np.array(times) * 1e3
@@ -241,6 +272,7 @@ def main(argv=None) -> None:
         den_hartog()
         times, periods = reference()
         extreme()
+        robustness()
         timing(times, periods)
         quasi_static()
         figure(_Path(args.figures))
