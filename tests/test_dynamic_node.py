@@ -223,3 +223,14 @@ def test_the_dynamic_figures(tmp_path):
     figure_dynamic_node(b, [("z", b + 1, b)], 1.5, (b, b + 1, b)).savefig(tmp_path / "d.pdf")
     figure_motor_dynamic(b, [(0.3, b, 1.1 * b)], 0.05).savefig(tmp_path / "m.png")
     assert all((tmp_path / n).stat().st_size > 0 for n in ("frf.png", "d.pdf", "m.png"))
+
+
+def test_a_node_with_a_mass_under_other_periodic_loads_is_refused_by_name():
+    from lcpfric.model import Fourier
+
+    q = Fourier(0.0, (1.0, 0.3), (0.0, 0.5))
+    node = lcpfric.SingleNode(tangential_load=q, mass=0.5, damping=0.1)
+    with pytest.raises(InputError, match="harmonic loads only"):
+        lcpfric.steady_state(node, "exact")
+    with pytest.raises(InputError, match="'explicit' or 'projection'"):
+        lcpfric.steady_state(lcpfric.SingleNode(tangential_load=q), "exact")

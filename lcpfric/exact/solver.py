@@ -56,11 +56,15 @@ class ExactSolver:
             check_system(model)
             return model
         if not model.is_harmonic:
+            other = (
+                "no method yet: a node with a mass is solved under harmonic loads only"
+                if model.is_dynamic
+                else "use 'explicit' or 'projection'"
+            )
             raise InputError(
                 "method",
-                "'exact' needs harmonic loads P0 + P1 sin(ωt), "
-                "Q0 + Q1 sin(ωt + φ); for other periodic loads use "
-                "'explicit' or 'projection'",
+                "'exact' needs harmonic loads P0 + P1 sin(ωt), Q0 + Q1 sin(ωt + φ); for other "
+                f"periodic loads {other}",
             )
         return model
 
