@@ -268,6 +268,8 @@ def methods_for(model: object) -> list[str]:
         per installed solver.
     """
     names = {c.__name__ for c in type(model).__mro__}
+    if getattr(model, "is_dynamic", False):  # a node with a mass: the methods of dynamics
+        names = {"DynamicSingleNode"}
     out = []
     for entry in METHODS.values():
         if names & set(entry.models) and entry.installed:

@@ -133,11 +133,23 @@ BUILTIN: tuple[Method, ...] = (
         "closed-form event-by-event steady state",
         "lcpfric.exact.solver:ExactSolver",
         dims=(1,),
-        accepts="harmonic loads of one frequency: SingleNode, or ContactSystem (d = 1, "
-        "IndependentSprings)",
+        accepts="harmonic loads of one frequency: SingleNode (with a mass too), or "
+        "ContactSystem (d = 1, IndependentSprings)",
+        models=DISCRETE + ("DynamicSingleNode",),
         grid="lcpfric.exact:exact_W_hat",
         seconds_per_point=1.2e-6,
         floats_per_step=12,
+    ),
+    Method(
+        "newmark",
+        TIME_STEPPER,
+        "Newmark's average acceleration with events located, shooting (a node with a mass)",
+        "lcpfric.steppers.newmark_node:NewmarkNode",
+        dims=(1,),
+        accepts="SingleNode with a mass, harmonic loads",
+        models=("DynamicSingleNode",),
+        seconds_per_point_step=2e-5,
+        floats_per_step=16,
     ),
     Method(
         "explicit",

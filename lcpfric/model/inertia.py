@@ -12,7 +12,7 @@ from ..errors import InputError
 __all__ = ["Inertia", "dynamic_method", "DYNAMIC_METHODS"]
 
 #: the methods that solve a node with a mass
-DYNAMIC_METHODS = ("exact",)
+DYNAMIC_METHODS = ("exact", "newmark")
 
 
 class Inertia:

@@ -270,7 +270,7 @@ def steady_state(
     checked = u0 is not None and isinstance(model, (SingleNode, ContactSystem)) and not dynamic
     if checked:
         u0 = admissible_start(model if isinstance(model, ContactSystem) else model.system(), u0)
-    if solver.kind == CLOSED_FORM:
+    if solver.kind == CLOSED_FORM or dynamic:  # a dynamic node: the method's own orbit
         return solver.steady_state(model, steps, max_cycles=max_cycles, u0=u0)
     scene = (
         model
