@@ -165,27 +165,16 @@ def _first_stop(P, seg, sign, th0, th1, after_rest, noise):  # pragma: no cover 
     fa = _f(P, seg, sign, 0, a)
     da = _f(P, seg, sign, 1, a)
     moving = not after_rest
-    if after_rest:  # a geometric sub-grid of the first cell: u' ~ τ² after a release
-        for k in range(31):
+    # the samples: after a release (u' ~ τ²) a geometric sub-grid of the first cell, then the
+    # cells; otherwise the cells
+    sub = 31 if after_rest else 0
+    skip = 1 if after_rest else 0
+    for k in range(sub + n - skip):
+        if k < sub:
             b = th0 + h * 2.0 ** (k - 30)
-            fb = _f(P, seg, sign, 0, b)
-            db = _f(P, seg, sign, 1, b)
-            if moving:
-                if fb <= 0.0:
-                    return _brent(P, seg, sign, 0, a, b, fa, fb)
-                if da < 0.0 < db:
-                    m = _brent(P, seg, sign, 1, a, b, da, db)
-                    fm = _f(P, seg, sign, 0, m)
-                    if fm <= 0.0:
-                        return _brent(P, seg, sign, 0, a, m, fa, fm)
-            elif fb > noise:
-                moving = True
-            a, fa, da = b, fb, db
-        start = 1
-    else:
-        start = 0
-    for i in range(start, n):
-        b = th1 if i == n - 1 else th0 + (i + 1) * h
+        else:
+            i = k - sub + skip
+            b = th1 if i == n - 1 else th0 + (i + 1) * h
         fb = _f(P, seg, sign, 0, b)
         db = _f(P, seg, sign, 1, b)
         if moving:
