@@ -139,8 +139,8 @@ def test_bad_input():
 
 def test_several_steady_states_are_never_picked_silently(monkeypatch):
     """Orbits of different W from different starts: a MultipleSteadyStates warning naming them,
-    and every orbit in the result (the starts' orbits forced apart here: a random search of 400
-    inputs with 5 starts each found no input with two, benchmarks/results/dynamic-node.md)."""
+    and every orbit in the result (the starts' orbits forced apart here: of 1499 random extreme
+    inputs none had two, benchmarks/results/dynamic-node.md, section 2c)."""
     import lcpfric.exact.dynamic as dyn
     import lcpfric.exact.dynamic_api as api
 
