@@ -68,6 +68,18 @@ def _prop(P, s):  # pragma: no cover - compiled
 
 
 @njit(cache=True, nogil=True)
+def _flow(P, s, j00, j01, j10, j11):  # pragma: no cover - compiled
+    """``E(s) J``: the period map's Jacobian carried over a mode's flow of length s."""
+    e00, e01, e10, e11 = _prop(P, s)
+    return (
+        e00 * j00 + e01 * j10,
+        e00 * j01 + e01 * j11,
+        e10 * j00 + e11 * j10,
+        e10 * j01 + e11 * j11,
+    )
+
+
+@njit(cache=True, nogil=True)
 def _forcing(P, mode):  # pragma: no cover - compiled
     P1, Q1, phi = P[0], P[1], P[2]
     gc, gs = -Q1 * math.sin(phi), -Q1 * math.cos(phi)
@@ -317,13 +329,7 @@ def period_map(P, u, du, th0, jac, segs, lohi):  # pragma: no cover - compiled
             seg = _segment(P, SEPARATION, th, u, du)
             _turning(P, seg, th, stop, lohi)
             u, du = _state(P, seg, stop)
-            e00, e01, e10, e11 = _prop(P, stop - th)
-            j00, j01, j10, j11 = (
-                e00 * j00 + e01 * j10,
-                e00 * j01 + e01 * j11,
-                e10 * j00 + e11 * j10,
-                e10 * j01 + e11 * j11,
-            )
+            j00, j01, j10, j11 = _flow(P, stop - th, j00, j01, j10, j11)
             segs[nseg, 1] = stop
             nseg += 1
             th = stop
@@ -339,13 +345,7 @@ def period_map(P, u, du, th0, jac, segs, lohi):  # pragma: no cover - compiled
         stop = _first_stop(P, seg, float(s), th, limit, after_rest, noise)
         end = limit if stop < 0.0 else stop
         J += _quad(P, seg, float(s), th, end)
-        e00, e01, e10, e11 = _prop(P, end - th)
-        j00, j01, j10, j11 = (
-            e00 * j00 + e01 * j10,
-            e00 * j01 + e01 * j11,
-            e10 * j00 + e11 * j10,
-            e10 * j01 + e11 * j11,
-        )
+        j00, j01, j10, j11 = _flow(P, end - th, j00, j01, j10, j11)
         u, du = _state(P, seg, end)
         segs[nseg, 1] = end
         nseg += 1
