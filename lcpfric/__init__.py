@@ -92,6 +92,9 @@ _LAZY = {
     "contact_describing_functions": "lcpfric.analysis.describing_contact",
     "modal_damping": "lcpfric.analysis.modal",
     "ModalDamping": "lcpfric.analysis.modal",
+    # the contact inside a vibrating structure
+    "DynamicSystem": "lcpfric.model.dynamic_system",
+    "rayleigh": "lcpfric.model.dynamic_system",
 }
 
 __all__ = [

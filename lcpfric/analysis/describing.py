@@ -37,7 +37,7 @@ from ..exact import exact_W_hat
 from ..exact.driven import driven_cycle
 from ..exact.jenkins_node import jenkins_cycle
 from ..exact.trig import TrigPoly, periodic_sign_changes
-from ..model.jenkins import JenkinsElement
+from ..model.jenkins import JenkinsElement, amplitudes_checked, jenkins_closed_form
 from ..model.single_node import W_from_W_hat
 
 __all__ = ["DescribingFunctions", "describing_functions", "jenkins_closed_form", "METHODS"]
@@ -121,73 +121,6 @@ class DescribingFunctions:
         return out
 
 
-def _x_minus_sin(x):
-    """``x - sin x`` without cancellation for small x (Taylor series below 0.5)."""
-    x = np.asarray(x, dtype=float)
-    x2 = x * x
-    inner = 1 - x2 / 110 * (1 - x2 / 156 * (1 - x2 / 210))  # truncation < 1e-17 relative
-    series = x * x2 / 6.0 * (1 - x2 / 20 * (1 - x2 / 42 * (1 - x2 / 72 * inner)))
-    return np.where(np.abs(x) < 0.5, series, x - np.sin(x))
-
-
-def jenkins_closed_form(kt: float, mu: float, N: float, amplitudes) -> dict:
-    """The notes' closed forms of a Jenkins element under constant N and ``x = a cos ωt``.
-
-    With ``Fs = μN`` and, for ``a > Fs/kt``, ``cos τ* = 1 - 2 Fs/(kt a)``::
-
-        k_eq   = (kt/π) (τ* - sin(2τ*)/2)
-        ω c_eq = (4 Fs/(π a)) (1 - Fs/(kt a))
-        W      = 4 Fs (a - Fs/kt)
-
-    and ``k_eq = kt``, ``c_eq = W = 0`` for ``a <= Fs/kt``. Written to keep their digits at
-    large amplitudes: ``τ* = 2 asin(sqrt(Fs/(kt a)))`` and ``2τ - sin 2τ`` by its series.
-
-    Parameters
-    ----------
-    kt, mu, N : float
-        Stiffness (> 0), friction coefficient (>= 0) and the constant normal load (> 0).
-    amplitudes : array_like
-        Motion amplitudes a > 0.
-
-    Returns
-    -------
-    dict
-        ``k_eq``, ``c_eq_omega``, ``W``, ``loss_factor`` and ``force_amplitude``
-        (``min(kt a, Fs)``), arrays of the amplitudes' shape.
-
-    Raises
-    ------
-    InputError
-        A parameter out of range.
-    """
-    kt = _checks.positive("kt", kt)
-    Fs = _checks.nonnegative("mu", mu) * _checks.positive("N", N)
-    a = _amplitudes(amplitudes)
-    r = Fs / (kt * a)
-    slips = r < 1.0
-    rs = np.where(slips, r, 0.5)
-    tau = 2.0 * np.arcsin(np.sqrt(rs))
-    k_eq = np.where(slips, kt / (2.0 * math.pi) * _x_minus_sin(2.0 * tau), kt)
-    c = np.where(slips, 4.0 * Fs / (math.pi * a) * (1.0 - rs), 0.0)
-    W = np.where(slips, 4.0 * Fs * (a - Fs / kt), 0.0)
-    return {
-        "k_eq": k_eq,
-        "c_eq_omega": c,
-        "W": W,
-        "loss_factor": c / k_eq,
-        "force_amplitude": np.minimum(kt * a, Fs),
-    }
-
-
-def _amplitudes(amplitudes) -> np.ndarray:
-    a = _checks.finite_array("amplitude", amplitudes)
-    if a.size == 0 or np.any(a <= 0):
-        raise InputError(
-            "amplitude", "every amplitude must be > 0 (allowed range (0, inf)); got none or <= 0"
-        )
-    return a.ravel()
-
-
 def describing_functions(
     element: JenkinsElement,
     amplitudes,
@@ -242,7 +175,7 @@ def describing_functions(
     started = time.perf_counter()
     if not isinstance(element, JenkinsElement):
         raise InputError("element", f"must be a JenkinsElement, got {type(element).__name__}")
-    a = _amplitudes(amplitudes)
+    a = amplitudes_checked(amplitudes)
     harmonics = _checks.positive_int("harmonics", harmonics)
     omega = _checks.positive("omega", omega)
     start = None if start is None else _checks.finite("start", start)

@@ -268,7 +268,7 @@ def methods_for(model: object) -> list[str]:
         per installed solver.
     """
     names = {c.__name__ for c in type(model).__mro__}
-    if getattr(model, "is_dynamic", False):  # a node with a mass: the methods of dynamics
+    if getattr(model, "is_dynamic", False) and "SingleNode" in names:  # a node with a mass
         names = {"DynamicSingleNode"}
     out = []
     for entry in METHODS.values():

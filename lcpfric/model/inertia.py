@@ -81,10 +81,12 @@ def dynamic_method(model, method: str) -> bool:
         A quasi-static method for a dynamic model (named ``method``).
     """
     dynamic = bool(getattr(model, "is_dynamic", False))
-    if dynamic and method not in DYNAMIC_METHODS:
+    allowed = getattr(model, "dynamic_methods", DYNAMIC_METHODS)
+    if dynamic and method not in allowed:
+        what = "a node with a mass (the dynamic node)" if allowed is DYNAMIC_METHODS else \
+            f"a {type(model).__name__}"  # fmt: skip
         raise InputError(
             "method",
-            f"{method!r} is quasi-static: a node with a mass (the dynamic node) is solved by "
-            f"{', '.join(repr(m) for m in DYNAMIC_METHODS)}",
+            f"{method!r} does not solve {what}: use {', '.join(repr(m) for m in allowed)}",
         )
     return dynamic

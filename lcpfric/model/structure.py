@@ -48,7 +48,7 @@ from .. import _checks
 from ..errors import InputError
 from .sliders import SliderSystem, positive_definite
 
-__all__ = ["JointedStructure", "MODE_TOL", "DENSE_MODES"]
+__all__ = ["JointedStructure", "MODE_TOL", "DENSE_MODES", "symmetric_matrix"]
 
 #: a mode given as a vector must satisfy ``||K_s φ - λ M φ|| <= MODE_TOL ||K_s φ||``
 MODE_TOL = 1e-6
@@ -67,7 +67,7 @@ def _is_sparse(A) -> bool:
     return sp.issparse(A)
 
 
-def _matrix(name: str, A, sparse: bool):
+def symmetric_matrix(name: str, A, sparse: bool):
     """A finite, symmetric, square float matrix (CSC when ``sparse``) and its largest entry."""
     import scipy.sparse as sp
 
@@ -143,8 +143,8 @@ class JointedStructure:
 
     def __post_init__(self):
         sparse = _is_sparse(self.mass) or _is_sparse(self.stiffness)
-        M, _ = _matrix("mass", self.mass, sparse)
-        K, kscale = _matrix("stiffness", self.stiffness, sparse)
+        M, _ = symmetric_matrix("mass", self.mass, sparse)
+        K, kscale = symmetric_matrix("stiffness", self.stiffness, sparse)
         n = M.shape[0]
         if K.shape != M.shape:
             raise InputError("stiffness", f"must be {n} x {n} like the mass, got {K.shape}")

@@ -28,6 +28,7 @@ from ..errors import ConvergenceError, ConvergenceWarning, InputError
 from ..methods import CLOSED_FORM, get_stepper
 from ..model import ContactSystem, SingleNode
 from ..model.inertia import dynamic_method
+from .newmark_steady import system_steady_state
 from ..model.coupling import coupled_start
 from ..model.system_checks import admissible_start
 from ..results import SteadyState
@@ -270,6 +271,8 @@ def steady_state(
     checked = u0 is not None and isinstance(model, (SingleNode, ContactSystem)) and not dynamic
     if checked:
         u0 = admissible_start(model if isinstance(model, ContactSystem) else model.system(), u0)
+    if dynamic and hasattr(model, "dynamic_methods"):  # a DynamicSystem: shooting
+        return system_steady_state(model, steps, max_cycles, u0, solver.backend, solver.options)
     if solver.kind == CLOSED_FORM or dynamic:  # a dynamic node: the method's own orbit
         return solver.steady_state(model, steps, max_cycles=max_cycles, u0=u0)
     scene = (
@@ -373,7 +376,8 @@ def steady_state(
         )
 
         msg = (
-            f"{_name(scene)}: no periodic steady state after {len(W_cycles)} cycles "
+            f"{type(scene.system if scene.model is None else scene.model).__name__}: no "
+            f"periodic steady state after {len(W_cycles)} cycles "
             f"(relative change of the cycle {change:.3g} > tol {tol:g}{at}); raise "
             f"max_cycles or loosen tol"
         )
@@ -407,10 +411,6 @@ def _base(model):
             f"{type(model).__name__}",
         )
     return model
-
-
-def _name(scene) -> str:
-    return type(scene.model if scene.model is not None else scene.system).__name__
 
 
 def _compliance_scale(scene) -> float:

@@ -90,21 +90,28 @@ class ContactExtras:
 
 @dataclass(frozen=True)
 class DynamicExtras:
-    """What the steady state of a node with a mass adds (:attr:`SteadyState.dynamics`).
+    """What the steady state of a node with a mass, or of a
+    :class:`~lcpfric.model.dynamic_system.DynamicSystem`, adds (:attr:`SteadyState.dynamics`).
 
     Parameters
     ----------
     beta, zeta, amplitude, velocity, floquet, stable, orbits, newton_iterations, periods
         Kept as the attributes of the same names (see Attributes).
+    displacement : ndarray, optional
+        A system's displacements x at the instants ``t`` (None for the node).
 
     Attributes
     ----------
     beta, zeta : float
-        ω/Ω0 and the damping ratio.
-    amplitude : float
-        ``(max v - min v) / 2`` over the steady cycle, in the node's units.
+        ω/Ω0 and the damping ratio (a system: Ω0 its first natural frequency with the
+        contacts stuck, ζ NaN).
+    amplitude : float or ndarray
+        ``(max v - min v) / 2`` over the steady cycle, in the node's units; a system's, one
+        per degree of freedom, of x.
     velocity : ndarray
-        dv/dt at the instants ``t`` of the result.
+        dv/dt (a system: dx/dt, one column per degree of freedom) at the instants ``t``.
+    displacement : ndarray or None
+        A system's x at the instants ``t``, one column per degree of freedom.
     floquet : ndarray
         The orbit's Floquet multipliers (complex; a stick phase makes one of them 0).
     stable : bool
@@ -126,6 +133,7 @@ class DynamicExtras:
     orbits: tuple
     newton_iterations: int
     periods: int
+    displacement: np.ndarray | None = None
 
 
 @dataclass(frozen=True)

@@ -190,12 +190,31 @@ class NewmarkPath:
 
 class NewmarkNode:
     """The ``newmark`` method: the dynamic single node by Newmark's average acceleration with
-    events located and shooting (module docstring). Quasi-static models are refused."""
+    events located and shooting (module docstring); a
+    :class:`~lcpfric.model.dynamic_system.DynamicSystem` by
+    :func:`~lcpfric.periodic.newmark_steady.system_steady_state` (the driver calls it).
+    Quasi-static models are refused.
+
+    Parameters
+    ----------
+    backend : str, optional
+        A DynamicSystem's convex backend for its increments (``"clarabel"``, ``"osqp"``,
+        ``"qpsolvers:<solver>"``, ``"cvxpy"``; default: a clip for one contact, else
+        ``"clarabel"``). The node's increment is always its closed form.
+    **options
+        The backend's options (tolerances, solver settings).
+    """
 
     name = "newmark"
     label = "newmark"
     kind = "time-stepper"
     cycle_measure = "cycles"
+
+    def __init__(self, backend=None, **options):
+        if backend is not None and not isinstance(backend, str):
+            raise InputError("backend", f"a backend's registry name, got {backend!r}")
+        self.backend = backend
+        self.options = options
 
     def check(self, scene):
         """Refuse every scene: ``newmark`` solves a node with a mass, through
@@ -215,6 +234,12 @@ class NewmarkNode:
         shooting on the Newmark period map; ``u0``: ``v0`` or ``(v0, dv/dt)`` (the first
         guess; default rest); ``max_cycles`` caps the periods of motion."""
         start = time.perf_counter()
+        if self.backend is not None or self.options:
+            raise InputError(
+                "backend",
+                "the dynamic node's increment is a closed form (no backend); to step it with a "
+                "backend, give DynamicSystem.from_node(node)",
+            )
         if not getattr(model, "is_dynamic", False) or not model.is_harmonic:
             raise InputError(
                 "method",

@@ -1,0 +1,139 @@
+"""Problem (P) in a given metric, by any convex backend: :class:`MetricIncrements`.
+
+The quasi-static steppers build (P) from a scene's plan (``P = C_AA``). A time stepper with
+inertia (:mod:`lcpfric.steppers.newmark_system`) has its own metric, the contacts' compliance
+in the effective stiffness of its scheme, and its own contact sets; it hands (P) over as
+``(key, P, q, b)`` and gets the forces back, solved by the backend it names, refined and
+checked as every increment is (:func:`~lcpfric.backends.refine.accept`). One d = 1 variable
+needs no solver: its projection is a clip (closed form).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError, SolverError
+from .problem import IncrementProblem, set_dofs
+from .refine import accept
+
+__all__ = ["MetricIncrements", "CLOSED_FORM"]
+
+#: the name of the closed-form projection (one d = 1 contact)
+CLOSED_FORM = "clip"
+
+
+class MetricIncrements:
+    """Solve ``min ½ Fᵀ P F + qᵀ F`` over the friction cones, P given per contact set.
+
+    Parameters
+    ----------
+    backend : str or None
+        A convex backend's registry name (``"clarabel"``, ``"osqp"``, ``"qpsolvers:proxqp"``,
+        ``"cvxpy"``, ...). None: the closed form for one d = 1 contact, else ``"clarabel"``.
+    dims : int
+        d of the contacts.
+    options : dict, optional
+        The backend's options (its tolerances and solver settings).
+
+    Raises
+    ------
+    InputError
+        ``backend`` is not a convex backend, or cannot express d = 2.
+    SolverNotFound
+        The backend's optional dependency is missing.
+    """
+
+    def __init__(self, backend: str | None, dims: int, options: dict | None = None):
+        from ..methods import get_stepper
+
+        self.dims = dims
+        self.name = backend
+        self.stepper = None
+        self.problems: dict[Any, IncrementProblem] = {}
+        self.stats = {"solves": 0, "closed_form": 0, "refined": 0, "unrefined": 0}
+        if backend in (None, CLOSED_FORM):
+            return
+        stepper = get_stepper(backend, **(options or {}))
+        if not hasattr(stepper, "build") or not hasattr(stepper, "solve"):
+            raise InputError(
+                "backend",
+                f"{backend!r} is not a convex backend (give 'clarabel', 'osqp', "
+                f"'qpsolvers:<solver>' or 'cvxpy')",
+            )
+        if dims == 2 and not stepper.can_soc:
+            raise InputError("backend", f"{backend!r} cannot express the d = 2 cone; give "
+                             f"'clarabel' or 'cvxpy'")  # fmt: skip
+        self.stepper = stepper
+
+    @property
+    def label(self) -> str:
+        """The backend's label (``"clip"`` for the closed form)."""
+        return self.stepper.label if self.stepper is not None else CLOSED_FORM
+
+    def solve(self, key, P: np.ndarray, q: np.ndarray, b: np.ndarray, where: str):
+        """The forces F_A and the mask of the variables that stick (None when unknown).
+
+        Parameters
+        ----------
+        key : hashable
+            Identifies P (the caller's contact set and metric): its problem is built once.
+        P : (k, k) ndarray
+            The metric, symmetric positive definite (the same for every call with ``key``, up to
+        a factor: the problem is built once, scaled by its diagonal's largest entry).
+        q : (k,) ndarray
+            The linear term.
+        b : (a,) ndarray
+            The friction limits, one per contact of the set.
+        where : str
+            What the increment is (for the error message).
+
+        Raises
+        ------
+        SolverError
+            The solver's status is not solved, or its answer fails the residual checks
+            (the status carries the solver's own).
+        """
+        self.stats["solves"] += 1
+        if self.stepper is None:
+            if q.size == 1 and self.dims == 1:  # one contact: the projection is a clip
+                self.stats["closed_form"] += 1
+                trial = -q[0] / P[0, 0]
+                stick = abs(trial) <= b[0]
+                return np.array([trial if stick else np.copysign(b[0], trial)]), np.array([stick])
+            self._default()
+        st = self.stepper
+        # in units of the limits and of P's diagonal: the solvers see entries of order one
+        sF = max(float(np.max(b, initial=0.0)), 1e-300)
+        sC = float(np.max(np.diag(P)))
+        prob = self.problems.get(key)
+        if prob is None:
+            nodes = np.arange(b.size)
+            prob = IncrementProblem(nodes, set_dofs(nodes, self.dims), self.dims, P / sC,
+                                    full=True)  # fmt: skip
+            prob.handle = st.guarded(st.build, prob, st.settings_for(self.dims))
+            self.problems[key] = prob
+        prob.q[:] = q / (sC * sF)
+        bs = b / sF
+        x, status, ok = st.guarded(st.solve, prob, prob.q, st.bounds(prob, bs))
+        F, stick, res, kind = (None, None, {}, "failed") if not ok else accept(
+            prob, np.array(x, dtype=float), prob.q, bs, refine=st.refine,
+            active_tol=st.active_tol, check_tol=st.check_tol, fscale=1.0, cscale=1.0)  # fmt: skip
+        if F is None:
+            detail = "" if not res else " (residuals " + ", ".join(
+                f"{k} {v:.2g}" for k, v in res.items()) + ")"  # fmt: skip
+            raise SolverError(
+                f"{st.label}: the increment {where} was not solved: status {status}{detail}",
+                backend=st.label,
+                status=str(status) if ok is False or not res else "inaccurate",
+            )
+        F = F * sF
+        self.stats[kind] += 1
+        return F, stick
+
+    def _default(self):
+        from ..methods import get_stepper
+
+        self.stepper = get_stepper("clarabel")
+        self.name = "clarabel"
