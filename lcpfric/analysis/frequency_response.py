@@ -12,6 +12,15 @@ Every frequency is solved independently (no continuation is needed: the exact or
 Newton's method on the period map from rest and from the linear response); an orbit that is
 not unique is reported (``orbits`` > 1, and a :class:`~lcpfric.errors.MultipleSteadyStates`
 warning).
+
+A :class:`~lcpfric.model.dynamic_system.DynamicSystem` is solved by the ``newmark`` method
+(shooting, :mod:`lcpfric.periodic.newmark_steady`) at each frequency in the order given, each
+started from the previous frequency's orbit (natural continuation; from the equivalent linear
+response at the first, and wherever the previous orbit's start fails): a sweep up or down
+follows one branch where the response folds (sweep both ways to see the jump). The amplitude
+and phase are those of one degree of freedom ``dof`` (default: the first contact's); the phase
+is the lag of its first harmonic behind the forcing's first harmonic at the most forced degree
+of freedom (for ``DynamicSystem.from_node`` the node's phase above).
 """
 
 from __future__ import annotations
@@ -50,11 +59,11 @@ class FrequencyResponse:
     stable : ndarray
         The orbit's stability (its Floquet multipliers inside the unit circle), (m,) bool.
     floquet : ndarray
-        The Floquet multipliers, (m, 2) complex.
+        The Floquet multipliers, (m, 2) complex (a DynamicSystem: (m, p), p its unknowns).
     orbits : ndarray
         The distinct orbits found at each frequency (more than 1: a warning was issued), (m,).
     method : str
-        ``"exact"``.
+        ``"exact"`` (the node) or ``"newmark"`` (a DynamicSystem).
     seconds : float
         Wall time.
     """
@@ -71,18 +80,27 @@ class FrequencyResponse:
     seconds: float
 
 
-def frequency_response(node, omegas, *, samples: int = 256) -> FrequencyResponse:
-    """The dynamic node's steady response at each forcing frequency (module docstring).
+def frequency_response(
+    node, omegas, *, samples: int = 256, dof=None, steps: int = 400, backend=None
+) -> FrequencyResponse:
+    """The dynamic node's, or a dynamic system's, steady response at each forcing frequency
+    (module docstring).
 
     Parameters
     ----------
-    node : SingleNode
+    node : SingleNode or DynamicSystem
         A node with a mass (its own ω is replaced by each of ``omegas``; P1, Q1, φ, the mass
-        and the damping are kept).
+        and the damping are kept), or a DynamicSystem (its ω replaced likewise).
     omegas : float or array_like
         Forcing frequencies ω > 0 (not Ω0 if the node has no damping).
     samples : int, optional
-        Samples of the cycle for the phase's first harmonic, >= 16.
+        Samples of the cycle for the phase's first harmonic, >= 16 (the node).
+    dof : int, optional
+        A DynamicSystem's degree of freedom whose amplitude and phase are reported.
+    steps : int, optional
+        A DynamicSystem's increments per period (>= 4).
+    backend : str, optional
+        A DynamicSystem's convex backend for its increments (``newmark``'s option).
 
     Returns
     -------
@@ -102,6 +120,14 @@ def frequency_response(node, omegas, *, samples: int = 256) -> FrequencyResponse
     from ..model import SingleNode
 
     start = time.perf_counter()
+    if hasattr(node, "dynamic_methods"):  # a DynamicSystem
+        from .frequency_response_system import system_response
+
+        return FrequencyResponse(
+            **system_response(node, _omegas(omegas), dof, steps, backend),
+            method="newmark",
+            seconds=time.perf_counter() - start,
+        )
     if not isinstance(node, SingleNode) or not node.is_dynamic:
         raise InputError(
             "node",
@@ -110,9 +136,7 @@ def frequency_response(node, omegas, *, samples: int = 256) -> FrequencyResponse
         )
     if not node.is_harmonic:
         raise InputError("node", "needs harmonic loads P0 + P1 sin ωt, Q0 + Q1 sin(ωt + φ)")
-    w = np.atleast_1d(_checks.finite_array("omega", omegas)).astype(float)
-    if w.ndim != 1 or w.size == 0 or np.any(w <= 0):
-        raise InputError("omega", "every frequency must be finite and > 0")
+    w = _omegas(omegas)
     samples = _checks.positive_int("samples", samples, 16)
     P1, Q1, phi = node.normalized_parameters()
     keep = {k: getattr(node, k) for k in ("k11", "f", "P0", "P1", "Q1", "phi", "Q0", "k22")}
@@ -148,3 +172,10 @@ def frequency_response(node, omegas, *, samples: int = 256) -> FrequencyResponse
         method="exact",
         seconds=time.perf_counter() - start,
     )
+
+
+def _omegas(omegas) -> np.ndarray:
+    w = np.atleast_1d(_checks.finite_array("omega", omegas)).astype(float)
+    if w.ndim != 1 or w.size == 0 or np.any(w <= 0):
+        raise InputError("omega", "every frequency must be finite and > 0")
+    return w

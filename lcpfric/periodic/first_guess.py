@@ -84,3 +84,38 @@ def equivalent_linear_start(system) -> np.ndarray:
             s = a * math.cos(tau) - r
         wJ.append(c + s)
     return np.concatenate([x0, v0, np.array(wJ, dtype=float)])
+
+
+def harmonic_start(system, coefficients, contact_force=None) -> np.ndarray:
+    """``z0 = (x, x', w_J)`` at t = 0 from a harmonic-balance solution (for example a point of
+    :func:`lcpfric.harmonic.forced_response`), so that shooting refines that orbit.
+
+    Parameters
+    ----------
+    system : DynamicSystem
+        The system (d = 1 contacts).
+    coefficients : (n, 2H + 1) array_like
+        x's coefficients ``[c0, a1, b1, ..., aH, bH]`` of ``c0 + Σ a_h cos hωt + b_h sin hωt``.
+    contact_force : (n_J, 2H + 1) array_like, optional
+        The Jenkins contacts' forces T, in the same form (their sliders ``w = gᵀx - T/kt``);
+        without them the sliders start centred, ``w = gᵀ c0``.
+
+    Returns
+    -------
+    ndarray
+        The first guess.
+    """
+    c = np.asarray(coefficients, dtype=float)
+    H = (c.shape[1] - 1) // 2
+    h = np.arange(1, H + 1)
+    x0 = c[:, 0] + c[:, 1::2].sum(axis=1)
+    v0 = system.omega * (c[:, 2::2] * h).sum(axis=1)
+    fin = ~system.rigid
+    gx = system.G.T @ x0
+    if contact_force is None:
+        w = system.G.T @ c[:, 0]
+    else:
+        T = np.asarray(contact_force, dtype=float)
+        w = gx.copy()
+        w[fin] = gx[fin] - (T[:, 0] + T[:, 1::2].sum(axis=1)) / system.contact_stiffness[fin]
+    return np.concatenate([x0, v0, w[fin]])
