@@ -257,6 +257,16 @@ class DynamicSystem:
         """The paper's dynamic node (:class:`~lcpfric.model.SingleNode` with a mass and
         harmonic loads) as a one-degree-of-freedom system with a rigid contact.
 
+        Parameters
+        ----------
+        node : SingleNode
+            A node with a mass under harmonic loads.
+
+        Returns
+        -------
+        DynamicSystem
+            ``m x'' + c x' + k11 x + T = -Q(t)``, ``|T| <= f N(t)`` (``T = -F``).
+
         Raises
         ------
         InputError
@@ -293,14 +303,40 @@ class DynamicSystem:
         return 2.0 * math.pi / self.omega
 
     def forcing(self, t: float, rate: bool = False) -> np.ndarray:
-        """f(t) (or f'(t) with ``rate``), (n,)."""
+        """The forcing f(t), or its derivative.
+
+        Parameters
+        ----------
+        t : float
+            The instant.
+        rate : bool, optional
+            Return f'(t) instead.
+
+        Returns
+        -------
+        ndarray
+            (n,).
+        """
         e = np.exp(1j * self.omega * t)
         if rate:
             return (1j * self.omega * self.force * e).real
         return self.force_mean + (self.force * e).real
 
     def normal(self, t: float, rate: bool = False) -> np.ndarray:
-        """N(t) (or N'(t) with ``rate``; 0 where apart), (n_c,)."""
+        """The normal loads N(t), or their derivatives (0 where apart).
+
+        Parameters
+        ----------
+        t : float
+            The instant.
+        rate : bool, optional
+            Return N'(t) instead.
+
+        Returns
+        -------
+        ndarray
+            (n_c,).
+        """
         e = np.exp(1j * self.omega * t)
         raw = self.normal_load + (self.normal_amplitude * e).real
         if rate:
@@ -308,7 +344,13 @@ class DynamicSystem:
         return np.maximum(raw, 0.0)
 
     def separation_instants(self) -> np.ndarray:
-        """The instants in (0, T) where a normal load reaches 0 (the grid holds them)."""
+        """The instants in [0, T) where a normal load reaches 0 (the time grids hold them).
+
+        Returns
+        -------
+        ndarray
+            Sorted instants (empty when no contact separates).
+        """
         out = []
         for N0, Nh in zip(self.normal_load, self.normal_amplitude):
             A = abs(Nh)
@@ -321,7 +363,13 @@ class DynamicSystem:
 
     def natural_frequency(self) -> float:
         """Ω1, the first natural frequency of the structure with every contact stuck (a rigid
-        contact holds its degrees of freedom, a Jenkins contact adds its spring)."""
+        contact holds its degrees of freedom, a Jenkins contact adds its spring).
+
+        Returns
+        -------
+        float
+            Ω1 (``inf`` when the rigid contacts hold every degree of freedom).
+        """
         import scipy.linalg as sla
 
         M = self.mass.toarray() if hasattr(self.mass, "toarray") else self.mass
