@@ -94,12 +94,15 @@ def section_node():
         ref = lcpfric.steady_state(node, method="exact").W
         system = lcpfric.DynamicSystem.from_node(node)
         for b in BACKENDS:
-            errs, start = [], time.perf_counter()
+            errs, start, rebuilt = [], time.perf_counter(), 0
             for n in steps:
                 opts = {} if b is None else {"backend": b}
                 r = lcpfric.steady_state(system, method="newmark", steps_per_cycle=n, **opts)
                 errs.append(abs(r.W / ref - 1))
+                rebuilt += r.solver_stats["rebuilt"]
             sec = time.perf_counter() - start
+            if rebuilt:
+                print(f"<!-- {case}, {b}: {rebuilt} solver objects rebuilt cold -->")
             print(f"| {case} | {b or 'clip'} | " + " | ".join(f"{e:.2e}" for e in errs)
                   + f" | {order(steps, errs):.2f} | {sec:.1f} |")  # fmt: skip
 

@@ -4,8 +4,12 @@ The quasi-static steppers build (P) from a scene's plan (``P = C_AA``). A time s
 inertia (:mod:`lcpfric.steppers.newmark_system`) has its own metric, the contacts' compliance
 in the effective stiffness of its scheme, and its own contact sets; it hands (P) over as
 ``(key, P, q, b)`` and gets the forces back, solved by the backend it names, refined and
-checked as every increment is (:func:`~lcpfric.backends.refine.accept`). One d = 1 variable
-needs no solver: its projection is a clip (closed form).
+checked as every increment is (:func:`~lcpfric.backends.refine.accept`). A problem is built
+once per contact set and metric and re-solved with new data; where the solver's status is not
+solved, the problem is built again and solved cold once before the increment fails (a solver
+object re-solved many times can stall: cvxpy with Clarabel was seen to return
+``optimal_inaccurate`` after 774 warm re-solves of a one-variable problem that it solves cold).
+One d = 1 variable needs no solver: its projection is a clip (closed form).
 """
 
 from __future__ import annotations
@@ -52,7 +56,7 @@ class MetricIncrements:
         self.name = backend
         self.stepper = None
         self.problems: dict[Any, IncrementProblem] = {}
-        self.stats = {"solves": 0, "closed_form": 0, "refined": 0, "unrefined": 0}
+        self.stats = {"solves": 0, "closed_form": 0, "refined": 0, "unrefined": 0, "rebuilt": 0}
         if backend in (None, CLOSED_FORM):
             return
         stepper = get_stepper(backend, **(options or {}))
@@ -107,16 +111,21 @@ class MetricIncrements:
         # in units of the limits and of P's diagonal: the solvers see entries of order one
         sF = max(float(np.max(b, initial=0.0)), 1e-300)
         sC = float(np.max(np.diag(P)))
-        prob = self.problems.get(key)
-        if prob is None:
-            nodes = np.arange(b.size)
-            prob = IncrementProblem(nodes, set_dofs(nodes, self.dims), self.dims, P / sC,
-                                    full=True)  # fmt: skip
-            prob.handle = st.guarded(st.build, prob, st.settings_for(self.dims))
-            self.problems[key] = prob
-        prob.q[:] = q / (sC * sF)
         bs = b / sF
-        x, status, ok = st.guarded(st.solve, prob, prob.q, st.bounds(prob, bs))
+        for attempt in range(2):  # a solver object that fails is rebuilt once, cold
+            prob = self.problems.get(key)
+            if prob is None:
+                nodes = np.arange(b.size)
+                prob = IncrementProblem(nodes, set_dofs(nodes, self.dims), self.dims, P / sC,
+                                        full=True)  # fmt: skip
+                prob.handle = st.guarded(st.build, prob, st.settings_for(self.dims))
+                self.problems[key] = prob
+            prob.q[:] = q / (sC * sF)
+            x, status, ok = st.guarded(st.solve, prob, prob.q, st.bounds(prob, bs))
+            if ok:
+                break
+            del self.problems[key]
+            self.stats["rebuilt"] += 1
         F, stick, res, kind = (None, None, {}, "failed") if not ok else accept(
             prob, np.array(x, dtype=float), prob.q, bs, refine=st.refine,
             active_tol=st.active_tol, check_tol=st.check_tol, fscale=1.0, cscale=1.0)  # fmt: skip

@@ -164,11 +164,10 @@ class NewmarkSystem(Tangents):
         return modes[j] * (self.G[:, j] @ Y1[1])
 
     # -- the increment ------------------------------------------------------------------------
-    def project(self, t0, t1, y):
-        """Problem (P) over ``[t0, t1]`` from ``y``: ``(x1, v1, a1, w1, T1)`` and the end's
-        modes."""
+    def project(self, t0, t1, y, h):
+        """Problem (P) over ``[t0, t1]`` (of length h) from ``y``: ``(x1, v1, a1, w1, T1)`` and
+        the end's modes."""
         x, v, a, w = y
-        h = t1 - t0
         fac = self.fac
         c1, c2 = 4.0 / (h * h), 2.0 / h
         r = fac.C @ (c2 * x + v) + fac.M @ (c1 * (x + h * v) + a)
@@ -202,22 +201,24 @@ class NewmarkSystem(Tangents):
         ``(Y, dt)``: the tangents of the state and of the current instant."""
         self.increments += 1
         W = 0.0
-        if self.h_grid is not None and abs(t1 - t0 - self.h_grid) <= 1e-12 * self.sys.period:
-            t1 = t0 + self.h_grid  # one length, one factorization, for the equal increments
-        y1, end = self.project(t0, t1, y)
+        h = t1 - t0
+        if self.h_grid is not None and abs(h - self.h_grid) <= 1e-12 * self.sys.period:
+            h = self.h_grid  # one length, one factorization, for the equal increments
+            t1 = t0 + h
+        y1, end = self.project(t0, t1, y, h)
         if np.array_equal(end, modes) and not np.any(self.event_values(t1, y1, modes) < 0):
             if tan is not None:
-                tan = self._tangent_to(t0, t1, y, modes, tan)
+                tan = self._tangent_to(t0, t1, y, modes, tan, h)
             return y1[:4], y1[4], modes, self._work(y, T, y1), tan
-        for _ in range(16 * self.nc + 16):
-            h = t1 - t0
+        for k in range(16 * self.nc + 16):
+            h = h if k == 0 else t1 - t0  # the grid's length until an event splits it
             if h <= 1e-13 * self.sys.period:  # the increment's end reached by an event
                 return y, T, modes, W, (None if tan is None else (tan[0], np.zeros_like(tan[1])))
             y1 = self.fixed(t0, h, y, modes)
             bad = np.flatnonzero(self.event_values(t1, y1, modes) < 0)
             if bad.size == 0:
                 if tan is not None:
-                    tan = self._tangent_to(t0, t1, y, modes, tan)
+                    tan = self._tangent_to(t0, t1, y, modes, tan, h)
                 return y1[:4], y1[4], modes, W + self._work(y, T, y1), tan
             ts, j = self._first_event(t0, t1, y, modes, bad)
             self.events += 1

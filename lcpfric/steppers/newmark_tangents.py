@@ -49,10 +49,10 @@ class Tangents:
             minus = self.fixed(t0 - d, t1 - t0 + d, y, modes)
         return [(p - m) / (2 * d) for p, m in zip(plus, minus)], plus, minus
 
-    def _tangent_to(self, t0, t1, y, modes, tan):
-        """The tangent after a fixed-mode step to the grid instant t1 (fixed)."""
+    def _tangent_to(self, t0, t1, y, modes, tan, h):
+        """The tangent after a fixed-mode step of length h to the grid instant t1 (fixed)."""
         Y, dt = tan
-        Y1 = list(self.fixed(t0, t1 - t0, Y, modes, forcing=False))
+        Y1 = list(self.fixed(t0, h, Y, modes, forcing=False))
         if np.any(dt):
             rate, _, _ = self._step_rate(t0, t1, y, modes, 0, self._delta(0.5 * (t1 - t0)))
             Y1 = [Yk + _outer(rk, dt) for Yk, rk in zip(Y1, rate)]
