@@ -87,8 +87,9 @@ def section_node():
     print("relative error of W (the increments' solver: `clip` = the closed form of one "
           "contact); orders are least-squares slopes over 100-1600 increments\n")  # fmt: skip
     steps = (100, 200, 400, 800, 1600)
-    print("| case | backend | " + " | ".join(str(s) for s in steps) + " | order | s |")
-    print("|---|---|" + "---|" * (len(steps) + 2))
+    print("| case | backend | " + " | ".join(str(s) for s in steps) + " | order | solver "
+          "objects rebuilt cold | s |")  # fmt: skip
+    print("|---|---|" + "---|" * (len(steps) + 3))
     for case, p in NODES.items():
         node = lcpfric.SingleNode.normalized(P1=p[0], Q1=p[1], phi=p[2], beta=p[3], zeta=p[4])
         ref = lcpfric.steady_state(node, method="exact").W
@@ -101,10 +102,8 @@ def section_node():
                 errs.append(abs(r.W / ref - 1))
                 rebuilt += r.solver_stats["rebuilt"]
             sec = time.perf_counter() - start
-            if rebuilt:
-                print(f"<!-- {case}, {b}: {rebuilt} solver objects rebuilt cold -->")
             print(f"| {case} | {b or 'clip'} | " + " | ".join(f"{e:.2e}" for e in errs)
-                  + f" | {order(steps, errs):.2f} | {sec:.1f} |")  # fmt: skip
+                  + f" | {order(steps, errs):.2f} | {rebuilt} | {sec:.1f} |")  # fmt: skip
 
 
 def section_chain3():
@@ -138,7 +137,9 @@ def section_shooting(steps=200):
     print("| ω | Newton iterations | periods | W | amplitude (last mass) | s |")
     print("|---|---|---|---|---|---|")
     its, pers = [], []
-    for om in np.round(np.linspace(0.05, 0.5, 19).tolist() + [0.275, 0.28, 0.282, 0.285], 4):
+    grid = np.unique(np.round(np.concatenate([np.linspace(0.05, 0.5, 10),
+                                              np.arange(0.27, 0.30001, 0.0025)]), 4))  # fmt: skip
+    for om in grid:
         s = chain10(om)
         path = NewmarkSystem(s)
         start = time.perf_counter()
@@ -153,23 +154,43 @@ def section_shooting(steps=200):
               f"{0.5 * (x.max() - x.min()):.6f} | {sec:.2f} |")  # fmt: skip
     print(f"\nNewton iterations: median {np.median(its):.0f}, largest {max(its)}; periods: "
           f"median {np.median(pers):.0f}, largest {max(pers)}\n")  # fmt: skip
+    print("the resonance's points (0.27 to 0.30) started from the neighbouring frequency's orbit "
+          "instead (natural continuation), Newton iterations:\n")  # fmt: skip
+    near = grid[(grid >= 0.27) & (grid <= 0.30)]
+    for label, order_ in (("upwards", near), ("downwards", near[::-1])):
+        z, counts = None, []
+        for om in order_:
+            s = chain10(om)
+            path = NewmarkSystem(s)
+            r = shoot(lambda q, path=path: path.period(q, steps, jacobian=True)[::2],
+                      equivalent_linear_start(s) if z is None else z, tol)  # fmt: skip
+            z = r.z
+            counts.append(r.iterations if r.converged else f"{r.iterations} (not converged)")
+        print(f"- {label}: " + ", ".join(str(c) for c in counts))
+    print()
     print("cycle iteration from the same start to the same tolerance:\n")
+    print("(where the slider sticks over the whole period its position is a family of orbits: "
+          "cycles and shooting may end on different members, the W of both being 0)\n")  # fmt: skip
     print("| ω | shooting periods | cycle periods | increments, shooting | increments, cycles | "
-          "ratio | max |z_cycles - z_shooting| / max |z| |")  # fmt: skip
-    print("|---|---|---|---|---|---|---|")
-    for om in (0.2, 0.282, 0.35):
+          "ratio | max |z_cycles - z_shooting| / max |z| | s, shooting | s, cycles |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|---|---|")
+    for om in (0.2, 0.282, 0.2875):
         s = chain10(om)
         path = NewmarkSystem(s)
         z0 = equivalent_linear_start(s)
+        start = time.perf_counter()
         r = shoot(lambda z, path=path: path.period(z, steps, jacobian=True)[::2], z0, tol)
+        sec_s = time.perf_counter() - start
         inc_s = path.increments
         cpath = NewmarkSystem(s)
+        start = time.perf_counter()
         zc, res, periods, conv = iterate_cycles(lambda z, p=cpath: p.period(z, steps)[0], z0,
                                                 tol, 40000)  # fmt: skip
+        sec_c = time.perf_counter() - start
         inc_c = cpath.increments
         gap = float(np.max(np.abs(zc - r.z)) / np.max(np.abs(r.z)))
         print(f"| {om} | {r.periods} | {periods}{'' if conv else ' (not converged)'} | {inc_s} | "
-              f"{inc_c} | {inc_c / inc_s:.0f} | {gap:.1e} |")  # fmt: skip
+              f"{inc_c} | {inc_c / inc_s:.0f} | {gap:.1e} | {sec_s:.1f} | {sec_c:.1f} |")  # fmt: skip
 
 
 def first_harmonic(t, x, omega):

@@ -14,10 +14,11 @@ not unique is reported (``orbits`` > 1, and a :class:`~lcpfric.errors.MultipleSt
 warning).
 
 A :class:`~lcpfric.model.dynamic_system.DynamicSystem` is solved by the ``newmark`` method
-(shooting, :mod:`lcpfric.periodic.newmark_steady`) at each frequency in the order given, each
-started from the previous frequency's orbit (natural continuation; from the equivalent linear
-response at the first, and wherever the previous orbit's start fails): a sweep up or down
-follows one branch where the response folds (sweep both ways to see the jump). The amplitude
+(shooting, :mod:`lcpfric.periodic.newmark_steady`) at each frequency, started from the
+equivalent linear response (measured: fewer Newton iterations than from the neighbouring
+frequency's orbit near a contact's stick-slip threshold, ``benchmarks/results/newmark-system.md``);
+where the response folds it finds one of the orbits (to follow a branch, give each point's
+start: :func:`lcpfric.periodic.newmark_steady.system_steady_state` takes ``u0``). The amplitude
 and phase are those of one degree of freedom ``dof`` (default: the first contact's); the phase
 is the lag of its first harmonic behind the forcing's first harmonic at the most forced degree
 of freedom (for ``DynamicSystem.from_node`` the node's phase above).

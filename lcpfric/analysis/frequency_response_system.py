@@ -1,6 +1,6 @@
-"""A :class:`~lcpfric.model.dynamic_system.DynamicSystem`'s frequency response by shooting with
-natural continuation (:func:`lcpfric.analysis.frequency_response.frequency_response` calls
-it; its module docstring says what is reported)."""
+"""A :class:`~lcpfric.model.dynamic_system.DynamicSystem`'s frequency response by shooting at
+each frequency (:func:`lcpfric.analysis.frequency_response.frequency_response` calls it; its
+module docstring says what is reported)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from dataclasses import replace
 import numpy as np
 
 from .. import _checks
-from ..errors import InputError, SolverError
+from ..errors import InputError
 from ..harmonic import trapezoid_coefficients
 from ..periodic.newmark_steady import system_steady_state
 
@@ -34,16 +34,10 @@ def system_response(system, w, dof, steps, backend) -> dict:
     if isinstance(dof, bool) or not isinstance(dof, (int, np.integer)) or not 0 <= dof < system.n:
         raise InputError("dof", f"a degree of freedom in [0, {system.n - 1}], got {dof!r}")
     k = int(np.argmax(np.abs(system.force)))
-    rows, z = [], None
+    rows = []
     for omega in w:
         at = replace(system, omega=float(omega))
-        try:
-            r = system_steady_state(at, steps, 30, z, backend)
-        except SolverError:
-            if z is None:
-                raise
-            r = system_steady_state(at, steps, 30, None, backend)
-        z = orbit_start(at, r)
+        r = system_steady_state(at, steps, 30, None, backend)
         x = r.dynamics.displacement[:, dof]
         c = trapezoid_coefficients(r.t, x, at.period, 1)
         lag = math.atan2(system.force[k].imag, system.force[k].real) + math.atan2(c[2], c[1])

@@ -39,7 +39,14 @@ def _relative(r, z) -> float:
     return float(np.max(np.abs(r))) / max(float(np.max(np.abs(z))), 1e-300)
 
 
-def shoot(period_map, z0, tol: float, max_iterations: int = 30, halvings: int = 4):
+def shoot(
+    period_map,
+    z0,
+    tol: float,
+    max_iterations: int = 30,
+    halvings: int = 4,
+    max_step: float = np.inf,
+):
     """Newton's method on the period map.
 
     Parameters
@@ -68,7 +75,8 @@ def shoot(period_map, z0, tol: float, max_iterations: int = 30, halvings: int = 
         it += 1
         # least squares: a sticking slider's position is a family of orbits (J - I singular)
         dz = np.linalg.lstsq(J - np.eye(z.size), -(z1 - z), rcond=1e-13)[0]
-        lam = 1.0
+        size = float(np.max(np.abs(dz)))
+        lam = min(1.0, max_step * max(float(np.max(np.abs(z))), 1e-300) / size) if size else 1.0
         for _ in range(halvings + 1):
             trial = z + lam * dz
             t1, tJ = period_map(trial)

@@ -194,6 +194,8 @@ class NewmarkSystem(Tangents):
         x1 = x0 - Z @ T
         w1 = s - Ceff @ T
         w1[b <= 0] = (self.G.T @ x1)[b <= 0]
+        held = (end == STICK) & ~self.rigid
+        w1[held] = w[held]  # a stuck slider stays where it is, exactly
         return (x1, c2 * (x1 - x) - v, c1 * (x1 - x - h * v) - a, w1, T), end
 
     def advance(self, t0, t1, y, T, modes, tan=None):
