@@ -189,8 +189,9 @@ def section_shooting(steps=200):
         sec_c = time.perf_counter() - start
         inc_c = cpath.increments
         gap = float(np.max(np.abs(zc - r.z)) / np.max(np.abs(r.z)))
-        print(f"| {om} | {r.periods} | {periods}{'' if conv else ' (not converged)'} | {inc_s} | "
-              f"{inc_c} | {inc_c / inc_s:.0f} | {gap:.1e} | {sec_s:.1f} | {sec_c:.1f} |")  # fmt: skip
+        note = "" if conv else " (not converged)"
+        print(f"| {om} | {r.periods} | {periods}{note} | {inc_s} | {inc_c} | "
+              f"{inc_c / inc_s:.0f} | {gap:.1e} | {sec_s:.1f} | {sec_c:.1f} |")  # fmt: skip
 
 
 def first_harmonic(t, x, omega):
