@@ -209,7 +209,7 @@ def test_refusals_name_the_way_out():
     d2 = lcpfric.DynamicSystem(mass=np.eye(2), stiffness=np.eye(2), contacts=[(0, 1)],
                                friction=0.3, normal_load=1.0, omega=0.5, dims=2,
                                force=[1.0, 0.5j])  # fmt: skip
-    with pytest.raises(InputError, match="d = 2"):
+    with pytest.raises(InputError, match="rigid d = 2"):
         lcpfric.steady_state(d2, method="newmark")
     with pytest.raises(InputError, match="u0"):
         lcpfric.steady_state(s, method="newmark", u0=[1.0, 2.0])
@@ -220,3 +220,21 @@ def test_shooting_that_does_not_converge_raises_with_status():
         lcpfric.steady_state(chain(omega=0.282), method="newmark", steps_per_cycle=100,
                              max_cycles=1)  # fmt: skip
     assert err.value.status == "shooting"
+
+
+def test_d2_contact_under_collinear_loads_is_the_d1_contact():
+    pytest.importorskip("clarabel")
+    K = np.array([[2.0, -1, 0], [-1, 2, -1], [0, -1, 1.5]])
+    M = np.diag([1.0, 1.5, 0.8])
+    C = lcpfric.rayleigh(M, K, 0.05, 0.02)
+    common = dict(friction=0.3, normal_load=1.0, normal_amplitude=-0.6j, omega=0.7,
+                  contact_stiffness=2.0)  # fmt: skip
+    one = lcpfric.DynamicSystem(mass=M, stiffness=K, damping=C, contacts=[2],
+                                force=[0, 0, 1.0], **common)  # fmt: skip
+    two = lcpfric.DynamicSystem(mass=np.kron(np.eye(2), M), stiffness=np.kron(np.eye(2), K),
+                                damping=np.kron(np.eye(2), C), contacts=[(2, 5)], dims=2,
+                                force=[0, 0, 1.0, 0, 0, 0], **common)  # fmt: skip
+    W1 = lcpfric.steady_state(one, "newmark", 100).W
+    r2 = lcpfric.steady_state(two, "newmark", 100)
+    assert r2.converged and r2.F.shape == (r2.t.size, 2)
+    assert r2.W == pytest.approx(W1, rel=2e-4)

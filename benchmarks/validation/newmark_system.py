@@ -18,8 +18,11 @@ Usage::
    ``benchmarks/perf/frc_chain.py``): Newton iterations and periods over ω through the first
    resonance; cycle iteration to the same tolerance at three frequencies; increments of each.
 4. Harmonic balance (H = 15, ``lcpfric.harmonic.forced_response``) against shooting (1600
-   increments a period; its own error measured against 3200) on the same chain: the first
-   harmonic of every degree of freedom at the curve's points.
+   increments a period, started from the HB point; its own error bounded by its difference
+   with 800) on the same chain: the first harmonic of every degree of freedom at the curve's
+   points.
+5. d = 2 Jenkins contacts: a chain in two directions against the d = 1 chain under a load
+   along one direction, and the order under a load turning in the plane.
 """
 
 from __future__ import annotations
@@ -259,6 +262,52 @@ def section_hb(H=15):
           f"({int((~calm).sum())} points)")  # fmt: skip
 
 
+def section_discs():
+    print("\n## 5. d = 2 Jenkins contacts (events not located; Jacobian by differences)\n")
+    K = np.array([[2.0, -1, 0], [-1, 2, -1], [0, -1, 1.5]])
+    M = np.diag([1.0, 1.5, 0.8])
+    C = lcpfric.rayleigh(M, K, 0.05, 0.02)
+    common = dict(friction=0.3, normal_load=1.0, normal_amplitude=-0.6j, omega=0.7,
+                  contact_stiffness=2.0)  # fmt: skip
+    one = lcpfric.DynamicSystem(mass=M, stiffness=K, damping=C, contacts=[2],
+                                force=[0, 0, 1.0], **common)  # fmt: skip
+    big = dict(mass=np.kron(np.eye(2), M), stiffness=np.kron(np.eye(2), K),
+               damping=np.kron(np.eye(2), C), contacts=[(2, 5)], dims=2, **common)  # fmt: skip
+    collinear = lcpfric.DynamicSystem(force=[0, 0, 1.0, 0, 0, 0], **big)
+    rotating = lcpfric.DynamicSystem(force=[0, 0, 1.0, 0, 0, 0.7j], **big)
+    steps = (100, 200, 400, 800)
+    print("the 3-mass chain in two directions, one d = 2 Jenkins contact on the last mass "
+          "(N = 1 - 0.6 sin ωt), by `steady_state(..., 'newmark')` (shooting): under a load "
+          "along x only it is the d = 1 system (whose events are located)\n")  # fmt: skip
+    print("| increments | W, d = 1 (x only) | W, d = 2 (x only) | relative difference | "
+          "Newton iterations | s |")  # fmt: skip
+    print("|---|---|---|---|---|---|")
+    for n in steps:
+        W1 = lcpfric.steady_state(one, "newmark", n).W
+        start = time.perf_counter()
+        r = lcpfric.steady_state(collinear, "newmark", n)
+        print(f"| {n} | {W1:.10f} | {r.W:.10f} | {abs(r.W / W1 - 1):.2e} | "
+              f"{r.dynamics.newton_iterations} | {time.perf_counter() - start:.1f} |")  # fmt: skip
+    print("\nunder a load turning in the plane (f = (cos ωt, -0.7 sin ωt) on the last mass), by "
+          "cycle iteration from the equivalent linear start to 1e-11 (the Rayleigh damping "
+          "settles it in tens of periods; shooting at 400 increments gives W = "
+          f"{lcpfric.steady_state(rotating, 'newmark', 400).W:.10f}):\n")  # fmt: skip
+    print("| increments | W | periods |")
+    print("|---|---|---|")
+    turning, steps = [], (200, 400, 800, 1600, 3200)
+    for n in steps:
+        path = NewmarkSystem(rotating)
+        z0 = equivalent_linear_start(rotating)
+        z, res, periods, conv = iterate_cycles(lambda q, p=path, k=n: p.period(q, k)[0], z0,
+                                               1e-11, 2000)  # fmt: skip
+        W = path.period(z, n)[1]
+        turning.append(W)
+        print(f"| {n} | {W:.10f} | {periods}{'' if conv else ' (not converged)'} |")
+    d = np.abs(np.diff(turning))
+    print("\norders of successive differences: "
+          + ", ".join(f"{x:.2f}" for x in np.log2(d[:-1] / d[1:])))  # fmt: skip
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default=str(_ROOT / "benchmarks/results/newmark-system.md"))
@@ -273,6 +322,7 @@ def main(argv=None) -> None:
         section_chain3()
         section_shooting()
         section_hb()
+        section_discs()
 
 
 if __name__ == "__main__":

@@ -9,7 +9,8 @@ once per contact set and metric and re-solved with new data; where the solver's 
 solved, the problem is built again and solved cold once before the increment fails (a solver
 object re-solved many times can stall: cvxpy with Clarabel was seen to return
 ``optimal_inaccurate`` after 774 warm re-solves of a one-variable problem that it solves cold).
-One d = 1 variable needs no solver: its projection is a clip (closed form).
+One contact needs no solver: d = 1, its projection is a clip; d = 2, a scalar equation
+(:func:`disc_projection`).
 """
 
 from __future__ import annotations
@@ -22,10 +23,31 @@ from ..errors import InputError, SolverError
 from .problem import IncrementProblem, set_dofs
 from .refine import accept
 
-__all__ = ["MetricIncrements", "CLOSED_FORM"]
+__all__ = ["MetricIncrements", "CLOSED_FORM", "disc_projection"]
 
 #: the name of the closed-form projection (one d = 1 contact)
 CLOSED_FORM = "clip"
+
+
+def disc_projection(P, q, b):
+    """``min ½ Fᵀ P F + qᵀ F`` over ``||F|| <= b`` for one d = 2 contact (P 2 x 2, symmetric
+    positive definite): the trial ``-P⁻¹ q`` if inside, else ``F(λ) = -(P + λ I)⁻¹ q`` with
+    ``||F(λ)|| = b``, λ > 0 by Brent's method (``||F(λ)||`` decreases with λ). Returns
+    ``(F, stick)``."""
+    from scipy.optimize import brentq
+
+    trial = -np.linalg.solve(P, q)
+    if np.hypot(*trial) <= b:
+        return trial, np.array([True, True])
+    eye = np.eye(2)
+
+    def excess(lam):
+        return float(np.hypot(*np.linalg.solve(P + lam * eye, q))) - b
+
+    hi = float(np.hypot(*q)) / b  # ||F(hi)|| <= ||q|| / hi = b
+    lam = brentq(excess, 0.0, hi, xtol=1e-15 * hi, rtol=4 * np.finfo(float).eps)
+    F = -np.linalg.solve(P + lam * eye, q)
+    return F * (b / np.hypot(*F)), np.array([False, False])
 
 
 class MetricIncrements:
@@ -106,6 +128,9 @@ class MetricIncrements:
                 trial = -q[0] / P[0, 0]
                 stick = abs(trial) <= b[0]
                 return np.array([trial if stick else np.copysign(b[0], trial)]), np.array([stick])
+            if q.size == 2 and self.dims == 2:  # one disc: a scalar equation
+                self.stats["closed_form"] += 1
+                return disc_projection(P, q, b[0])
             self._default()
         st = self.stepper
         # in units of the limits and of P's diagonal: the solvers see entries of order one

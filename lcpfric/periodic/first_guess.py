@@ -38,6 +38,13 @@ def equivalent_linear_start(system) -> np.ndarray:
     """
     M, C, K = _dense(system.mass), _dense(system.damping), _dense(system.stiffness)
     G, w = system.G, system.omega
+    if system.dims == 2:  # the stuck structure's response, the sliders centred
+        kt2 = np.repeat(system.contact_stiffness, 2)
+        X = np.linalg.lstsq(K - w * w * M + 1j * w * C + (G * kt2) @ G.T, system.force,
+                            rcond=None)[0]  # fmt: skip
+        mean = np.linalg.lstsq(K + (G * kt2) @ G.T, system.force_mean, rcond=None)[0]
+        x0 = mean + X.real
+        return np.concatenate([x0, (1j * w * X).real, G.T @ mean])
     rigid = system.rigid
     kscale = max(float(np.max(np.abs(np.diag(K)))), float(np.max(np.abs(np.diag(M)))) * w * w)
     kt = np.where(rigid, 1e8 * kscale, system.contact_stiffness)

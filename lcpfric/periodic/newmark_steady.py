@@ -77,10 +77,9 @@ def system_steady_state(model, steps, max_cycles=100, u0=None, backend=None, opt
         settle (status ``"events"``).
     """
     start = time.perf_counter()
-    if model.dims != 1:
-        raise InputError("dims", "'newmark' steps d = 1 contacts; d = 2 contacts are not "
-                         "supported by the time stepper yet")  # fmt: skip
     path = NewmarkSystem(model, backend, options)
+    if model.dims == 2:
+        path.check_discs()
     z0 = start_vector(path, model, u0)
     tol = shooting_tolerance(steps)
 
@@ -100,12 +99,20 @@ def system_steady_state(model, steps, max_cycles=100, u0=None, backend=None, opt
     x = np.array([r[0][0][:, 0] for r in rec])
     xd = np.array([r[0][1][:, 0] for r in rec])
     T = np.array([r[1][:, 0] for r in rec])
-    modes = np.array([r[2] for r in rec])
-    states = np.select(
-        [modes == STICK, modes == APART, modes == 1],
-        [State.STICK, State.SEPARATION, State.FORWARD],
-        State.BACKWARD,
-    ).astype(np.int8)
+    N = np.array([model.normal(ti) for ti in t])
+    if model.dims == 1:
+        modes = np.array([r[2] for r in rec])
+        states = np.select(
+            [modes == STICK, modes == APART, modes == 1],
+            [State.STICK, State.SEPARATION, State.FORWARD],
+            State.BACKWARD,
+        ).astype(np.int8)
+    else:  # d = 2: slip where a slider moves over the increment ending at the instant
+        w = np.array([r[0][3][:, 0] for r in rec])
+        dw = np.vstack([np.zeros((1, w.shape[1])), np.diff(w, axis=0)])
+        moved = np.hypot(dw[:, 0::2], dw[:, 1::2]) > 1e-12 * max(float(np.abs(w).max()), 1e-300)
+        states = np.where(moved, State.FORWARD, State.STICK).astype(np.int8)
+        states[N <= 0] = State.SEPARATION
     mult = np.linalg.eigvals(res.jacobian)
     amp = 0.5 * (x.max(axis=0) - x.min(axis=0))
     stable = bool(np.all(np.abs(mult) < 1.0 - 1e-9))
@@ -129,7 +136,6 @@ def system_steady_state(model, steps, max_cycles=100, u0=None, backend=None, opt
         periods=res.periods,
         displacement=x,
     )
-    N = np.array([model.normal(ti) for ti in t])
     return SteadyState(
         W=float(W),
         W_cycles=np.atleast_1d(float(W)),

@@ -49,8 +49,9 @@ class Factors:
     def __init__(self, system):
         self.M, self.C, self.K = system.mass, system.damping, system.stiffness
         self.G = system.G
-        self.kt = np.where(system.rigid, 0.0, system.contact_stiffness)
-        self.rigid = system.rigid
+        d = system.dims  # per column of G: a d = 2 contact has two
+        self.kt = np.repeat(np.where(system.rigid, 0.0, system.contact_stiffness), d)
+        self.rigid = np.repeat(system.rigid, d)
         self.scale = system.period
         self.kept: dict = {}
         self.scratch: OrderedDict = OrderedDict()

@@ -48,6 +48,7 @@ from scipy.optimize import brentq
 
 from ..backends.metric import MetricIncrements
 from ..errors import SolverError
+from .newmark_discs import Discs
 from .newmark_factors import Factors
 from .newmark_tangents import Tangents
 
@@ -56,7 +57,7 @@ __all__ = ["NewmarkSystem", "STICK", "APART"]
 STICK, APART = 0, 2
 
 
-class NewmarkSystem(Tangents):
+class NewmarkSystem(Tangents, Discs):
     """The Newmark path of a dynamic system with d = 1 contacts (module docstring).
 
     The state is ``y = (x, v, a, w)``, columns of shape (n, p) and (n_c, p): column 0 the

@@ -91,11 +91,13 @@ class Tangents:
     # -- the period map -----------------------------------------------------------------------
     def unknowns(self):
         """The size of z = (x, x', w_J)."""
-        return 2 * self.sys.n + int((~self.rigid).sum())
+        return 2 * self.sys.n + self.sys.dims * int((~self.rigid).sum())
 
     def period(self, z, steps, jacobian=False, record=False):
         """One period from z at t = 0: ``(z1, W, J, records)`` (J None without ``jacobian``;
         records: the grid, and per instant x, x', w, T and the modes)."""
+        if self.sys.dims == 2:
+            return self._period_discs(z, steps, jacobian, record)
         sys_, G, fin = self.sys, self.G, ~self.rigid
         n = sys_.n
         z = np.asarray(z, dtype=float)
