@@ -29,7 +29,7 @@ def equivalent_linear_start(system) -> np.ndarray:
     Parameters
     ----------
     system : DynamicSystem
-        A system with d = 1 contacts.
+        The system (d = 2: the stuck structure's response, the sliders centred).
 
     Returns
     -------

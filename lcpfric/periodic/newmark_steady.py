@@ -44,7 +44,7 @@ def system_steady_state(model, steps, max_cycles=100, u0=None, backend=None, opt
     Parameters
     ----------
     model : DynamicSystem
-        The system (d = 1 contacts).
+        The system (d = 2 contacts: Jenkins elements only).
     steps : int
         Equal increments per period (the separations' instants are added).
     max_cycles : int, optional
@@ -70,7 +70,7 @@ def system_steady_state(model, steps, max_cycles=100, u0=None, backend=None, opt
     Raises
     ------
     InputError
-        d = 2 contacts; a bad ``u0``.
+        A rigid d = 2 contact; a bad ``u0``.
     SolverError
         Shooting did not converge in ``max_cycles`` Newton iterations (status ``"shooting"``),
         an increment's solver failed (the solver's status), or an increment's events did not

@@ -58,7 +58,8 @@ STICK, APART = 0, 2
 
 
 class NewmarkSystem(Tangents, Discs):
-    """The Newmark path of a dynamic system with d = 1 contacts (module docstring).
+    """The Newmark path of a dynamic system (module docstring; d = 2 contacts:
+    :mod:`~lcpfric.steppers.newmark_discs`).
 
     The state is ``y = (x, v, a, w)``, columns of shape (n, p) and (n_c, p): column 0 the
     motion, the others (``forcing=False``) its tangents.
