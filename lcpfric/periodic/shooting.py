@@ -62,8 +62,7 @@ def shoot(
     halvings : int, optional
         Step halvings at most when a step does not lower the residual.
     max_step : float, optional
-        The largest step, relative to ``max |z|`` (default: none; measured on the 10-DOF
-        chain near its stick-slip threshold, a cap of 0.25 or 0.5 did not save iterations).
+        The largest step, relative to ``max |z|`` (default: no cap).
 
     Returns
     -------
