@@ -251,7 +251,7 @@ def section_hb(H=15):
         e_r = np.max(np.hypot(*(hbc - rich).T)) / scale
         lo, hi = max(i - 1, 0), min(i + 1, len(hb.omega) - 1)
         kappa = abs(om / a_hb[i] * (a_hb[hi] - a_hb[lo]) / (hb.omega[hi] - hb.omega[lo]))
-        rows.append((kappa, e_hb, e_r, e_sh))
+        rows.append((kappa, e_hb, e_r, e_sh, om))
         print(f"| {om:.5f} | {kappa:.3g} | {e_hb:.2e} | {e_r:.2e} | {e_sh:.2e} | {r.iterations} "
               f"| {np.hypot(*hbc[-1]):.6f} | {W:.6e} |")  # fmt: skip
     rows = np.array(rows)
@@ -259,7 +259,8 @@ def section_hb(H=15):
     print(f"\nwhere shooting is converged in its increments (800 vs 1600 below 1e-3: "
           f"{int(sure.sum())} points), the largest difference HB vs shooting (1600) is "
           f"{rows[sure, 1].max():.2e} (goal 1e-3); at the other {int((~sure).sum())} points "
-          f"(the fold, ω from 0.2824 to 0.2828) shooting at 1600 increments still moves by "
+          f"(ω from {rows[~sure, 4].min():.4f} to {rows[~sure, 4].max():.4f}, where the curve "
+          f"folds) shooting at 1600 increments still moves by "
           f"{rows[~sure, 3].min():.1e} to {rows[~sure, 3].max():.1e} from 800: the comparison "
           f"there is limited by the time step, not by the harmonics (HB differs by "
           f"{rows[~sure, 1].min():.1e} to {rows[~sure, 1].max():.1e})")  # fmt: skip
