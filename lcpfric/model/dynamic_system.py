@@ -148,7 +148,7 @@ class DynamicSystem:
     InputError
         A matrix not square, of another size, not symmetric or not finite; M not positive
         definite, K or C not positive semidefinite; a contact index out of range or a contact
-        on itself; mu, kt <= 0; N0 + |N̂| <= 0 for a contact (never in contact); ω <= 0; a
+        on itself; mu, kt <= 0; ``N0 + |N̂| <= 0`` for a contact (never in contact); ω <= 0; a
         forcing of another length; any value not finite. Each error names the parameter.
     """
 
