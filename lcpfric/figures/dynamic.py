@@ -167,3 +167,44 @@ def figure_frequency_response(res, title: str = ""):
         if (~np.asarray(res.stable)).any():
             ax.legend(loc="upper left", fontsize=SMALL, frameon=False)
         return finish(fig)
+
+
+def figure_hb_shooting(hb_omega, hb_amplitude, omega, amplitude, difference, harmonics: int):
+    r"""A structure's frequency response by harmonic balance (a curve) and by shooting (points),
+    and the relative difference of the two at the points.
+
+    Parameters
+    ----------
+    hb_omega, hb_amplitude : array_like
+        The harmonic balance's curve: ω and the first harmonic's amplitude of one degree of
+        freedom.
+    omega, amplitude : array_like
+        Shooting's points: ω and the same amplitude.
+    difference : array_like
+        The relative difference at shooting's points.
+    harmonics : int
+        The harmonic balance's H (for the legend).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (its ``savefig`` embeds TrueType fonts).
+    """
+    with style():
+        fig = figure(figsize=(COLUMN_WIDTH, 3.6), layout="constrained")
+        ax, bx = fig.subplots(2, 1, sharex=True, height_ratios=(2.2, 1))
+        ax.plot(hb_omega, hb_amplitude, color=CURVES[0][0], lw=1.0,
+                label=f"harmonic balance\n(H = {harmonics})")  # fmt: skip
+        ax.plot(omega, amplitude, ls="none", marker="o", ms=3.2, mfc="none", mew=0.8,
+                color="black", label="shooting")  # fmt: skip
+        ax.set_ylabel("amplitude, 1st harmonic")
+        ax.set_title("(a) the last mass", loc="left")
+        ax.legend(loc="center right", fontsize=SMALL, frameon=False)
+        ax.grid(True, color="0.88", lw=0.5)
+        bx.semilogy(omega, difference, ls="none", marker="s", ms=2.6, color="black")
+        bx.axhline(1e-3, color="0.5", lw=0.6, ls="--")
+        bx.set_ylabel("difference")
+        bx.set_xlabel(r"forcing frequency $\omega$")
+        bx.set_title("(b) |HB - shooting| / |HB| (dashed: 1e-3)", loc="left")
+        bx.grid(True, color="0.88", lw=0.5)
+        return finish(fig)
