@@ -52,14 +52,10 @@ class Discs:
         x, v, a, w = y
         fac = self.fac
         c1, c2 = 4.0 / (h * h), 2.0 / h
-        r = fac.C @ (c2 * x + v) + fac.M @ (c1 * (x + h * v) + a)
-        r[:, 0] += self.sys.forcing(t1)
         Z, Ceff = fac.metric(h)
-        x0 = fac.solve_eff(h, r)
+        x0 = fac.solve_eff(h, self.known_side(t1, y, h))
         s = self.G.T @ x0
-        b = self.limits(t1)
-        b[b <= self.b_floor] = 0.0
-        A = np.flatnonzero(b > 0)
+        b, A = self.pressed(t1)
         T = np.zeros((self.G.shape[1], 1))
         if A.size:
             dofs = set_dofs(A, 2)

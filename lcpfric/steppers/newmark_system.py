@@ -114,15 +114,29 @@ class NewmarkSystem(Tangents, Discs):
         T[held] = TR
         return a, T
 
+    def known_side(self, t1, y, h, forcing=True):
+        """``r = f(t1) + C((2/h) x + v) + M((4/h²)(x + h v) + a)``, the known side of an
+        increment of length h ending at t1 (without ``forcing``: its tangent)."""
+        x, v, a, _ = y
+        c1, c2 = 4.0 / (h * h), 2.0 / h
+        r = self.fac.C @ (c2 * x + v) + self.fac.M @ (c1 * (x + h * v) + a)
+        if forcing:
+            r[:, 0] += self.sys.forcing(t1)
+        return r
+
+    def pressed(self, t1):
+        """The limits mu_j N_j(t1) (0 where apart, to round-off) and the contacts pressed."""
+        b = self.limits(t1)
+        b[b <= self.b_floor] = 0.0  # a separation instant's load, zero to round-off
+        return b, np.flatnonzero(b > 0)
+
     def fixed(self, t0, h, y, modes, forcing=True):
         """One Newmark step of length h in fixed modes: ``(x1, v1, a1, w1, T1)``."""
         x, v, a, w = y
         t1 = t0 + h
         c1, c2 = 4.0 / (h * h), 2.0 / h
         fac = self.fac
-        rhs = fac.C @ (c2 * x + v) + fac.M @ (c1 * (x + h * v) + a)
-        if forcing:
-            rhs[:, 0] += self.sys.forcing(t1)
+        rhs = self.known_side(t1, y, h, forcing)
         slip = (modes == 1) | (modes == -1)
         T = np.zeros((self.nc, x.shape[1]))
         if forcing:
@@ -172,16 +186,12 @@ class NewmarkSystem(Tangents, Discs):
         x, v, a, w = y
         fac = self.fac
         c1, c2 = 4.0 / (h * h), 2.0 / h
-        r = fac.C @ (c2 * x + v) + fac.M @ (c1 * (x + h * v) + a)
-        r[:, 0] += self.sys.forcing(t1)
         Z, Ceff = fac.metric(h)
-        x0 = fac.solve_eff(h, r)
+        x0 = fac.solve_eff(h, self.known_side(t1, y, h))
         s = self.G.T @ x0
         wref = w.copy()
         wref[self.rigid] = self.G[:, self.rigid].T @ (x + 0.5 * h * v)
-        b = self.limits(t1)
-        b[b <= self.b_floor] = 0.0  # a separation instant's load, zero to round-off
-        A = np.flatnonzero(b > 0)
+        b, A = self.pressed(t1)
         T = np.zeros((self.nc, 1))
         end = np.full(self.nc, APART)
         if A.size:
